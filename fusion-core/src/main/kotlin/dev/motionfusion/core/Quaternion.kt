@@ -1,0 +1,155 @@
+/*
+ * Quaternion: an immutable quaternion, order [w, x, y, z] (scalar first), Hamilton product
+ * (i² = j² = k² = ijk = −1).
+ *
+ * A unit quaternion q used as an orientation maps sensor-frame vectors into the world frame:
+ *     v_world = q ⊗ [0, v_sensor] ⊗ q*
+ * so its rotation matrix R(q) satisfies v_world = R · v_sensor (the same direction as the
+ * matrix of Android's getRotationMatrix). Which world (ENU, NWU, NED) is stated by whoever
+ * produces it; see docs/CONVENTIONS.md.
+ */
+package dev.motionfusion.core
+
+import kotlin.math.abs
+import kotlin.math.acos
+import kotlin.math.atan2
+import kotlin.math.cos
+import kotlin.math.min
+import kotlin.math.sin
+import kotlin.math.sqrt
+
+/** An immutable quaternion [w, x, y, z], Hamilton convention. */
+public data class Quaternion(val w: Double, val x: Double, val y: Double, val z: Double) {
+
+    /** Hamilton product this ⊗ o. */
+    public operator fun times(o: Quaternion): Quaternion = Quaternion(
+        w * o.w - x * o.x - y * o.y - z * o.z,
+        w * o.x + x * o.w + y * o.z - z * o.y,
+        w * o.y - x * o.z + y * o.w + z * o.x,
+        w * o.z + x * o.y - y * o.x + z * o.w,
+    )
+
+    public operator fun times(s: Double): Quaternion = Quaternion(w * s, x * s, y * s, z * s)
+    public operator fun plus(o: Quaternion): Quaternion = Quaternion(w + o.w, x + o.x, y + o.y, z + o.z)
+    public operator fun minus(o: Quaternion): Quaternion = Quaternion(w - o.w, x - o.x, y - o.y, z - o.z)
+    public operator fun unaryMinus(): Quaternion = Quaternion(-w, -x, -y, -z)
+
+    public fun conjugate(): Quaternion = Quaternion(w, -x, -y, -z)
+
+    public fun normSquared(): Double = w * w + x * x + y * y + z * z
+
+    public fun norm(): Double = sqrt(normSquared())
+
+    public fun dot(o: Quaternion): Double = w * o.w + x * o.x + y * o.y + z * o.z
+
+    public fun isFinite(): Boolean = w.isFinite() && x.isFinite() && y.isFinite() && z.isFinite()
+
+    /**
+     * Multiplicative inverse q* / |q|².
+     * @throws IllegalArgumentException for the zero quaternion.
+     */
+    public fun inverse(): Quaternion {
+        val n2 = normSquared()
+        require(n2 > 0.0 && n2.isFinite()) { "cannot invert $this" }
+        return Quaternion(w / n2, -x / n2, -y / n2, -z / n2)
+    }
+
+    /**
+     * This quaternion scaled to unit norm.
+     * @throws IllegalArgumentException for a zero or non-finite quaternion.
+     */
+    public fun normalized(): Quaternion {
+        val n = norm()
+        require(n > 0.0 && n.isFinite()) { "cannot normalise $this" }
+        return Quaternion(w / n, x / n, y / n, z / n)
+    }
+
+    /** The same rotation with w ≥ 0 (q and −q are the same rotation). */
+    public fun canonical(): Quaternion = if (w < 0.0) -this else this
+
+    /** The vector part [x, y, z]. */
+    public fun vector(): Vector3 = Vector3(x, y, z)
+
+    /**
+     * Rotates [v] by this unit quaternion: q ⊗ [0, v] ⊗ q*. For an orientation (sensor → world)
+     * this takes a sensor-frame vector into the world frame. Assumes |q| = 1.
+     */
+    public fun rotate(v: Vector3): Vector3 {
+        // t = 2 (q_v × v); v' = v + w t + q_v × t  (expanded q v q*, valid for unit q)
+        val tx = 2.0 * (y * v.z - z * v.y)
+        val ty = 2.0 * (z * v.x - x * v.z)
+        val tz = 2.0 * (x * v.y - y * v.x)
+        return Vector3(
+            v.x + w * tx + (y * tz - z * ty),
+            v.y + w * ty + (z * tx - x * tz),
+            v.z + w * tz + (x * ty - y * tx),
+        )
+    }
+
+    /** Rotates [v] by the inverse of this unit quaternion: q* ⊗ [0, v] ⊗ q (world → sensor for an orientation). */
+    public fun inverseRotate(v: Vector3): Vector3 = conjugate().rotate(v)
+
+    /**
+     * The angle in radians, in [0, π], of the rotation that takes this orientation to [o]
+     * (2·acos|⟨q, o⟩| computed stably). Both must be unit quaternions.
+     */
+    public fun angleTo(o: Quaternion): Double {
+        // 2·atan2(|vec(e)|, |w(e)|) with e = this* ⊗ o is stable near 0 and π.
+        val e = conjugate() * o
+        val vn = sqrt(e.x * e.x + e.y * e.y + e.z * e.z)
+        return 2.0 * atan2(vn, abs(e.w))
+    }
+
+    /** Rotation angle of this unit quaternion, in [0, π]. */
+    public fun angle(): Double = 2.0 * atan2(sqrt(x * x + y * y + z * z), abs(w))
+
+    /**
+     * Spherical linear interpolation from this (t = 0) to [o] (t = 1) along the shorter arc.
+     * Both must be unit quaternions; the result is a unit quaternion.
+     */
+    public fun slerp(o: Quaternion, t: Double): Quaternion {
+        var d = dot(o)
+        var b = o
+        if (d < 0.0) {
+            d = -d
+            b = -o
+        }
+        if (d > 0.9995) {
+            // Nearly parallel: linear interpolation then normalisation is accurate and safe.
+            return (this + (b - this) * t).normalized()
+        }
+        val theta = acos(min(d, 1.0))
+        val s = sin(theta)
+        val s0 = sin((1.0 - t) * theta) / s
+        val s1 = sin(t * theta) / s
+        return Quaternion(s0 * w + s1 * b.w, s0 * x + s1 * b.x, s0 * y + s1 * b.y, s0 * z + s1 * b.z)
+    }
+
+    public fun toDoubleArray(): DoubleArray = doubleArrayOf(w, x, y, z)
+
+    public companion object {
+        public val IDENTITY: Quaternion = Quaternion(1.0, 0.0, 0.0, 0.0)
+
+        /**
+         * Rotation by [angleRad] radians about [axis] (right-hand rule; need not be unit length).
+         * @throws IllegalArgumentException for a zero or non-finite axis.
+         */
+        public fun fromAxisAngle(axis: Vector3, angleRad: Double): Quaternion {
+            val u = axis.normalized()
+            val h = 0.5 * angleRad
+            val s = sin(h)
+            return Quaternion(cos(h), u.x * s, u.y * s, u.z * s)
+        }
+
+        /**
+         * The rotation by the rotation vector [r] (axis · angle, radians): the exponential map.
+         * Zero gives the identity.
+         */
+        public fun fromRotationVector(r: Vector3): Quaternion {
+            val angle = r.norm()
+            if (angle < 1e-12) return Quaternion(1.0, 0.5 * r.x, 0.5 * r.y, 0.5 * r.z).normalized()
+            val s = sin(0.5 * angle) / angle
+            return Quaternion(cos(0.5 * angle), r.x * s, r.y * s, r.z * s)
+        }
+    }
+}
