@@ -49,12 +49,14 @@ public enum class Initialisation {
  * @property mode 6D or 9D. Default [FilterMode.MARG].
  * @property beta β, gain of the normalised gradient step (eq. 42), in 1/s (quaternion-rate units;
  *   the correction rotates the estimate at up to 2β rad/s); β = √(3/4)·ω̃_β (eq. 50). ≥ 0.
+ *   Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
  * @property zeta ζ, rate of the report's gyroscope bias drift compensation (eq. 48), in rad/s per
  *   unit of normalised error, ζ = √(3/4)·ω̃_ζ (eq. 51). Applied in MARG steps. 0 disables it. ≥ 0.
+ *   Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate replaces it.
  * @property initialisation [Initialisation.FIRST_SAMPLE] by default.
  * @property restBiasEstimation estimate the gyroscope bias while the sensor is at rest.
  * @property restGyroThreshold rest when the gyroscope deviates from its low-passed value, and that
- *   value from zero, by less than this, rad/s. Default 2°/s.
+ *   value from zero, by less than this, rad/s. Default 3°/s.
  * @property restAccThreshold rest when the accelerometer deviates from its low-passed value by less
  *   than this, m/s². Default 0.5 m/s².
  * @property restMinTime time the rest conditions must hold before rest is declared, s. Default 1.5 s.
@@ -69,7 +71,7 @@ public enum class Initialisation {
  * @property magReferenceTime time constant with which the reference follows an undisturbed field,
  *   s. Default 20 s.
  * @property accRejection skip the accelerometer correction during strong non-gravitational
- *   acceleration.
+ *   acceleration. Default off: on BROAD it costs more (drift while rejected) than it saves.
  * @property accNormTolerance reject when ‖a‖ departs from standard gravity by more than this, m/s².
  *   Default 2 m/s².
  * @property accAngleTolerance reject when a is further than this from the estimated up, rad.
@@ -82,11 +84,11 @@ public enum class Initialisation {
  */
 public data class FilterSettings(
     val mode: FilterMode = FilterMode.MARG,
-    val beta: Double = 0.041,
+    val beta: Double = 0.02,
     val zeta: Double = 0.0,
     val initialisation: Initialisation = Initialisation.FIRST_SAMPLE,
     val restBiasEstimation: Boolean = true,
-    val restGyroThreshold: Double = 2.0 * DEG,
+    val restGyroThreshold: Double = 3.0 * DEG,
     val restAccThreshold: Double = 0.5,
     val restMinTime: Double = 1.5,
     val restBiasTime: Double = 2.0,
@@ -95,7 +97,7 @@ public data class FilterSettings(
     val magDipTolerance: Double = 10.0 * DEG,
     val magMaxRejectionTime: Double = 60.0,
     val magReferenceTime: Double = 20.0,
-    val accRejection: Boolean = true,
+    val accRejection: Boolean = false,
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
     val accMaxRejectionTime: Double = 5.0,
