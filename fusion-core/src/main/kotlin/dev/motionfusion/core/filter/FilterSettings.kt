@@ -60,7 +60,8 @@ public enum class Initialisation {
  * @property restAccThreshold rest when the accelerometer deviates from its low-passed value by less
  *   than this, m/s². Default 0.5 m/s².
  * @property restMinTime time the rest conditions must hold before rest is declared, s. Default 1.5 s.
- * @property restBiasTime time constant of the bias average at rest, s. Default 2 s.
+ * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began, for up to
+ *   this long, then a moving average with this time constant, s. Default 2 s.
  * @property magDisturbanceRejection ignore the magnetometer while its magnitude or dip angle
  *   departs from a learned reference (the gyroscope then holds heading).
  * @property magNormTolerance allowed relative deviation of the field magnitude from the reference.

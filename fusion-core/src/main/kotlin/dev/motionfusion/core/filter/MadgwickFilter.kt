@@ -37,6 +37,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val maxGapNs = (settings.maxGap * 1e9).toLong()
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
     private val restBiasTime = settings.restBiasTime
+    private val restMinTime = settings.restMinTime
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val scratch = DoubleArray(4)
@@ -83,7 +84,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var accRejections = 0L
     private var magRejections = 0L
 
-    /** True once the filter has an orientation. Before that, [orientation] is the identity. */
+    /** True once the filter has an orientation. Before that, [orientation] is the identity (of the output frame). */
     public val isInitialised: Boolean get() = initialised
 
     /** Holds an accelerometer sample (m/s², device frame) for the next gyroscope steps. */
@@ -132,7 +133,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
 
         if (rest != null && rest.update(dt, x, y, z, accOk, ax, ay, az)) {
-            val k = dt / (restBiasTime + dt)
+            // Mean of the readings since rest began, then a moving average over restBiasTime.
+            val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
             wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
         }
 
@@ -149,7 +151,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         var useMag = magOk && useAcc
         if (useMag && magDetector != null) {
             val n = sqrt(mx * mx + my * my + mz * mz)
-            useMag = magDetector.accept(dt, n, -(mx * upx + my * upy + mz * upz) / n)
+            val na = sqrt(ax * ax + ay * ay + az * az)
+            useMag = magDetector.accept(dt, n, -(mx * upx + my * upy + mz * upz) / n, -(mx * ax + my * ay + mz * az) / (n * na))
             if (!useMag) magRejections++
         }
         when {
@@ -199,6 +202,10 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** Writes the orientation [w, x, y, z] in settings.outputFrame into out[offset..offset+3]. */
     public fun orientationInto(out: DoubleArray, offset: Int = 0) {
+        if (!initialised) {
+            out[offset] = 1.0; out[offset + 1] = 0.0; out[offset + 2] = 0.0; out[offset + 3] = 0.0
+            return
+        }
         EarthFrames.fromNwu(settings.outputFrame, q1, q2, q3, q4, out, offset)
     }
 
