@@ -124,10 +124,13 @@ public data class FilterSettings(
 
     public companion object {
         /**
-         * The report's filter exactly: MARG, β for ω̃_β = 5°/s and ζ for ω̃_ζ = 0.2°/s² as in its
-         * listing (eqs. 50–51), identity start, none of the additions.
+         * The report's filter exactly: β for ω̃_β = 5°/s and ζ for ω̃_ζ = 0.2°/s² as in its
+         * listing (eqs. 50–51; ζ acts in MARG steps only), identity start, none of the additions.
          */
-        public fun report(): FilterSettings = FilterSettings(
+        @JvmStatic
+        @JvmOverloads
+        public fun report(mode: FilterMode = FilterMode.MARG): FilterSettings = FilterSettings(
+            mode = mode,
             beta = SQRT_3_4 * 5.0 * DEG,
             zeta = SQRT_3_4 * 0.2 * DEG,
             initialisation = Initialisation.IDENTITY,

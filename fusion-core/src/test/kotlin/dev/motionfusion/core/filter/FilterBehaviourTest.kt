@@ -99,6 +99,12 @@ class FilterBehaviourTest {
         assertTrue(with < 1.5, "inclination error with rejection $with°")
         assertTrue(without > 2.5, "inclination error without rejection $without°")
         assertTrue(filter.diagnostics().accelerometerRejections > 0)
+        // In MARG mode the magnetometer keeps correcting heading while the accelerometer is out
+        // (uncorrected gyroscope bias, so heading would drift without it).
+        val marg = run(MadgwickFilter(FilterSettings(accRejection = true, restBiasEstimation = false, beta = 0.1)), accelerating)
+        val heading = max(marg, accelerating, from, to, ::headingDeg)
+        val plain = max(run(MadgwickFilter(FilterSettings(restBiasEstimation = false, beta = 0.1)), accelerating), accelerating, from, to, ::headingDeg)
+        assertTrue(heading < 2.0 * plain, "heading error in MARG mode with rejection $heading°, without $plain°")
     }
 
     @Test
