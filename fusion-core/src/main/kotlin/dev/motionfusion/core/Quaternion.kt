@@ -125,6 +125,21 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
         return Quaternion(s0 * w + s1 * b.w, s0 * x + s1 * b.x, s0 * y + s1 * b.y, s0 * z + s1 * b.z)
     }
 
+    /** The rotation matrix of this unit quaternion: v_world = R · v ⇔ v_world = q ⊗ v ⊗ q*. */
+    public fun toRotationMatrix(): RotationMatrix = RotationMatrix.fromQuaternion(this)
+
+    /**
+     * The rotation vector (axis · angle, radians, angle in [0, π]) of this unit quaternion: the
+     * logarithm map, inverse of [fromRotationVector]. The zero vector for the identity.
+     */
+    public fun toRotationVector(): Vector3 {
+        val c = canonical()
+        val vn = sqrt(c.x * c.x + c.y * c.y + c.z * c.z)
+        if (vn == 0.0) return Vector3.ZERO
+        val angle = 2.0 * atan2(vn, c.w)
+        return Vector3(c.x, c.y, c.z) * (angle / vn)
+    }
+
     public fun toDoubleArray(): DoubleArray = doubleArrayOf(w, x, y, z)
 
     public companion object {
