@@ -1,0 +1,60 @@
+/*
+ * Runs the filter over trials and scores it with BROAD's metric. The filter outputs ENU, the
+ * frame of BROAD's truth. This is the API behind `fusion eval`.
+ */
+package dev.motionfusion.core.eval
+
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.filter.OutputFrame
+import java.io.File
+import kotlin.math.roundToLong
+
+/** The score of one trial. */
+public data class TrialResult(val trial: String, val error: ErrorRmse)
+
+public object Evaluation {
+    /** The filter's ENU orientation after each row of [trial] (identity rows before initialisation). */
+    public fun run(trial: Trial, settings: FilterSettings): Array<DoubleArray> {
+        val filter = MadgwickFilter(settings.copy(outputFrame = OutputFrame.ENU))
+        return Array(trial.size) { i ->
+            val r = trial.imu[i]
+            val t = (trial.timeS[i] * 1e9).roundToLong()
+            if (trial.hasMag) {
+                filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8])
+            } else {
+                filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5])
+            }
+            DoubleArray(4).also { filter.orientationInto(it) }
+        }
+    }
+
+    /** Scores [settings] on [trial]; a 6D filter (or a trial without magnetometer) has its heading offset removed. */
+    public fun evaluate(trial: Trial, settings: FilterSettings): TrialResult {
+        val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
+        return TrialResult(trial.name, BroadMetric.rmse(run(trial, settings), trial.truth, trial.movement, removeHeadingOffset = sixD))
+    }
+
+    /**
+     * The trial folders under [paths]: each path is a trial folder or a folder of trial folders
+     * (e.g. the BROAD subset or the full converted dataset), sorted by name.
+     */
+    public fun findTrials(paths: List<File>): List<File> = paths.flatMap { p ->
+        require(p.isDirectory) { "not a directory: $p" }
+        if (Trial.isTrial(p)) listOf(p) else (p.listFiles() ?: emptyArray()).filter { it.isDirectory && Trial.isTrial(it) }.sortedBy { it.name }
+    }.also { require(it.isNotEmpty()) { "no trial folders in $paths" } }
+
+    /** A Markdown table of [results] (total, heading, inclination RMSE per trial, then the means). */
+    public fun table(results: List<TrialResult>): String = buildString {
+        appendLine("| trial | total (°) | heading (°) | inclination (°) |")
+        appendLine("|---|---|---|---|")
+        for (r in results) appendLine("| ${r.trial} | ${f(r.error.totalDeg)} | ${f(r.error.headingDeg)} | ${f(r.error.inclinationDeg)} |")
+        appendLine(
+            "| **mean** | **${f(results.map { it.error.totalDeg }.average())}** | ${f(results.map { it.error.headingDeg }.average())} | " +
+                "${f(results.map { it.error.inclinationDeg }.average())} |",
+        )
+    }
+
+    private fun f(v: Double) = String.format(java.util.Locale.ROOT, "%.2f", v)
+}

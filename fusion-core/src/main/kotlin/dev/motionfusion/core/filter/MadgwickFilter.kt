@@ -1,0 +1,415 @@
+/*
+ * The Madgwick orientation filter: S. O. H. Madgwick, "An efficient orientation filter for
+ * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report"), with
+ * equations as restated in docs/../shared/reference/madgwick.md; equation numbers are the report's.
+ *
+ * Frames. Inputs in the Android device frame (x right, y up along the screen, z out of the
+ * screen). The estimate q̂ = [w, x, y, z] (Hamilton) is the sensor's orientation in the report's
+ * North-West-Up earth frame (x magnetic north, y west, z up): v_earth = q̂ ⊗ v_sensor ⊗ q̂*.
+ * Readers convert it to FilterSettings.outputFrame (ENU by default, Android's world).
+ *
+ * Units. Gyroscope rad/s, accelerometer m/s² (specific force, +g on the up axis at rest, as
+ * TYPE_ACCELEROMETER), magnetometer µT, timestamps in ns (SensorEvent.timestamp), settings in s.
+ *
+ * Pairing rule. Android delivers each sensor on its own. The filter holds the latest accelerometer
+ * and magnetometer sample and steps on each gyroscope sample, over the time since the previous
+ * gyroscope sample, with the held samples if they are no older than maxGap. A non-finite or zero
+ * sample replaces the held one by "none" (the next steps run without that correction).
+ */
+package dev.motionfusion.core.filter
+
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.Vector3
+import kotlin.math.sqrt
+
+/**
+ * The Madgwick filter of the report (IMU and MARG gradient-descent updates, normalised gradient,
+ * magnetic distortion compensation, gyroscope bias drift compensation ζ) with rest bias
+ * estimation, magnetic disturbance rejection and accelerometer rejection as settings.
+ *
+ * Not thread-safe: call from one thread (e.g. the sensor HandlerThread). The update methods
+ * allocate nothing.
+ */
+public class MadgwickFilter(public val settings: FilterSettings = FilterSettings()) {
+    private val marg = settings.mode == FilterMode.MARG
+    private val beta = settings.beta
+    private val zeta = settings.zeta
+    private val maxGapNs = (settings.maxGap * 1e9).toLong()
+    private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
+    private val restBiasTime = settings.restBiasTime
+    private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
+    private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
+    private val scratch = DoubleArray(4)
+
+    // Estimate q̂ (NWU), the report's SEq_1..4.
+    private var q1 = 1.0
+    private var q2 = 0.0
+    private var q3 = 0.0
+    private var q4 = 0.0
+
+    // Reference direction of flux in the earth frame, b = [0, bx, 0, bz] (eq. 46); the report starts at [0, 1, 0, 0].
+    private var bx = 1.0
+    private var bz = 0.0
+
+    // Gyroscope bias ω_b (rad/s, device frame).
+    private var wbx = 0.0
+    private var wby = 0.0
+    private var wbz = 0.0
+
+    // Held accelerometer and magnetometer samples.
+    private var ax = 0.0
+    private var ay = 0.0
+    private var az = 0.0
+    private var accT = 0L
+    private var hasAcc = false
+    private var mx = 0.0
+    private var my = 0.0
+    private var mz = 0.0
+    private var magT = 0L
+    private var hasMag = false
+
+    private var initialised = false
+    private var lastT = 0L
+    private var firstAccT = 0L
+    private var waitingForMag = false
+
+    private var steps = 0L
+    private var skippedBeforeInit = 0L
+    private var skippedNonFinite = 0L
+    private var skippedZero = 0L
+    private var skippedTimestamp = 0L
+    private var skippedGap = 0L
+    private var staleSamples = 0L
+    private var accRejections = 0L
+    private var magRejections = 0L
+
+    /** True once the filter has an orientation. Before that, [orientation] is the identity. */
+    public val isInitialised: Boolean get() = initialised
+
+    /** Holds an accelerometer sample (m/s², device frame) for the next gyroscope steps. */
+    public fun updateAccelerometer(timestampNs: Long, x: Double, y: Double, z: Double) {
+        hasAcc = validVector(x, y, z)
+        ax = x; ay = y; az = z; accT = timestampNs
+    }
+
+    /** Holds a magnetometer sample (µT, device frame) for the next gyroscope steps; ignored in IMU mode. */
+    public fun updateMagnetometer(timestampNs: Long, x: Double, y: Double, z: Double) {
+        if (!marg) return
+        hasMag = validVector(x, y, z)
+        mx = x; my = y; mz = z; magT = timestampNs
+    }
+
+    /**
+     * One filter step on a gyroscope sample (rad/s, device frame) with the held accelerometer and
+     * magnetometer samples (see the pairing rule in the file header). The step length is the time
+     * since the previous gyroscope sample; a timestamp that does not advance, or a gap longer than
+     * maxGap, is counted and not integrated.
+     */
+    public fun updateGyroscope(timestampNs: Long, x: Double, y: Double, z: Double) {
+        if (!(x.isFinite() && y.isFinite() && z.isFinite())) {
+            skippedNonFinite++
+            return
+        }
+        val accOk = hasAcc && fresh(timestampNs, accT)
+        val magOk = hasMag && fresh(timestampNs, magT)
+        if (!initialised) {
+            initialise(timestampNs, accOk, magOk)
+            return
+        }
+        if (timestampNs <= lastT) {
+            skippedTimestamp++
+            lastT = minOf(lastT, timestampNs)
+            return
+        }
+        val gapNs = timestampNs - lastT
+        lastT = timestampNs
+        if (gapNs > maxGapNs) {
+            skippedGap++
+            return
+        }
+        val dt = gapNs * 1e-9
+        steps++
+        if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
+
+        if (rest != null && rest.update(dt, x, y, z, accOk, ax, ay, az)) {
+            val k = dt / (restBiasTime + dt)
+            wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
+        }
+
+        // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
+        val upx = 2.0 * (q2 * q4 - q1 * q3)
+        val upy = 2.0 * (q1 * q2 + q3 * q4)
+        val upz = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
+        var useAcc = accOk
+        if (useAcc && accRejection != null) {
+            val n = sqrt(ax * ax + ay * ay + az * az)
+            useAcc = accRejection.accept(dt, n, (ax * upx + ay * upy + az * upz) / n)
+            if (!useAcc) accRejections++
+        }
+        var useMag = magOk && useAcc
+        if (useMag && magDetector != null) {
+            val n = sqrt(mx * mx + my * my + mz * mz)
+            useMag = magDetector.accept(dt, n, -(mx * upx + my * upy + mz * upz) / n)
+            if (!useMag) magRejections++
+        }
+        when {
+            useMag -> margStep(dt, x, y, z)
+            useAcc -> imuStep(dt, x, y, z)
+            else -> gyroStep(dt, x, y, z)
+        }
+    }
+
+    /**
+     * One step from a table row: gyroscope (rad/s), accelerometer (m/s²) and magnetometer (µT)
+     * sampled together at [timestampNs]. Equivalent to the three update calls in the order
+     * accelerometer, magnetometer, gyroscope.
+     */
+    public fun update(
+        timestampNs: Long,
+        gx: Double, gy: Double, gz: Double,
+        ax: Double, ay: Double, az: Double,
+        mx: Double, my: Double, mz: Double,
+    ) {
+        updateAccelerometer(timestampNs, ax, ay, az)
+        updateMagnetometer(timestampNs, mx, my, mz)
+        updateGyroscope(timestampNs, gx, gy, gz)
+    }
+
+    /** One step from a table row without magnetometer (IMU data). */
+    public fun update(timestampNs: Long, gx: Double, gy: Double, gz: Double, ax: Double, ay: Double, az: Double) {
+        updateAccelerometer(timestampNs, ax, ay, az)
+        hasMag = false
+        updateGyroscope(timestampNs, gx, gy, gz)
+    }
+
+    /** One step from vectors; [mag] null for IMU data. Allocates nothing itself. */
+    public fun update(timestampNs: Long, gyro: Vector3, acc: Vector3, mag: Vector3? = null) {
+        if (mag == null) {
+            update(timestampNs, gyro.x, gyro.y, gyro.z, acc.x, acc.y, acc.z)
+        } else {
+            update(timestampNs, gyro.x, gyro.y, gyro.z, acc.x, acc.y, acc.z, mag.x, mag.y, mag.z)
+        }
+    }
+
+    /** The orientation (sensor → earth) in settings.outputFrame; the identity before initialisation. */
+    public fun orientation(): Quaternion {
+        orientationInto(scratch)
+        return Quaternion(scratch[0], scratch[1], scratch[2], scratch[3])
+    }
+
+    /** Writes the orientation [w, x, y, z] in settings.outputFrame into out[offset..offset+3]. */
+    public fun orientationInto(out: DoubleArray, offset: Int = 0) {
+        EarthFrames.fromNwu(settings.outputFrame, q1, q2, q3, q4, out, offset)
+    }
+
+    public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
+        initialised = initialised,
+        gyroBias = Vector3(wbx, wby, wbz),
+        atRest = rest?.atRest ?: false,
+        magneticDisturbance = magDetector?.disturbed ?: false,
+        accelerometerRejected = accRejection?.rejected ?: false,
+        gyroscopeSteps = steps,
+        skippedBeforeInit = skippedBeforeInit,
+        skippedNonFinite = skippedNonFinite,
+        skippedZero = skippedZero,
+        skippedTimestamp = skippedTimestamp,
+        skippedGap = skippedGap,
+        staleSamples = staleSamples,
+        accelerometerRejections = accRejections,
+        magneticRejections = magRejections,
+    )
+
+    /** The complete state, for [restore]. */
+    public fun snapshot(): FilterSnapshot {
+        val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz)
+        own.copyInto(d)
+        var at = DOUBLES
+        at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
+        at = magDetector?.writeState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
+        accRejection?.writeState(d, at)
+        val l = longArrayOf(
+            accT, magT, lastT, firstAccT, flags(),
+            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections,
+        )
+        return FilterSnapshot(settings, d, l)
+    }
+
+    /**
+     * Restores a state taken by [snapshot].
+     * @throws IllegalArgumentException if the snapshot was taken under other settings.
+     */
+    public fun restore(snapshot: FilterSnapshot) {
+        require(snapshot.settings == settings) { "snapshot taken under other settings" }
+        val d = snapshot.doubles()
+        q1 = d[0]; q2 = d[1]; q3 = d[2]; q4 = d[3]; bx = d[4]; bz = d[5]
+        wbx = d[6]; wby = d[7]; wbz = d[8]
+        ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
+        var at = DOUBLES
+        at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
+        at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
+        accRejection?.readState(d, at)
+        val l = snapshot.longs()
+        accT = l[0]; magT = l[1]; lastT = l[2]; firstAccT = l[3]
+        val f = l[4]
+        hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L
+        steps = l[5]; skippedBeforeInit = l[6]; skippedNonFinite = l[7]; skippedZero = l[8]; skippedTimestamp = l[9]
+        skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]
+    }
+
+    private fun flags(): Long =
+        (if (hasAcc) 1L else 0L) or (if (hasMag) 2L else 0L) or (if (initialised) 4L else 0L) or (if (waitingForMag) 8L else 0L)
+
+    private fun fresh(t: Long, sampleT: Long): Boolean = t - sampleT <= maxGapNs
+
+    private fun validVector(x: Double, y: Double, z: Double): Boolean {
+        if (!(x.isFinite() && y.isFinite() && z.isFinite())) {
+            skippedNonFinite++
+            return false
+        }
+        if (x == 0.0 && y == 0.0 && z == 0.0) {
+            skippedZero++
+            return false
+        }
+        return true
+    }
+
+    /**
+     * Starts the filter at the first gyroscope sample that allows it. IDENTITY: at once. FIRST_SAMPLE:
+     * needs a fresh accelerometer sample; in MARG mode it also waits for a magnetometer sample, for at
+     * most maxGap after the first accelerometer sample, then starts without heading.
+     */
+    private fun initialise(t: Long, accOk: Boolean, magOk: Boolean) {
+        if (settings.initialisation == Initialisation.FIRST_SAMPLE) {
+            if (!accOk) {
+                skippedBeforeInit++
+                return
+            }
+            if (marg && !magOk) {
+                if (!waitingForMag) {
+                    waitingForMag = true
+                    firstAccT = t
+                }
+                if (t - firstAccT <= maxGapNs) {
+                    skippedBeforeInit++
+                    return
+                }
+            }
+            EarthFrames.initial(ax, ay, az, magOk, mx, my, mz, scratch)
+            q1 = scratch[0]; q2 = scratch[1]; q3 = scratch[2]; q4 = scratch[3]
+            if (magOk) {
+                val n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
+                updateFluxReference(mx * n, my * n, mz * n)
+            }
+        }
+        initialised = true
+        lastT = t
+    }
+
+    /** The report's MARG update (eqs. 25–26, 29–30, 34, 44, 47–49, 12, 42–43, 45–46). */
+    private fun margStep(dt: Double, gx: Double, gy: Double, gz: Double) {
+        var n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
+        val a1 = ax * n
+        val a2 = ay * n
+        val a3 = az * n
+        n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
+        val m1 = mx * n
+        val m2 = my * n
+        val m3 = mz * n
+        val twoBx = 2.0 * bx
+        val twoBz = 2.0 * bz
+        // Objective function (eqs. 25, 29).
+        val f1 = 2.0 * (q2 * q4 - q1 * q3) - a1
+        val f2 = 2.0 * (q1 * q2 + q3 * q4) - a2
+        val f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - a3
+        val f4 = twoBx * (0.5 - q3 * q3 - q4 * q4) + twoBz * (q2 * q4 - q1 * q3) - m1
+        val f5 = twoBx * (q2 * q3 - q1 * q4) + twoBz * (q1 * q2 + q3 * q4) - m2
+        val f6 = twoBx * (q1 * q3 + q2 * q4) + twoBz * (0.5 - q2 * q2 - q3 * q3) - m3
+        // Gradient ∇f = Jᵀ f with the Jacobians of eqs. 26 and 30 (eq. 34).
+        val d1 = -2.0 * q3 * f1 + 2.0 * q2 * f2 -
+            twoBz * q3 * f4 + (-twoBx * q4 + twoBz * q2) * f5 + twoBx * q3 * f6
+        val d2 = 2.0 * q4 * f1 + 2.0 * q1 * f2 - 4.0 * q2 * f3 +
+            twoBz * q4 * f4 + (twoBx * q3 + twoBz * q1) * f5 + (twoBx * q4 - 2.0 * twoBz * q2) * f6
+        val d3 = -2.0 * q1 * f1 + 2.0 * q4 * f2 - 4.0 * q3 * f3 +
+            (-2.0 * twoBx * q3 - twoBz * q1) * f4 + (twoBx * q2 + twoBz * q4) * f5 + (twoBx * q1 - 2.0 * twoBz * q3) * f6
+        val d4 = 2.0 * q2 * f1 + 2.0 * q3 * f2 +
+            (-2.0 * twoBx * q4 + twoBz * q2) * f4 + (-twoBx * q1 + twoBz * q3) * f5 + twoBx * q2 * f6
+        correct(dt, gx, gy, gz, d1, d2, d3, d4, zeta)
+        updateFluxReference(m1, m2, m3)
+    }
+
+    /** The report's IMU update (eqs. 25–26, 34, 44, 12, 42–43); the report has no ζ here. */
+    private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double) {
+        val n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
+        val f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
+        val f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
+        val f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - az * n
+        correct(
+            dt, gx, gy, gz,
+            -2.0 * q3 * f1 + 2.0 * q2 * f2,
+            2.0 * q4 * f1 + 2.0 * q1 * f2 - 4.0 * q2 * f3,
+            -2.0 * q1 * f1 + 2.0 * q4 * f2 - 4.0 * q3 * f3,
+            2.0 * q2 * f1 + 2.0 * q3 * f2,
+            0.0,
+        )
+    }
+
+    /** Gyroscope integration only (no usable accelerometer): eq. 12 with the bias removed. */
+    private fun gyroStep(dt: Double, gx: Double, gy: Double, gz: Double) {
+        correct(dt, gx, gy, gz, 0.0, 0.0, 0.0, 0.0, 0.0)
+    }
+
+    /**
+     * Normalises the gradient (d1..d4) (eq. 44), updates the bias with gain [z] (eqs. 47–48),
+     * removes it (eq. 49) and integrates (eqs. 12, 42–43). A zero gradient (exact agreement)
+     * contributes no correction. A step whose result is not finite is dropped.
+     */
+    private fun correct(dt: Double, gx: Double, gy: Double, gz: Double, d1: Double, d2: Double, d3: Double, d4: Double, z: Double) {
+        val dn2 = d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4
+        val s = if (dn2 > 0.0) 1.0 / sqrt(dn2) else 0.0
+        val e1 = d1 * s
+        val e2 = d2 * s
+        val e3 = d3 * s
+        val e4 = d4 * s
+        var bxNew = wbx
+        var byNew = wby
+        var bzNew = wbz
+        if (z != 0.0) {
+            // ω_ε = 2 q̂* ⊗ q̇_ε (eq. 47); ω_b += ζ ω_ε Δt (eq. 48).
+            val k = 2.0 * z * dt
+            bxNew += k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
+            byNew += k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
+            bzNew += k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
+        }
+        val wx = gx - bxNew // (eq. 49)
+        val wy = gy - byNew
+        val wz = gz - bzNew
+        // q̂ += (½ q̂ ⊗ [0, ω] − β q̇_ε) Δt (eqs. 12, 42–43), then normalise.
+        val h = 0.5 * dt
+        val b = beta * dt
+        val n1 = q1 + h * (-q2 * wx - q3 * wy - q4 * wz) - b * e1
+        val n2 = q2 + h * (q1 * wx + q3 * wz - q4 * wy) - b * e2
+        val n3 = q3 + h * (q1 * wy - q2 * wz + q4 * wx) - b * e3
+        val n4 = q4 + h * (q1 * wz + q2 * wy - q3 * wx) - b * e4
+        val inv = 1.0 / sqrt(n1 * n1 + n2 * n2 + n3 * n3 + n4 * n4)
+        if (!(inv > 0.0 && inv.isFinite())) {
+            skippedNonFinite++
+            return
+        }
+        q1 = n1 * inv; q2 = n2 * inv; q3 = n3 * inv; q4 = n4 * inv
+        wbx = bxNew; wby = byNew; wbz = bzNew
+    }
+
+    /** Magnetic distortion compensation (eqs. 45–46): h = q̂ ⊗ [0, m] ⊗ q̂*, b = [0, √(hx² + hy²), 0, hz]. */
+    private fun updateFluxReference(m1: Double, m2: Double, m3: Double) {
+        val hx = 2.0 * (m1 * (0.5 - q3 * q3 - q4 * q4) + m2 * (q2 * q3 - q1 * q4) + m3 * (q2 * q4 + q1 * q3))
+        val hy = 2.0 * (m1 * (q2 * q3 + q1 * q4) + m2 * (0.5 - q2 * q2 - q4 * q4) + m3 * (q3 * q4 - q1 * q2))
+        val hz = 2.0 * (m1 * (q2 * q4 - q1 * q3) + m2 * (q3 * q4 + q1 * q2) + m3 * (0.5 - q2 * q2 - q3 * q3))
+        bx = sqrt(hx * hx + hy * hy)
+        bz = hz
+    }
+
+    private companion object {
+        const val DOUBLES = 15
+    }
+}

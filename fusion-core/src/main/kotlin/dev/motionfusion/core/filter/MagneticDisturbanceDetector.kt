@@ -1,0 +1,80 @@
+/*
+ * Magnetic disturbance detection (beyond the report).
+ *
+ * The earth's field has, at one place, a fixed magnitude and a fixed dip angle δ (its angle below
+ * the horizontal). A field whose magnitude or dip departs from a learned reference is disturbed
+ * (a magnet, steel, a motor) and the filter then leaves the magnetometer out, so the gyroscope holds
+ * heading. The dip is measured against the filter's own up direction, not the raw accelerometer,
+ * so linear acceleration does not look like a disturbance. Units: µT (any unit, consistently),
+ * radians, seconds. Allocation-free and free of trigonometric calls per sample.
+ */
+package dev.motionfusion.core.filter
+
+import kotlin.math.cos
+import kotlin.math.sqrt
+
+internal class MagneticDisturbanceDetector(settings: FilterSettings) {
+    private val normTolerance = settings.magNormTolerance
+    private val cosDipTolerance = cos(settings.magDipTolerance)
+    private val maxRejectionTime = settings.magMaxRejectionTime
+    private val referenceTime = settings.magReferenceTime
+
+    private var hasReference = false
+    private var refNorm = 0.0
+    private var refSinDip = 0.0
+    private var disturbedTime = 0.0
+
+    var disturbed = false
+        private set
+
+    /**
+     * Classifies one magnetometer reading of magnitude [norm] whose dip has sine [sinDip] (the
+     * component of the unit field along the estimated down direction), after [dt] s. Returns true
+     * when the reading may be used. The first reading, and a field disturbed for longer than
+     * magMaxRejectionTime, become the reference; an undisturbed field slowly updates it.
+     */
+    fun accept(dt: Double, norm: Double, sinDip: Double): Boolean {
+        if (!hasReference || disturbedTime > maxRejectionTime) {
+            refNorm = norm
+            refSinDip = sinDip
+            hasReference = true
+            disturbedTime = 0.0
+            disturbed = false
+            return true
+        }
+        // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
+        val cosDiff = sqrt(1.0 - sinDip * sinDip) * sqrt(1.0 - refSinDip * refSinDip) + sinDip * refSinDip
+        disturbed = kotlin.math.abs(norm - refNorm) > normTolerance * refNorm || cosDiff < cosDipTolerance
+        if (disturbed) {
+            disturbedTime += dt
+        } else {
+            disturbedTime = 0.0
+            val k = dt / (referenceTime + dt)
+            refNorm += k * (norm - refNorm)
+            refSinDip += k * (sinDip - refSinDip)
+        }
+        return !disturbed
+    }
+
+    fun writeState(d: DoubleArray, at: Int): Int {
+        d[at] = if (hasReference) 1.0 else 0.0
+        d[at + 1] = refNorm
+        d[at + 2] = refSinDip
+        d[at + 3] = disturbedTime
+        d[at + 4] = if (disturbed) 1.0 else 0.0
+        return at + STATE_SIZE
+    }
+
+    fun readState(d: DoubleArray, at: Int): Int {
+        hasReference = d[at] != 0.0
+        refNorm = d[at + 1]
+        refSinDip = d[at + 2]
+        disturbedTime = d[at + 3]
+        disturbed = d[at + 4] != 0.0
+        return at + STATE_SIZE
+    }
+
+    companion object {
+        const val STATE_SIZE = 5
+    }
+}

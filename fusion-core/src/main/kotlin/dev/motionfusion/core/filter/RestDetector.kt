@@ -1,0 +1,85 @@
+/*
+ * Rest detection for the gyroscope bias estimate (beyond the report).
+ *
+ * Inputs in the Android device frame, SI units (rad/s, m/s², s). The sensor is at rest when, for
+ * at least restMinTime, the gyroscope stays within restGyroThreshold of its low-passed value, that
+ * low-passed value stays within restGyroThreshold of zero, and the accelerometer stays within
+ * restAccThreshold of its low-passed value. Allocation-free; state is primitive fields.
+ */
+package dev.motionfusion.core.filter
+
+internal class RestDetector(settings: FilterSettings) {
+    private val gyroThreshold2 = settings.restGyroThreshold * settings.restGyroThreshold
+    private val accThreshold2 = settings.restAccThreshold * settings.restAccThreshold
+    private val minTime = settings.restMinTime
+
+    private var started = false
+    private var gx = 0.0
+    private var gy = 0.0
+    private var gz = 0.0
+    private var ax = 0.0
+    private var ay = 0.0
+    private var az = 0.0
+    private var restTime = 0.0
+
+    /** True once the rest conditions have held for restMinTime. */
+    var atRest = false
+        private set
+
+    /**
+     * One gyroscope step of [dt] s with the gyroscope reading and, when [accValid], the paired
+     * accelerometer reading. Without an accelerometer the sensor is not considered at rest.
+     */
+    fun update(dt: Double, wx: Double, wy: Double, wz: Double, accValid: Boolean, sx: Double, sy: Double, sz: Double): Boolean {
+        if (!accValid) {
+            restTime = 0.0
+            atRest = false
+            return false
+        }
+        if (!started) {
+            gx = wx; gy = wy; gz = wz
+            ax = sx; ay = sy; az = sz
+            started = true
+        } else {
+            val k = dt / (LOW_PASS_TIME + dt)
+            gx += k * (wx - gx); gy += k * (wy - gy); gz += k * (wz - gz)
+            ax += k * (sx - ax); ay += k * (sy - ay); az += k * (sz - az)
+        }
+        val dgx = wx - gx
+        val dgy = wy - gy
+        val dgz = wz - gz
+        val dax = sx - ax
+        val day = sy - ay
+        val daz = sz - az
+        val still = dgx * dgx + dgy * dgy + dgz * dgz < gyroThreshold2 &&
+            gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
+            dax * dax + day * day + daz * daz < accThreshold2
+        restTime = if (still) restTime + dt else 0.0
+        atRest = still && restTime >= minTime
+        return atRest
+    }
+
+    fun writeState(d: DoubleArray, at: Int): Int {
+        d[at] = if (started) 1.0 else 0.0
+        d[at + 1] = gx; d[at + 2] = gy; d[at + 3] = gz
+        d[at + 4] = ax; d[at + 5] = ay; d[at + 6] = az
+        d[at + 7] = restTime
+        d[at + 8] = if (atRest) 1.0 else 0.0
+        return at + STATE_SIZE
+    }
+
+    fun readState(d: DoubleArray, at: Int): Int {
+        started = d[at] != 0.0
+        gx = d[at + 1]; gy = d[at + 2]; gz = d[at + 3]
+        ax = d[at + 4]; ay = d[at + 5]; az = d[at + 6]
+        restTime = d[at + 7]
+        atRest = d[at + 8] != 0.0
+        return at + STATE_SIZE
+    }
+
+    companion object {
+        /** Time constant of the low-pass references, s. */
+        const val LOW_PASS_TIME = 0.5
+        const val STATE_SIZE = 9
+    }
+}

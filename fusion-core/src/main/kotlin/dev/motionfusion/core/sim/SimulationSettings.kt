@@ -1,0 +1,80 @@
+/*
+ * Settings of the motion simulator. Device frame: Android's (x right, y up along the screen, z
+ * out of the screen). World frame: East-North-Up. Units: SI (s, rad, rad/s, m/s², µT).
+ */
+package dev.motionfusion.core.sim
+
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.Vector3
+import kotlin.math.PI
+
+/** A time window [startS, endS) in seconds from the start of a simulation. */
+public data class TimeWindow(val startS: Double, val endS: Double) {
+    init {
+        require(startS.isFinite() && endS.isFinite() && endS >= startS) { "bad window [$startS, $endS)" }
+    }
+
+    public operator fun contains(t: Double): Boolean = t >= startS && t < endS
+}
+
+/**
+ * What to simulate. Every random quantity comes from [seed]: equal settings give equal streams.
+ *
+ * @property rateHz nominal sampling rate of all three sensors, Hz.
+ * @property durationS length, s.
+ * @property initialOrientation true orientation at t = 0, sensor → ENU.
+ * @property angularRate amplitude of the smooth random rotation about each device axis, rad/s.
+ * @property restWindows windows in which the device does not rotate or accelerate.
+ * @property gyroNoise standard deviation of white gyroscope noise, rad/s.
+ * @property accNoise standard deviation of white accelerometer noise, m/s².
+ * @property magNoise standard deviation of white magnetometer noise, µT.
+ * @property gyroBias gyroscope bias at t = 0, rad/s, device frame.
+ * @property gyroBiasDrift random-walk intensity of the bias, rad/s per √s.
+ * @property fieldStrength earth field magnitude, µT.
+ * @property dip dip angle of the field below the horizontal, rad (positive: northern hemisphere).
+ * @property gravity magnitude of gravity, m/s².
+ * @property hardIron offset added to the magnetometer (device frame, µT) during [hardIronWindow].
+ * @property hardIronWindow when [hardIron] applies; null: never.
+ * @property linearAcceleration amplitude of a smooth world-frame acceleration, m/s², during [linearAccelerationWindow].
+ * @property linearAccelerationWindow when it applies; null: never.
+ * @property timestampJitter standard deviation of the true sampling instants around the nominal grid, s
+ *   (the timestamps report the true instants, as SensorEvent.timestamp does).
+ * @property dropProbability probability that a sample is lost (not emitted).
+ */
+public data class SimulationSettings(
+    val seed: Long = 1L,
+    val rateHz: Double = 200.0,
+    val durationS: Double = 60.0,
+    val initialOrientation: Quaternion = Quaternion.fromAxisAngle(Vector3(1.0, 2.0, 3.0), 1.0),
+    val angularRate: Double = 1.0,
+    val restWindows: List<TimeWindow> = emptyList(),
+    val gyroNoise: Double = 0.002,
+    val accNoise: Double = 0.03,
+    val magNoise: Double = 0.3,
+    val gyroBias: Vector3 = Vector3.ZERO,
+    val gyroBiasDrift: Double = 0.0,
+    val fieldStrength: Double = 48.0,
+    val dip: Double = 60.0 * PI / 180.0,
+    val gravity: Double = 9.80665,
+    val hardIron: Vector3 = Vector3.ZERO,
+    val hardIronWindow: TimeWindow? = null,
+    val linearAcceleration: Double = 0.0,
+    val linearAccelerationWindow: TimeWindow? = null,
+    val timestampJitter: Double = 0.0,
+    val dropProbability: Double = 0.0,
+) {
+    init {
+        require(rateHz.isFinite() && rateHz > 0.0) { "rateHz must be > 0: $rateHz" }
+        require(durationS.isFinite() && durationS > 0.0) { "durationS must be > 0: $durationS" }
+        require(initialOrientation.isFinite() && kotlin.math.abs(initialOrientation.norm() - 1.0) < 1e-9) { "initialOrientation must be a unit quaternion" }
+        for ((name, v) in listOf(
+            "angularRate" to angularRate, "gyroNoise" to gyroNoise, "accNoise" to accNoise, "magNoise" to magNoise,
+            "gyroBiasDrift" to gyroBiasDrift, "fieldStrength" to fieldStrength, "gravity" to gravity,
+            "linearAcceleration" to linearAcceleration, "timestampJitter" to timestampJitter,
+        )) require(v.isFinite() && v >= 0.0) { "$name must be finite and ≥ 0: $v" }
+        require(dip.isFinite() && kotlin.math.abs(dip) <= PI / 2) { "dip must be in [−π/2, π/2]: $dip" }
+        require(gyroBias.isFinite() && hardIron.isFinite()) { "vectors must be finite" }
+        require(timestampJitter < 0.25 / rateHz) { "timestampJitter must be below a quarter sample period" }
+        require(dropProbability in 0.0..0.5) { "dropProbability must be in [0, 0.5]: $dropProbability" }
+    }
+}
