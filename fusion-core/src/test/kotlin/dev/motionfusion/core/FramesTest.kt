@@ -25,9 +25,10 @@ class FramesTest {
     }
 
     @Test
-    fun `q_ENU = cos45 0 0 sin45 times q_NWU`() {
+    fun `q_ENU = cos45 0 0 sin45 times q_NWU, and the NED quaternion of CONVENTIONS md`() {
         val h = sqrt(0.5)
         assertSameRotation(Quaternion(h, 0.0, 0.0, h), WorldFrame.NWU.quaternionTo(WorldFrame.ENU), 1e-15)
+        assertSameRotation(Quaternion(0.0, h, h, 0.0), WorldFrame.NED.quaternionTo(WorldFrame.ENU), 1e-15)
         repeat(1_000) {
             val qNwu = Randoms.quaternion(rnd)
             assertSameRotation(Quaternion(h, 0.0, 0.0, h) * qNwu, convertOrientation(qNwu, WorldFrame.NWU, WorldFrame.ENU), 1e-15)
