@@ -156,7 +156,8 @@ public object SensorManagerMath {
     /**
      * Rewrites the rotation matrix [inR] (device → world) for a device frame whose x and y axes
      * are the old axes [X] and [Y] (AXIS_* constants; the new z is X × Y), into [outR]. [inR] and
-     * [outR] must have the same length (9 or 16; other lengths ≥ 12 are treated as 3 rows of 3).
+     * [outR] must have the same length (9 or 16; like AOSP, any other length is treated as 3 rows
+     * of 3, and throws ArrayIndexOutOfBoundsException below 9).
      * 16-element outputs get the homogeneous last row and column.
      *
      * @return false, leaving [outR] untouched, for a length mismatch, an invalid axis or two

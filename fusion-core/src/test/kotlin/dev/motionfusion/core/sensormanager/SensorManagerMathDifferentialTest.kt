@@ -158,6 +158,11 @@ class SensorManagerMathDifferentialTest {
             }
         }
         assertTrue(accepted > n / 10, "accepted $accepted")
+        // Lengths other than 9 and 16 are 3 rows of 3: 12 works, 4 throws.
+        for (length in intArrayOf(4, 12)) {
+            val inR = vectorOf(rnd, length, 1f)
+            assertSameOutcome { m -> m.remapCoordinateSystem(inR, SensorManagerMath.AXIS_Y, SensorManagerMath.AXIS_MINUS_X, FloatArray(length)) }
+        }
     }
 
     @Test
@@ -275,6 +280,10 @@ class SensorManagerMathDifferentialTest {
 
         fun getOrientation(r: FloatArray, v: FloatArray) {
             if (this == AOSP) SensorManager.getOrientation(r, v) else SensorManagerMath.getOrientation(r, v)
+        }
+
+        fun remapCoordinateSystem(inR: FloatArray, x: Int, y: Int, outR: FloatArray) {
+            if (this == AOSP) SensorManager.remapCoordinateSystem(inR, x, y, outR) else SensorManagerMath.remapCoordinateSystem(inR, x, y, outR)
         }
 
         fun getRotationMatrixFromVector(r: FloatArray, rv: FloatArray) {
