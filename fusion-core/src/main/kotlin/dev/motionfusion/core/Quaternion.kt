@@ -29,17 +29,28 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
         w * o.z + x * o.y - y * o.x + z * o.w,
     )
 
+    /** Every component scaled by [s] (not a rotation unless renormalised). */
     public operator fun times(s: Double): Quaternion = Quaternion(w * s, x * s, y * s, z * s)
+
+    /** Componentwise sum (used by integration and interpolation). */
     public operator fun plus(o: Quaternion): Quaternion = Quaternion(w + o.w, x + o.x, y + o.y, z + o.z)
+
+    /** Componentwise difference. */
     public operator fun minus(o: Quaternion): Quaternion = Quaternion(w - o.w, x - o.x, y - o.y, z - o.z)
+
+    /** −q: the same rotation as q. */
     public operator fun unaryMinus(): Quaternion = Quaternion(-w, -x, -y, -z)
 
+    /** q* = [w, −x, −y, −z]: the inverse rotation of a unit quaternion (world → sensor for an orientation). */
     public fun conjugate(): Quaternion = Quaternion(w, -x, -y, -z)
 
+    /** |q|². */
     public fun normSquared(): Double = w * w + x * x + y * y + z * z
 
+    /** |q|, 1 for a rotation. */
     public fun norm(): Double = sqrt(normSquared())
 
+    /** 4-D dot product; |q·o| = cos(half the angle between the rotations) for unit quaternions. */
     public fun dot(o: Quaternion): Double = w * o.w + x * o.x + y * o.y + z * o.z
 
     public fun isFinite(): Boolean = w.isFinite() && x.isFinite() && y.isFinite() && z.isFinite()
@@ -125,9 +136,26 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
         return Quaternion(s0 * w + s1 * b.w, s0 * x + s1 * b.x, s0 * y + s1 * b.y, s0 * z + s1 * b.z)
     }
 
+    /** The rotation matrix of this unit quaternion: v_world = R · v ⇔ v_world = q ⊗ v ⊗ q*. */
+    public fun toRotationMatrix(): RotationMatrix = RotationMatrix.fromQuaternion(this)
+
+    /**
+     * The rotation vector (axis · angle, radians, angle in [0, π]) of this unit quaternion: the
+     * logarithm map, inverse of [fromRotationVector]. The zero vector for the identity.
+     */
+    public fun toRotationVector(): Vector3 {
+        val c = canonical()
+        val vn = sqrt(c.x * c.x + c.y * c.y + c.z * c.z)
+        if (vn == 0.0) return Vector3.ZERO
+        val angle = 2.0 * atan2(vn, c.w)
+        return Vector3(c.x, c.y, c.z) * (angle / vn)
+    }
+
+    /** [w, x, y, z]. */
     public fun toDoubleArray(): DoubleArray = doubleArrayOf(w, x, y, z)
 
     public companion object {
+        /** No rotation: the sensor frame coincides with the world frame. */
         public val IDENTITY: Quaternion = Quaternion(1.0, 0.0, 0.0, 0.0)
 
         /**

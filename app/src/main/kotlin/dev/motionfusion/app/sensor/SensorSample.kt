@@ -1,0 +1,16 @@
+package dev.motionfusion.app.sensor
+
+/**
+ * One sensor reading, copied out of the framework's reused `SensorEvent` at once.
+ * Values in the device frame and SI units ([SensorKind.unit]); [timestampNs] is
+ * `SensorEvent.timestamp` (elapsedRealtimeNanos time base); [accuracy] is
+ * `SensorEvent.accuracy` read on every event (SensorManager.SENSOR_STATUS_*).
+ */
+data class SensorSample(
+    val kind: SensorKind,
+    val timestampNs: Long,
+    val x: Float,
+    val y: Float,
+    val z: Float,
+    val accuracy: Int,
+)

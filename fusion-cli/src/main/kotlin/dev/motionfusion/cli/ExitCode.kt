@@ -1,0 +1,16 @@
+package dev.motionfusion.cli
+
+/** Exit codes of the `fusion` command, documented in `fusion --help`. */
+internal object ExitCode {
+    /** Success. */
+    const val OK = 0
+
+    /** The input was read but is malformed (the message names file, line and column). */
+    const val DATA_ERROR = 1
+
+    /** Wrong command line (unknown subcommand or option, missing argument). */
+    const val USAGE = 2
+
+    /** A file could not be read or written (missing, unreadable, disk full). */
+    const val IO_ERROR = 3
+}
