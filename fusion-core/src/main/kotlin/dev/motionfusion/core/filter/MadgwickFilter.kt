@@ -20,6 +20,7 @@ package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.WorldFrame
 import kotlin.math.sqrt
 
 /**
@@ -41,6 +42,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val scratch = DoubleArray(4)
+
+    // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
+    private val outputChange = WorldFrame.NWU.quaternionTo(settings.outputFrame)
+    private val c1 = outputChange.w
+    private val c2 = outputChange.x
+    private val c3 = outputChange.y
+    private val c4 = outputChange.z
 
     // Estimate q̂ (NWU), the report's SEq_1..4.
     private var q1 = 1.0
@@ -203,7 +211,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             out[offset] = 1.0; out[offset + 1] = 0.0; out[offset + 2] = 0.0; out[offset + 3] = 0.0
             return
         }
-        EarthFrames.fromNwu(settings.outputFrame, q1, q2, q3, q4, out, offset)
+        // q_out = c ⊗ q̂ (Hamilton product with the fixed frame change c).
+        out[offset] = c1 * q1 - c2 * q2 - c3 * q3 - c4 * q4
+        out[offset + 1] = c1 * q2 + c2 * q1 + c3 * q4 - c4 * q3
+        out[offset + 2] = c1 * q3 - c2 * q4 + c3 * q1 + c4 * q2
+        out[offset + 3] = c1 * q4 + c2 * q3 - c3 * q2 + c4 * q1
     }
 
     public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
@@ -304,8 +316,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
                     return
                 }
             }
-            EarthFrames.initial(ax, ay, az, magOk, mx, my, mz, scratch)
-            q1 = scratch[0]; q2 = scratch[1]; q3 = scratch[2]; q4 = scratch[3]
+            val q = InitialOrientation.nwu(ax, ay, az, magOk, mx, my, mz)
+            q1 = q.w; q2 = q.x; q3 = q.y; q4 = q.z
             if (magOk) {
                 val n = invSqrt(mx * mx + my * my + mz * mz)
                 updateFluxReference(q1, q2, q3, q4, mx * n, my * n, mz * n, 1.0)
