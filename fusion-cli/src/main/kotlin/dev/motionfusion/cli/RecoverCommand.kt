@@ -23,7 +23,7 @@ internal class RecoverCommand : Command {
         val path = Path.of(dir)
         if (!Files.isDirectory(path)) throw UsageException("$dir is not a folder (unzip a session before recovering it)")
         val report = SessionRecovery.recover(path)
-        if (!report.metadata.recovered) {
+        if (report.truncatedBytes.isEmpty()) {
             out.println("$dir: complete session, nothing to do")
         } else {
             for ((s, n) in report.truncatedBytes) out.println("%-32s %d bytes cut".format(s.fileName, n))
