@@ -151,6 +151,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val d = FilterSettings()
         if (s == d) return "defaults (FilterSettings())"
         if (s == FilterSettings.report()) return "the report's settings"
-        return s.toString()
+        fun fields(x: FilterSettings) = x.toString().substringAfter('(').removeSuffix(")").split(", ")
+        val changed = fields(s) - fields(d).toSet()
+        return "defaults with " + changed.joinToString(", ")
     }
 }

@@ -73,7 +73,7 @@ internal class SimulateCommand : Command {
                 val dir = tmp.resolve(path.fileName.toString().removeSuffix(".zip").removeSuffix(".ZIP"))
                 try {
                     writeSession(dir, samples, rate, seed, command)
-                    SessionArchive.zip(dir, path)
+                    SessionArchive.zip(dir, path, entryTimeMs = START_WALL_CLOCK_MS)
                 } finally {
                     tmp.toFile().deleteRecursively()
                 }
@@ -82,6 +82,11 @@ internal class SimulateCommand : Command {
         }
         out.println("$output: ${samples.size} samples, ${fmt(duration)} s at ${fmt(rate)} Hz ($command)")
         return ExitCode.OK
+    }
+
+    private companion object {
+        /** The simulated recording's fixed wall-clock start (2025-11-26 12:00 UTC): reproducible output. */
+        const val START_WALL_CLOCK_MS = 1_764_158_400_000L
     }
 
     private fun fmt(v: Double) = if (v == Math.rint(v)) v.toLong().toString() else v.toString()
@@ -123,7 +128,7 @@ internal class SimulateCommand : Command {
             appVersion = Cli.VERSION,
             source = command,
             device = DeviceInfo("Motion Fusion", "MotionSimulator", "", 0),
-            startAnchor = ClockAnchor(1_764_158_400_000L, base),
+            startAnchor = ClockAnchor(START_WALL_CLOCK_MS, base),
             sensors = listOf(
                 SensorInfo(SessionStream.ACCELEROMETER, "simulated accelerometer", "dev.motionfusion", 1, requestedPeriodUs = period),
                 SensorInfo(SessionStream.GYROSCOPE, "simulated gyroscope", "dev.motionfusion", 1, requestedPeriodUs = period),
