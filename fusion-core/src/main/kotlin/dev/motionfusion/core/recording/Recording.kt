@@ -44,10 +44,13 @@ public class Recording internal constructor(
     public val streams: Set<SessionStream>,
     private val closer: Closeable,
 ) : Closeable {
-    /** The events of [which] streams (default all), merged by timestamp. */
+    /**
+     * The events of [which] streams (default all), merged by timestamp. Broken compressed data
+     * (zip, gzip) surfaces as DataFormatException like any other malformed input.
+     */
     public fun events(which: Set<SessionStream> = streams): SessionEvents {
-        val all = open()
-        return if (which.containsAll(streams)) all else FilteredEvents(all, which)
+        val all = guarded(name) { open() }
+        return CompressionGuard(if (which.containsAll(streams)) all else FilteredEvents(all, which), name)
     }
 
     override fun close(): Unit = closer.close()
@@ -59,7 +62,9 @@ public class Recording internal constructor(
          * @throws NoSuchFileException when it does not exist.
          */
         @JvmStatic
-        public fun open(path: Path): Recording {
+        public fun open(path: Path): Recording = guarded(path.toString()) { openUnguarded(path) }
+
+        private fun openUnguarded(path: Path): Recording {
             if (!Files.exists(path)) throw NoSuchFileException(path.toString())
             if (Files.isDirectory(path)) {
                 // A trial folder (BROAD layout) may hold a meta.json of its own: input.csv decides first.
@@ -124,6 +129,20 @@ public class Recording internal constructor(
             }
         }
     }
+}
+
+/** Runs [block], turning corrupt compressed data into [DataFormatException] naming [source]. */
+internal inline fun <T> guarded(source: String, block: () -> T): T = try {
+    block()
+} catch (e: java.util.zip.ZipException) {
+    throw DataFormatException(source, 0, 0, "corrupt compressed data: ${e.message}", e)
+} catch (e: java.io.EOFException) {
+    throw DataFormatException(source, 0, 0, "compressed data ends early: ${e.message}", e)
+}
+
+/** [SessionEvents] whose compression errors become [DataFormatException]. */
+private class CompressionGuard(private val inner: SessionEvents, private val source: String) : SessionEvents by inner {
+    override fun next(): Boolean = guarded(source) { inner.next() }
 }
 
 /** A single CSV file seen as a one-file export. */
