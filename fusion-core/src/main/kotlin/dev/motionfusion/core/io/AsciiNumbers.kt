@@ -11,12 +11,12 @@ package dev.motionfusion.core.io
 
 import kotlin.math.abs
 
-internal object AsciiNumbers {
+public object AsciiNumbers {
     /** Longest output of [float]: sign, 9 digits, point, up to 7 leading zeros, exponent. */
-    const val MAX_FLOAT_CHARS = 24
+    public const val MAX_FLOAT_CHARS = 24
 
     /** Longest output of [long]. */
-    const val MAX_LONG_CHARS = 20
+    public const val MAX_LONG_CHARS = 20
 
     private val POW10 = DoubleArray(23) { i -> "1e$i".toDouble() }
     private val LONG_POW10 = LongArray(19).also { p -> p[0] = 1L; for (i in 1 until 19) p[i] = p[i - 1] * 10L }
@@ -24,7 +24,7 @@ internal object AsciiNumbers {
     private val INF = "Infinity".toByteArray(Charsets.US_ASCII)
 
     /** Writes [v] at buf[pos]; returns the position after it. */
-    fun long(buf: ByteArray, pos: Int, v: Long): Int {
+    public fun long(buf: ByteArray, pos: Int, v: Long): Int {
         var p = pos
         if (v == Long.MIN_VALUE) {
             for (c in "-9223372036854775808") buf[p++] = c.code.toByte()
@@ -55,7 +55,7 @@ internal object AsciiNumbers {
      * Writes the shortest decimal (≤ 9 significant digits) that parses back to exactly [f]; plain
      * notation for magnitudes in [1e-7, 1e9), scientific ("1.5E-12") outside. Returns the new position.
      */
-    fun float(buf: ByteArray, pos: Int, f: Float): Int {
+    public fun float(buf: ByteArray, pos: Int, f: Float): Int {
         var p = pos
         if (f.isNaN()) return copy(NAN, buf, p)
         if (f.isInfinite()) {
@@ -161,7 +161,7 @@ internal object AsciiNumbers {
      * Writes [v] rounded to [decimals] places (0..9), e.g. "-12.345000" for decimals 6; trailing
      * zeros are removed ("-12.345"). Values beyond ±9e9 and non-finite ones use Double.toString.
      */
-    fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
+    public fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
         var p = pos
         if (!(abs(v) < 9e9)) return copyString(if (v.isNaN()) "NaN" else v.toString(), buf, p)
         val scale = LONG_POW10[decimals]
@@ -197,13 +197,13 @@ internal object AsciiNumbers {
     }
 
     /** The output of [float] as a String (tests, headers). */
-    fun floatToString(f: Float): String {
+    public fun floatToString(f: Float): String {
         val b = ByteArray(MAX_FLOAT_CHARS + 8)
         return String(b, 0, float(b, 0, f), Charsets.US_ASCII)
     }
 
     /** The output of [fixed] as a String. */
-    fun fixedToString(v: Double, decimals: Int): String {
+    public fun fixedToString(v: Double, decimals: Int): String {
         val b = ByteArray(48)
         return String(b, 0, fixed(b, 0, v, decimals), Charsets.US_ASCII)
     }
