@@ -8,8 +8,10 @@
 
 package dev.motionfusion.core.eval
 
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.Initialisation
 import java.io.File
 import kotlin.system.exitProcess
 
@@ -38,14 +40,22 @@ private fun usage(message: String): Nothing {
     exitProcess(2)
 }
 
-/** Applies "name=value" to a settings value by the name of its property. */
-internal object SettingsOverride {
-    fun apply(s: FilterSettings, assignment: String): FilterSettings {
+/** Command-line overrides of [FilterSettings]: "name=value" by the name of a property. */
+public object SettingsOverride {
+    /**
+     * [s] with the property named before '=' set to the value after it (numbers in SI units as the
+     * property documents, booleans true/false, enums by name).
+     * @throws IllegalArgumentException for an unknown name or a value the settings reject.
+     */
+    public fun apply(s: FilterSettings, assignment: String): FilterSettings {
+        require('=' in assignment) { "expected name=value: $assignment" }
         val (name, value) = assignment.split('=', limit = 2)
         fun d() = value.toDouble()
         fun b() = value.toBooleanStrict()
         return when (name) {
             "mode" -> s.copy(mode = FilterMode.valueOf(value))
+            "initialisation" -> s.copy(initialisation = Initialisation.valueOf(value))
+            "outputFrame" -> s.copy(outputFrame = WorldFrame.valueOf(value))
             "beta" -> s.copy(beta = d())
             "zeta" -> s.copy(zeta = d())
             "restBiasEstimation" -> s.copy(restBiasEstimation = b())
