@@ -1,7 +1,7 @@
 /*
  * The Madgwick orientation filter: S. O. H. Madgwick, "An efficient orientation filter for
- * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report"), with
- * equations as restated in docs/../shared/reference/madgwick.md; equation numbers are the report's.
+ * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report").
+ * Equation numbers in the comments are the report's.
  *
  * Frames. Inputs in the Android device frame (x right, y up along the screen, z out of the
  * screen). The estimate q̂ = [w, x, y, z] (Hamilton) is the sensor's orientation in the report's
@@ -15,6 +15,11 @@
  * and magnetometer sample and steps on each gyroscope sample, over the time since the previous
  * gyroscope sample, with the held samples if they are no older than maxGap. A non-finite or zero
  * sample replaces the held one by "none" (the next steps run without that correction).
+ *
+ * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
+ * with neither: gyroscope integration. The report's equations hold exactly with
+ * FilterSettings.report(); the additions (rest bias, magnetic disturbance, accelerometer
+ * rejection) only decide which readings enter and what bias is removed.
  */
 package dev.motionfusion.core.filter
 

@@ -120,7 +120,7 @@ class ReportReferenceTest {
 
     @Test
     fun `IMU update matches the report's equations step by step`() {
-        val d = maxDifference(FilterSettings.report().copy(mode = FilterMode.IMU, beta = 0.1), samples(4))
+        val d = maxDifference(FilterSettings.report(FilterMode.IMU), samples(4))
         assertTrue(d < 1e-7, "max difference $d")
     }
 
