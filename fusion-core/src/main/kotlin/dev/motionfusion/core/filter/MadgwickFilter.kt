@@ -223,6 +223,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         out[offset + 3] = c1 * q4 + c2 * q3 - c3 * q2 + c4 * q1
     }
 
+    /** A copy of the current flags, bias estimate and counters (allocates; not for every sample). */
     public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
         initialised = initialised,
         gyroBias = Vector3(wbx, wby, wbz),
