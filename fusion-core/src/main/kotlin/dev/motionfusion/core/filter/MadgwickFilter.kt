@@ -159,10 +159,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         }
         var useMag = magOk
         if (useMag && magDetector != null) {
-            val n = sqrt(mx * mx + my * my + mz * mz)
-            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) / n
-            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) / (n * sqrt(ax * ax + ay * ay + az * az)) else sinDip
-            useMag = magDetector.accept(dt, n, sinDip, sinDipRaw)
+            val n2 = mx * mx + my * my + mz * mz
+            val inv = invSqrt(n2)
+            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) * inv
+            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
+            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw)
             if (!useMag) magRejections++
         }
         when {
