@@ -30,7 +30,7 @@ public fun main(args: Array<String>) {
     }
     if (dirs.isEmpty()) usage("no trial folder given")
     settings = overrides.fold(settings) { s, o -> SettingsOverride.apply(s, o) }
-    val results = Evaluation.findTrials(dirs).map { Evaluation.evaluate(Trial.load(it), settings) }
+    val results = Evaluation.evaluateAll(dirs, settings)
     println(settings)
     print(Evaluation.table(results))
 }
