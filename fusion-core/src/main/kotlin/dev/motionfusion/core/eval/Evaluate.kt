@@ -12,6 +12,7 @@ import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
+import dev.motionfusion.core.io.DataFormatException
 import java.io.File
 import kotlin.system.exitProcess
 
@@ -29,10 +30,17 @@ public fun main(args: Array<String>) {
         }
     }
     if (dirs.isEmpty()) usage("no trial folder given")
-    settings = overrides.fold(settings) { s, o -> SettingsOverride.apply(s, o) }
-    val results = Evaluation.evaluateAll(dirs, settings)
-    println(settings)
-    print(Evaluation.table(results))
+    try {
+        settings = overrides.fold(settings) { s, o -> SettingsOverride.apply(s, o) }
+        val results = Evaluation.evaluateAll(dirs, settings)
+        println(settings)
+        print(Evaluation.table(results))
+    } catch (e: DataFormatException) {
+        System.err.println(e.message)
+        exitProcess(1)
+    } catch (e: IllegalArgumentException) {
+        usage(e.message ?: e.toString())
+    }
 }
 
 private fun usage(message: String): Nothing {
