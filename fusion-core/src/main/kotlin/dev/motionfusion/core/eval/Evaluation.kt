@@ -36,6 +36,10 @@ public object Evaluation {
         return TrialResult(trial.name, BroadMetric.rmse(run(trial, settings), trial.truth, trial.movement, removeHeadingOffset = sixD))
     }
 
+    /** Loads and scores every trial under [paths] (see [findTrials]), in name order. */
+    public fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
+        findTrials(paths).map { evaluate(Trial.load(it), settings) }
+
     /**
      * The trial folders under [paths]: each path is a trial folder or a folder of trial folders
      * (e.g. the BROAD subset or the full converted dataset), sorted by name.

@@ -36,12 +36,13 @@ public enum class Initialisation {
  * measured on the BROAD trials (docs/ACCURACY.md); [report] gives the report's own filter.
  *
  * @property mode 6D or 9D. Default [FilterMode.MARG].
- * @property beta β, gain of the normalised gradient step (eq. 42), in 1/s (quaternion-rate units;
- *   the correction rotates the estimate at up to 2β rad/s); β = √(3/4)·ω̃_β (eq. 50). ≥ 0.
- *   Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
- * @property zeta ζ, rate of the report's gyroscope bias drift compensation (eq. 48), in rad/s per
- *   unit of normalised error, ζ = √(3/4)·ω̃_ζ (eq. 51). Applied in MARG steps. 0 disables it. ≥ 0.
- *   Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate replaces it.
+ * @property beta β, gain of the normalised gradient step (eq. 42), rad/s: β = √(3/4)·ω̃_β (eq. 50)
+ *   with ω̃_β the gyroscope measurement error; the correction turns the estimate at up to 2β rad/s.
+ *   ≥ 0. Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
+ * @property zeta ζ, gain of the report's gyroscope bias drift compensation (eq. 48), rad/s²:
+ *   ζ = √(3/4)·ω̃_ζ (eq. 51) with ω̃_ζ the gyroscope drift rate. Acts in MARG steps, as in the report.
+ *   0 disables it. ≥ 0. Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate
+ *   replaces it.
  * @property initialisation [Initialisation.FIRST_SAMPLE] by default.
  * @property restBiasEstimation estimate the gyroscope bias while the sensor is at rest.
  * @property restGyroThreshold rest when the gyroscope deviates from its low-passed value, and that

@@ -38,9 +38,10 @@ internal object InitialOrientation {
                 ).toQuaternion()
             }
         }
-        // Shortest arc from u to z: [1 + u·z, u × z] normalised; 180° about x when u = −z.
+        // Shortest arc from u to z: [1 + u·z, u × z] normalised (u × z keeps the axis even where
+        // 1 + u·z cancels); 180° about x when u = −z exactly.
         val w = 1.0 + uz
-        if (w < 1e-12) return Quaternion(0.0, 1.0, 0.0, 0.0)
+        if (ux == 0.0 && uy == 0.0 && w <= 0.0) return Quaternion(0.0, 1.0, 0.0, 0.0)
         return Quaternion(w, uy, -ux, 0.0).normalized()
     }
 }

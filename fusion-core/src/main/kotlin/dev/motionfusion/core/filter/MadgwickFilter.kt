@@ -1,7 +1,7 @@
 /*
  * The Madgwick orientation filter: S. O. H. Madgwick, "An efficient orientation filter for
- * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report"), with
- * equations as restated in docs/../shared/reference/madgwick.md; equation numbers are the report's.
+ * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report").
+ * Equation numbers in the comments are the report's.
  *
  * Frames. Inputs in the Android device frame (x right, y up along the screen, z out of the
  * screen). The estimate q̂ = [w, x, y, z] (Hamilton) is the sensor's orientation in the report's
@@ -15,6 +15,11 @@
  * and magnetometer sample and steps on each gyroscope sample, over the time since the previous
  * gyroscope sample, with the held samples if they are no older than maxGap. A non-finite or zero
  * sample replaces the held one by "none" (the next steps run without that correction).
+ *
+ * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
+ * with neither: gyroscope integration. The report's equations hold exactly with
+ * FilterSettings.report(); the additions (rest bias, magnetic disturbance, accelerometer
+ * rejection) only decide which readings enter and what bias is removed.
  */
 package dev.motionfusion.core.filter
 
@@ -154,10 +159,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         }
         var useMag = magOk
         if (useMag && magDetector != null) {
-            val n = sqrt(mx * mx + my * my + mz * mz)
-            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) / n
-            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) / (n * sqrt(ax * ax + ay * ay + az * az)) else sinDip
-            useMag = magDetector.accept(dt, n, sinDip, sinDipRaw)
+            val n2 = mx * mx + my * my + mz * mz
+            val inv = invSqrt(n2)
+            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) * inv
+            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
+            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw)
             if (!useMag) magRejections++
         }
         when {
@@ -218,6 +224,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         out[offset + 3] = c1 * q4 + c2 * q3 - c3 * q2 + c4 * q1
     }
 
+    /** A copy of the current flags, bias estimate and counters (allocates; not for every sample). */
     public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
         initialised = initialised,
         gyroBias = Vector3(wbx, wby, wbz),

@@ -18,7 +18,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val normTolerance = settings.magNormTolerance
     private val cosDipTolerance = cos(settings.magDipTolerance)
     private val maxRejectionTime = settings.magMaxRejectionTime
-    private val referenceTime = settings.magReferenceTime
+    private val referenceRate = 1.0 / settings.magReferenceTime
 
     private var hasReference = false
     private var refNorm = 0.0
@@ -54,7 +54,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             disturbedTime += dt
         } else {
             disturbedTime = 0.0
-            val k = dt / (referenceTime + dt)
+            val k = minOf(1.0, dt * referenceRate)
             refNorm += k * (norm - refNorm)
             refSinDip += k * (sinDip - refSinDip)
         }
