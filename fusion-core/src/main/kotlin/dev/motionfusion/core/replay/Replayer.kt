@@ -8,7 +8,7 @@ package dev.motionfusion.core.replay
 
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
-import dev.motionfusion.core.filter.OutputFrame
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.session.SessionEvents
 import dev.motionfusion.core.session.SessionStream
 
@@ -51,7 +51,7 @@ public data class ReplayCounts(val events: Long, val gyroscope: Long, val accele
  */
 public class Replayer(settings: FilterSettings = FilterSettings()) {
     /** The filter being run (for diagnostics after the run). */
-    public val filter: MadgwickFilter = MadgwickFilter(settings.copy(outputFrame = OutputFrame.ENU))
+    public val filter: MadgwickFilter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.ENU))
 
     /**
      * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.

@@ -5,10 +5,10 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
-import dev.motionfusion.core.filter.OutputFrame
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
 
@@ -164,7 +164,7 @@ internal object MetadataJson {
                 accNormTolerance = o.double("acc_norm_tolerance_m_s2", d.accNormTolerance),
                 accAngleTolerance = o.double("acc_angle_tolerance_rad", d.accAngleTolerance),
                 accMaxRejectionTime = o.double("acc_max_rejection_time_s", d.accMaxRejectionTime),
-                outputFrame = o.enum("output_frame", d.outputFrame) { OutputFrame.valueOf(it) },
+                outputFrame = o.enum("output_frame", d.outputFrame) { WorldFrame.valueOf(it) },
                 maxGap = o.double("max_gap_s", d.maxGap),
             )
         } catch (e: IllegalArgumentException) {

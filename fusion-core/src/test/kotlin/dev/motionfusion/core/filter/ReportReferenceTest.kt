@@ -4,6 +4,7 @@ import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.sim.TimeWindow
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
@@ -94,7 +95,7 @@ class ReportReferenceTest {
     /** Largest |component difference| between filter and reference over the run (sign of q aligned). */
     private fun maxDifference(settings: FilterSettings, data: List<SimulatedSample>): Double {
         val marg = settings.mode == FilterMode.MARG
-        val filter = MadgwickFilter(settings.copy(outputFrame = OutputFrame.NWU))
+        val filter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.NWU))
         val ref = Reference(settings.beta, settings.zeta, marg)
         val out = DoubleArray(4)
         var worst = 0.0
@@ -127,7 +128,7 @@ class ReportReferenceTest {
     fun `the comparison detects a different gain`() {
         // Guards the two tests above against passing vacuously.
         val data = samples(5)
-        val filter = MadgwickFilter(FilterSettings.report().copy(beta = 0.05, outputFrame = OutputFrame.NWU))
+        val filter = MadgwickFilter(FilterSettings.report().copy(beta = 0.05, outputFrame = WorldFrame.NWU))
         val ref = Reference(0.06, FilterSettings.report().zeta, marg = true)
         for ((i, s) in data.withIndex()) {
             filter.update(s.timestampNs, s.gyro, s.acc, s.mag)
