@@ -101,7 +101,11 @@ class ReplayCommandsTest {
         assertEquals(r.out, Files.readString(dir.resolve("o.csv")))
         assertEquals("", toFile.err)
         // Settings change the result.
-        assertTrue(fusion("replay", table.toString(), "--beta", "0.5").out != r.out)
+        val beta = fusion("replay", table.toString(), "--beta", "0.5").out
+        assertTrue(beta != r.out)
+        assertEquals(beta, fusion("replay", table.toString(), "--set", "beta=0.5").out)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "nope=1").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "beta=abc").code)
         assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--beta", "-1").code)
         assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--mode", "7d").code)
     }

@@ -39,8 +39,12 @@ private fun usage(message: String): Nothing {
 }
 
 /** Applies "name=value" to a settings value by the name of its property. */
-internal object SettingsOverride {
-    fun apply(s: FilterSettings, assignment: String): FilterSettings {
+public object SettingsOverride {
+    /**
+     * [s] with the property named in [assignment] ("name=value", e.g. "beta=0.041") set.
+     * @throws IllegalArgumentException for an unknown name or a bad value.
+     */
+    public fun apply(s: FilterSettings, assignment: String): FilterSettings {
         val (name, value) = assignment.split('=', limit = 2)
         fun d() = value.toDouble()
         fun b() = value.toBooleanStrict()
