@@ -14,7 +14,7 @@ import dev.motionfusion.core.session.StreamCursor
 import kotlin.math.roundToLong
 
 /** The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope, all at t_s. */
-internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents {
+internal class ImuTableEvents(private val table: ImuTableReader, private val sourceName: String) : SessionEvents {
     private var row: dev.motionfusion.core.io.ImuSample? = null
     private var phase = 0
     override var stream: SessionStream = SessionStream.ACCELEROMETER
@@ -33,7 +33,7 @@ internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents
                 row = n
                 phase = 0
                 val t = n.timeS * 1e9
-                if (!(kotlin.math.abs(t) < 9.2e18)) throw DataFormatException("IMU table", 0, 0, "time ${n.timeS} s is not a finite time")
+                if (!(kotlin.math.abs(t) < 9.2e18)) throw DataFormatException(sourceName, 0, 0, "time ${n.timeS} s is not a finite time (or beyond ±292 years)")
                 timestampNs = t.roundToLong()
                 continue
             }

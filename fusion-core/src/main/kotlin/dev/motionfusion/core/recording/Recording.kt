@@ -102,7 +102,7 @@ public class Recording internal constructor(
         private fun table(path: Path, name: String = path.fileName.toString()): Recording {
             val hasMag = ImuTableReader.open(path).use { it.hasMagnetometer }
             val streams = setOf(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE) + (if (hasMag) setOf(SessionStream.MAGNETOMETER) else emptySet())
-            return Recording(name, RecordingFormat.IMU_TABLE, null, 0L, { ImuTableEvents(ImuTableReader.open(path)) }, streams, Closeable { })
+            return Recording(name, RecordingFormat.IMU_TABLE, null, 0L, { ImuTableEvents(ImuTableReader.open(path), path.toString()) }, streams, Closeable { })
         }
 
         private fun export(path: Path, only: Path? = null): Recording {

@@ -112,7 +112,7 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             // is the azimuth, pitch = asin(−M20) = −(Android pitch), roll = atan2(M21, M22) is the
             // Android roll, except at gimbal lock, where Z-Y-X puts the whole rotation in yaw.
             out[4] = -out[1]
-            if (r11 * r11 + r01 * r01 >= GIMBAL_LOCK_THRESHOLD * GIMBAL_LOCK_THRESHOLD) {
+            if (!(r11 * r11 + r01 * r01 < GIMBAL_LOCK_THRESHOLD * GIMBAL_LOCK_THRESHOLD)) { // NaN stays NaN
                 out[3] = out[0]
                 out[5] = out[2]
             } else {

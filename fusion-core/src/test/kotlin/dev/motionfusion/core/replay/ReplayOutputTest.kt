@@ -58,6 +58,13 @@ class ReplayOutputTest {
     }
 
     @Test
+    fun `an unknown orientation gives NaN in every derived column`() {
+        val out = DoubleArray(9)
+        ReplayCsvWriter.derived(DoubleArray(4) { Double.NaN }, doubleArrayOf(0.0, 0.0, 9.8), out)
+        for (k in 0 until 9) assertEquals(true, out[k].isNaN(), "column $k: ${out[k]}")
+    }
+
+    @Test
     fun `comparison errors agree with BROAD's metric, and interpolation removes rate differences`() {
         // Estimates at 200 Hz of a rotation about z at 1 rad/s; reference at 50 Hz, offset 1 ms, with a 3° tilt error.
         val tilt = Quaternion.fromAxisAngle(Vector3.UNIT_X, Math.toRadians(3.0))
