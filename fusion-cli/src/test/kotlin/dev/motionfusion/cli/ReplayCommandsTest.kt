@@ -140,6 +140,16 @@ class ReplayCommandsTest {
         Files.writeString(folder.resolve("Gyroscope.csv"), phyphox(";", true, "Gyroscope", "rad/s") { it.gyro })
         Files.writeString(folder.resolve("Magnetometer.csv"), phyphox(";", true, "Magnetic field", "µT") { it.mag })
         assertSameReplay(reference, fusion("replay", folder.toString()).out, 1e-9)
+        val tabs = Files.createDirectories(dir.resolve("phyphox-tab"))
+        Files.writeString(tabs.resolve("Accelerometer.csv"), phyphox("\t", false, "Acceleration", "m/s^2") { it.acc })
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "rad/s") { it.gyro })
+        Files.writeString(tabs.resolve("Magnetometer.csv"), phyphox("\t", false, "Magnetic field", "µT") { it.mag })
+        assertSameReplay(reference, fusion("replay", tabs.toString()).out, 1e-9)
+        // A unit phyphox does not use is refused, naming the column.
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "deg/s") { it.gyro })
+        val unit = fusion("replay", tabs.toString())
+        assertEquals(ExitCode.DATA_ERROR, unit.code)
+        assertTrue(unit.err.contains("deg/s"), unit.err)
 
         fun logger(pick: (SimulatedSample) -> dev.motionfusion.core.Vector3): String = buildString {
             append("time,seconds_elapsed,z,y,x\n")
