@@ -180,7 +180,19 @@ class ReplayCommandsTest {
         assertEquals(ExitCode.OK, cmp.code, cmp.err)
         assertTrue(cmp.out.contains("${samples.size} samples"), cmp.out)
 
-        // Without TotalAcceleration.csv the export cannot be replayed, and says why.
+        // iOS-style export (standardised frames): Accelerometer.csv without gravity plus Gravity.csv.
+        val gravityOf = { s: SimulatedSample -> s.truth.inverseRotate(dev.motionfusion.core.Vector3(0.0, 0.0, 9.80665)) }
+        zip(dir.resolve("logger-ios.zip"), mapOf(
+            "Accelerometer.csv" to logger { it.acc - gravityOf(it) },
+            "Gravity.csv" to logger { gravityOf(it) },
+            "Gyroscope.csv" to logger { it.gyro },
+            "Magnetometer.csv" to logger { it.mag },
+        ))
+        val ios = fusion("replay", p("logger-ios.zip"))
+        assertEquals(ExitCode.OK, ios.code, ios.err)
+        assertSameReplay(reference, ios.out, 2e-5) // float rounding of the two parts differs from that of the sum
+
+        // Without TotalAcceleration.csv or Gravity.csv the export cannot be replayed, and says why.
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))
         val bad = fusion("replay", p("logger-linear.zip"))
         assertEquals(ExitCode.DATA_ERROR, bad.code)
