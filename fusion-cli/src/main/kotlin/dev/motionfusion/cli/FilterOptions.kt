@@ -1,12 +1,13 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.eval.SettingsOverride
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
 
 /** The filter settings options shared by replay, eval, compare and plot. */
 internal object FilterOptions {
-    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap")
+    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set")
     val FLAGS = setOf("--report", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
 
     val HELP = """
@@ -20,6 +21,8 @@ internal object FilterOptions {
         |  --acc-rejection      skip the accelerometer during strong linear acceleration
         |  --max-gap S          longest accepted gap between samples, s (default 0.5)
         |  --report             start from the Madgwick report's own settings instead
+        |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
+        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3)
         |""".trimMargin()
 
     fun settings(o: Options): FilterSettings {
@@ -45,6 +48,10 @@ internal object FilterOptions {
             if (o.has("--no-rest-bias")) s = s.copy(restBiasEstimation = false)
             if (o.has("--no-mag-rejection")) s = s.copy(magDisturbanceRejection = false)
             if (o.has("--acc-rejection")) s = s.copy(accRejection = true)
+            o.value("--set")?.split(',')?.filter { it.isNotBlank() }?.forEach { a ->
+                if ('=' !in a) throw UsageException("--set expects NAME=VALUE, got '$a'")
+                s = SettingsOverride.apply(s, a.trim())
+            }
         } catch (e: IllegalArgumentException) {
             throw UsageException(e.message ?: "invalid filter setting")
         }

@@ -50,7 +50,7 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         Recording.open(Path.of(input)).use { rec ->
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
-            val stream = if (output == null) out else BufferedOutputStream(Files.newOutputStream(Path.of(output)), 1 shl 16).let {
+            val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(Files.newOutputStream(Path.of(output)), 1 shl 16).let {
                 if (output.endsWith(".gz")) GZIPOutputStream(it, 1 shl 16) else it
             }
             val writer = ReplayCsvWriter(stream, closeStream = output != null)
@@ -71,5 +71,23 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
             }
         }
         return ExitCode.OK
+    }
+}
+
+/**
+ * Standard output that stops the run once it is closed (e.g. `fusion replay … | head`):
+ * PrintStream swallows write errors, which would let a long replay run on for nothing.
+ */
+internal class StdoutGuard(private val out: PrintStream) : java.io.OutputStream() {
+    override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
+
+    override fun write(b: ByteArray, off: Int, len: Int) {
+        out.write(b, off, len)
+        if (out.checkError()) throw java.io.IOException("standard output closed")
+    }
+
+    override fun flush() {
+        out.flush()
+        if (out.checkError()) throw java.io.IOException("standard output closed")
     }
 }

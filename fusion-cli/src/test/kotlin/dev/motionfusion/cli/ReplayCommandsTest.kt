@@ -101,7 +101,11 @@ class ReplayCommandsTest {
         assertEquals(r.out, Files.readString(dir.resolve("o.csv")))
         assertEquals("", toFile.err)
         // Settings change the result.
-        assertTrue(fusion("replay", table.toString(), "--beta", "0.5").out != r.out)
+        val beta = fusion("replay", table.toString(), "--beta", "0.5").out
+        assertTrue(beta != r.out)
+        assertEquals(beta, fusion("replay", table.toString(), "--set", "beta=0.5").out)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "nope=1").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "beta=abc").code)
         assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--beta", "-1").code)
         assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--mode", "7d").code)
     }
@@ -136,6 +140,16 @@ class ReplayCommandsTest {
         Files.writeString(folder.resolve("Gyroscope.csv"), phyphox(";", true, "Gyroscope", "rad/s") { it.gyro })
         Files.writeString(folder.resolve("Magnetometer.csv"), phyphox(";", true, "Magnetic field", "µT") { it.mag })
         assertSameReplay(reference, fusion("replay", folder.toString()).out, 1e-9)
+        val tabs = Files.createDirectories(dir.resolve("phyphox-tab"))
+        Files.writeString(tabs.resolve("Accelerometer.csv"), phyphox("\t", false, "Acceleration", "m/s^2") { it.acc })
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "rad/s") { it.gyro })
+        Files.writeString(tabs.resolve("Magnetometer.csv"), phyphox("\t", false, "Magnetic field", "µT") { it.mag })
+        assertSameReplay(reference, fusion("replay", tabs.toString()).out, 1e-9)
+        // A unit phyphox does not use is refused, naming the column.
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "deg/s") { it.gyro })
+        val unit = fusion("replay", tabs.toString())
+        assertEquals(ExitCode.DATA_ERROR, unit.code)
+        assertTrue(unit.err.contains("deg/s"), unit.err)
 
         fun logger(pick: (SimulatedSample) -> dev.motionfusion.core.Vector3): String = buildString {
             append("time,seconds_elapsed,z,y,x\n")
@@ -152,13 +166,33 @@ class ReplayCommandsTest {
             "Recording/Gyroscope.csv" to logger { it.gyro },
             "Recording/Magnetometer.csv" to logger { it.mag },
             "Recording/Metadata.csv" to "version,device name\n1,test\n",
+            "Recording/Orientation.csv" to buildString {
+                append("time,seconds_elapsed,qz,qy,qx,qw,roll,pitch,yaw\n")
+                for (s in samples) append("${1_764_000_000_000_000_000L + s.timestampNs},0,${s.truth.z},${s.truth.y},${s.truth.x},${s.truth.w},0,0,0\n")
+            },
         ))
         val l = fusion("replay", p("logger.zip"))
         assertEquals(ExitCode.OK, l.code, l.err)
         assertTrue(l.err.contains("Sensor Logger export"), l.err)
         assertSameReplay(reference, l.out, 1e-9)
+        // Orientation.csv is the phone's rotation vector: compare works on the export.
+        val cmp = fusion("compare", p("logger.zip"))
+        assertEquals(ExitCode.OK, cmp.code, cmp.err)
+        assertTrue(cmp.out.contains("${samples.size} samples"), cmp.out)
 
-        // Without TotalAcceleration.csv the export cannot be replayed, and says why.
+        // iOS-style export (standardised frames): Accelerometer.csv without gravity plus Gravity.csv.
+        val gravityOf = { s: SimulatedSample -> s.truth.inverseRotate(dev.motionfusion.core.Vector3(0.0, 0.0, 9.80665)) }
+        zip(dir.resolve("logger-ios.zip"), mapOf(
+            "Accelerometer.csv" to logger { it.acc - gravityOf(it) },
+            "Gravity.csv" to logger { gravityOf(it) },
+            "Gyroscope.csv" to logger { it.gyro },
+            "Magnetometer.csv" to logger { it.mag },
+        ))
+        val ios = fusion("replay", p("logger-ios.zip"))
+        assertEquals(ExitCode.OK, ios.code, ios.err)
+        assertSameReplay(reference, ios.out, 2e-5) // float rounding of the two parts differs from that of the sum
+
+        // Without TotalAcceleration.csv or Gravity.csv the export cannot be replayed, and says why.
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))
         val bad = fusion("replay", p("logger-linear.zip"))
         assertEquals(ExitCode.DATA_ERROR, bad.code)
@@ -194,6 +228,26 @@ class ReplayCommandsTest {
         val svg = Files.readString(dir.resolve("s.svg"))
         assertTrue(svg.startsWith("<svg") && svg.contains("error vs truth") && svg.trim().endsWith("</svg>"))
         assertTrue(svg.length < 400_000)
+    }
+
+    @Test
+    fun `compare --live scores the orientation the app recorded`() {
+        val d = dir.resolve("live")
+        dev.motionfusion.core.session.SessionWriter.create(d, dev.motionfusion.core.session.SessionMetadata()).use { w ->
+            for (s in samples) {
+                w.accelerometer(s.timestampNs, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat(), 3)
+                w.gyroscope(s.timestampNs, s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat(), 3)
+                // The app's live filter is 1° off about north; the phone's rotation vector is exact.
+                val live = dev.motionfusion.core.Quaternion.fromAxisAngle(dev.motionfusion.core.Vector3.UNIT_Y, Math.toRadians(1.0)) * s.truth
+                w.orientation(s.timestampNs + 2_000_000L, live.w, live.x, live.y, live.z)
+                w.rotationVector(s.timestampNs, s.truth.x.toFloat(), s.truth.y.toFloat(), s.truth.z.toFloat(), s.truth.w.toFloat(), -1f, 3)
+            }
+        }
+        val c = fusion("compare", d.toString(), "--live")
+        assertEquals(ExitCode.OK, c.code, c.err)
+        val total = c.out.lines().first { it.startsWith("| total |") }.split('|').map { it.trim() }
+        assertEquals(1.0, total[3].toDouble(), 0.05, c.out) // RMS: the 1° error, whatever the 2 ms offset between the streams
+        assertEquals(ExitCode.DATA_ERROR, fusion("compare", p("live"), "--game").code)
     }
 
     @Test

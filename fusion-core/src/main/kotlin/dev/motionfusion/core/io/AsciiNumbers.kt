@@ -164,26 +164,44 @@ public object AsciiNumbers {
     public fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
         var p = pos
         if (!(abs(v) < 9e9)) return copyString(if (v.isNaN()) "NaN" else v.toString(), buf, p)
-        val scale = LONG_POW10[decimals]
-        var m = Math.round(abs(v) * scale)
+        var m = Math.round(abs(v) * LONG_POW10[decimals])
         if (m == 0L) {
             buf[p++] = '0'.code.toByte()
             return p
         }
         if (v < 0) buf[p++] = '-'.code.toByte()
-        var n = decimals
-        while (n > 0 && m % 10L == 0L) {
-            m /= 10L
-            n--
+        // Digits right to left: at least decimals + 1 of them, two at a time.
+        val digits = maxOf(digitCount(m), decimals + 1)
+        val hasPoint = decimals > 0
+        val end = p + digits + (if (hasPoint) 1 else 0)
+        var i = end
+        var written = 0
+        while (written < digits) {
+            if (hasPoint && written == decimals) buf[--i] = '.'.code.toByte()
+            if (written + 1 < digits && !(hasPoint && written + 1 == decimals)) {
+                val q = m / 100L
+                val r = (m - q * 100L).toInt()
+                buf[--i] = DIGIT_ONES[r]
+                buf[--i] = DIGIT_TENS[r]
+                m = q
+                written += 2
+            } else {
+                val q = m / 10L
+                buf[--i] = ('0'.code + (m - q * 10L).toInt()).toByte()
+                m = q
+                written++
+            }
         }
-        val div = LONG_POW10[n]
-        p = long(buf, p, m / div)
-        if (n > 0) {
-            buf[p++] = '.'.code.toByte()
-            p = writeDigits(buf, p, m % div, n)
+        var e = end
+        if (hasPoint) {
+            while (buf[e - 1] == '0'.code.toByte()) e--
+            if (buf[e - 1] == '.'.code.toByte()) e--
         }
-        return p
+        return e
     }
+
+    private val DIGIT_TENS = ByteArray(100) { ('0'.code + it / 10).toByte() }
+    private val DIGIT_ONES = ByteArray(100) { ('0'.code + it % 10).toByte() }
 
     private fun copy(src: ByteArray, buf: ByteArray, pos: Int): Int {
         src.copyInto(buf, pos)

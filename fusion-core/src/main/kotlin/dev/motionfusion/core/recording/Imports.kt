@@ -14,7 +14,7 @@ import dev.motionfusion.core.session.StreamCursor
 import kotlin.math.roundToLong
 
 /** The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope, all at t_s. */
-internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents {
+internal class ImuTableEvents(private val table: ImuTableReader, private val sourceName: String) : SessionEvents {
     private var row: dev.motionfusion.core.io.ImuSample? = null
     private var phase = 0
     override var stream: SessionStream = SessionStream.ACCELEROMETER
@@ -33,7 +33,7 @@ internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents
                 row = n
                 phase = 0
                 val t = n.timeS * 1e9
-                if (!(kotlin.math.abs(t) < 9.2e18)) throw DataFormatException("IMU table", 0, 0, "time ${n.timeS} s is not a finite time")
+                if (!(kotlin.math.abs(t) < 9.2e18)) throw DataFormatException(sourceName, 0, 0, "time ${n.timeS} s is not a finite time (or beyond ±292 years)")
                 timestampNs = t.roundToLong()
                 continue
             }
@@ -132,6 +132,31 @@ internal object PhyphoxImport {
 }
 
 /**
+ * The sum of two streams sampled at the same instants (Sensor Logger's linear acceleration and
+ * gravity, which iOS delivers together): rows whose timestamps differ are skipped on the
+ * earlier side until both agree.
+ */
+internal class SumCursor(private val a: StreamCursor, private val b: StreamCursor) : StreamCursor {
+    override val stream: SessionStream get() = a.stream
+    override val timestampNs: Long get() = a.timestampNs
+    override val values: DoubleArray = DoubleArray(a.values.size)
+    override val accuracy: Int get() = a.accuracy
+
+    override fun next(): Boolean {
+        if (!a.next() || !b.next()) return false
+        while (a.timestampNs != b.timestampNs) {
+            if (a.timestampNs < b.timestampNs) { if (!a.next()) return false } else if (!b.next()) return false
+        }
+        for (k in values.indices) values[k] = a.values[k] + b.values[k]
+        return true
+    }
+
+    override fun close() {
+        try { a.close() } finally { b.close() }
+    }
+}
+
+/**
  * Sensor Logger exports (docs/IMPORT.md): a zip or folder with one CSV per sensor, header
  * `time,seconds_elapsed,z,y,x` (UTC ns, s, then the axes in the order z, y, x).
  */
@@ -147,6 +172,23 @@ internal object SensorLoggerImport {
         FileSpec("Orientation.csv", SessionStream.ROTATION_VECTOR, listOf("qx", "qy", "qz", "qw", null)),
     )
 
+    /** A cursor of the x, y, z columns of the Sensor Logger file [path] as [stream]. */
+    private fun axisCursor(files: InputFiles, path: String, stream: SessionStream): StreamCursor {
+        val reader = Inputs.reader(files.open(path))
+        try {
+            val header = reader.readLine()?.removePrefix("\uFEFF") ?: throw DataFormatException(files.displayName(path), 1, 0, "empty file")
+            val names = CsvLine(',').also { it.split(header) }.let { f -> (0 until f.count).map { f.text(it).trim().removeSurrounding("\"") } }
+            val idx = listOf("time", "x", "y", "z").map { n ->
+                names.indexOf(n).also { if (it < 0) throw DataFormatException(files.displayName(path), 1, 0, "header lacks column '$n' (got ${names.joinToString(",")})") }
+            }
+            return MappedCsvCursor(stream, reader, files.displayName(path), Dialect(',', false), idx[0], 1.0, intArrayOf(idx[1], idx[2], idx[3]),
+                DoubleArray(3) { 1.0 }, firstLineNumber = 1)
+        } catch (e: Throwable) {
+            reader.close()
+            throw e
+        }
+    }
+
     /** True when [files] looks like a Sensor Logger export. */
     fun recognises(files: InputFiles): Boolean {
         val g = files.find("Gyroscope.csv") ?: files.find("TotalAcceleration.csv") ?: files.find("Accelerometer.csv") ?: return false
@@ -155,12 +197,19 @@ internal object SensorLoggerImport {
     }
 
     fun cursors(files: InputFiles): List<StreamCursor> {
-        if (files.find("TotalAcceleration.csv") == null && files.find("Accelerometer.csv") != null) {
-            throw DataFormatException(files.displayName(files.find("Accelerometer.csv")!!), 0, 0,
-                "Sensor Logger's Accelerometer.csv is acceleration WITHOUT gravity; the filter needs TotalAcceleration.csv (enable 'Total Acceleration' when recording)")
+        val total = files.find("TotalAcceleration.csv")
+        val linear = files.find("Accelerometer.csv")
+        val gravity = files.find("Gravity.csv")
+        if (total == null && linear != null && gravity == null) {
+            throw DataFormatException(files.displayName(linear), 0, 0,
+                "Sensor Logger's Accelerometer.csv is acceleration WITHOUT gravity and there is no Gravity.csv to add back; " +
+                    "the filter needs TotalAcceleration.csv (enable 'Total Acceleration' when recording)")
         }
         val out = ArrayList<StreamCursor>()
         try {
+            if (total == null && linear != null && gravity != null) {
+                out += SumCursor(axisCursor(files, linear, SessionStream.ACCELEROMETER), axisCursor(files, gravity, SessionStream.ACCELEROMETER))
+            }
             for (spec in FILES) {
                 val path = files.find(spec.fileName) ?: continue
                 val reader = Inputs.reader(files.open(path))

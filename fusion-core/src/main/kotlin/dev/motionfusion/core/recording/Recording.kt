@@ -68,7 +68,9 @@ public class Recording internal constructor(
             if (!Files.exists(path)) throw NoSuchFileException(path.toString())
             if (Files.isDirectory(path)) {
                 // A trial folder (BROAD layout) may hold a meta.json of its own: input.csv decides first.
-                for (n in listOf("input.csv.gz", "input.csv")) if (Files.isRegularFile(path.resolve(n))) return table(path.resolve(n))
+                for (n in listOf("input.csv.gz", "input.csv")) {
+                    if (Files.isRegularFile(path.resolve(n))) return table(path.resolve(n), path.fileName?.toString() ?: path.toString())
+                }
                 if (Files.isRegularFile(path.resolve(SessionMetadata.FILE_NAME))) return session(path)
                 return export(path)
             }
@@ -97,10 +99,10 @@ public class Recording internal constructor(
             return Recording(r.name, RecordingFormat.SESSION, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, { r.events() }, r.streams, r)
         }
 
-        private fun table(path: Path): Recording {
+        private fun table(path: Path, name: String = path.fileName.toString()): Recording {
             val hasMag = ImuTableReader.open(path).use { it.hasMagnetometer }
             val streams = setOf(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE) + (if (hasMag) setOf(SessionStream.MAGNETOMETER) else emptySet())
-            return Recording(path.fileName.toString(), RecordingFormat.IMU_TABLE, null, 0L, { ImuTableEvents(ImuTableReader.open(path)) }, streams, Closeable { })
+            return Recording(name, RecordingFormat.IMU_TABLE, null, 0L, { ImuTableEvents(ImuTableReader.open(path), path.toString()) }, streams, Closeable { })
         }
 
         private fun export(path: Path, only: Path? = null): Recording {

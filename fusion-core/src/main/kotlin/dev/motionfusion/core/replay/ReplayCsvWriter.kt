@@ -23,7 +23,6 @@ import java.io.Flushable
 import java.io.OutputStream
 import kotlin.math.asin
 import kotlin.math.atan2
-import kotlin.math.sqrt
 
 /** Writes replay steps as CSV to [out] (buffered; [close] closes [out] unless [closeStream] is false). */
 public class ReplayCsvWriter(private val out: OutputStream, private val closeStream: Boolean = true) : ReplayListener, Closeable, Flushable {
@@ -109,12 +108,13 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             out[1] = asin((-r21).coerceIn(-1.0, 1.0)) * DEG
             out[2] = atan2(-r20, r22) * DEG
             // Aerospace body→NED matrix M = C·R·P has M00 = R11, M10 = R01, M20 = −R21, M21 = −R20,
-            // M22 = R22, M01 = R10, M11 = R00 (C: ENU→NED, P: body→device).
-            val cosPitch = sqrt(r11 * r11 + r01 * r01)
-            out[4] = atan2(r21, cosPitch) * DEG
-            if (cosPitch >= GIMBAL_LOCK_THRESHOLD) {
-                out[3] = atan2(r01, r11) * DEG
-                out[5] = atan2(-r20, r22) * DEG
+            // M22 = R22, M01 = R10, M11 = R00 (C: ENU→NED, P: body→device). So yaw = atan2(M10, M00)
+            // is the azimuth, pitch = asin(−M20) = −(Android pitch), roll = atan2(M21, M22) is the
+            // Android roll, except at gimbal lock, where Z-Y-X puts the whole rotation in yaw.
+            out[4] = -out[1]
+            if (!(r11 * r11 + r01 * r01 < GIMBAL_LOCK_THRESHOLD * GIMBAL_LOCK_THRESHOLD)) { // NaN stays NaN
+                out[3] = out[0]
+                out[5] = out[2]
             } else {
                 out[3] = atan2(-r10, r00) * DEG
                 out[5] = 0.0

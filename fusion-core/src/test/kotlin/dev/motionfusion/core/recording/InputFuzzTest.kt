@@ -123,7 +123,9 @@ class InputFuzzTest {
                 drain(write("phyphox.zip", if (random.nextInt(4) == 0) mutate(zip(entries)) else zip(entries)))
             }
             check("sensor logger zip") {
-                val files = mapOf("Gyroscope.csv" to logger("z,y,x"), "TotalAcceleration.csv" to logger("z,y,x"),
+                val acc = if (random.nextBoolean()) mapOf("TotalAcceleration.csv" to logger("z,y,x"))
+                else mapOf("Accelerometer.csv" to logger("z,y,x"), "Gravity.csv" to logger("z,y,x"))
+                val files = acc + mapOf("Gyroscope.csv" to logger("z,y,x"),
                     "Orientation.csv" to String(logger("qz,qy,qx")).replace("\n", ",1\n").replaceFirst("qx,1", "qx,qw").toByteArray())
                 val victim = files.keys.toList()[random.nextInt(files.size)]
                 val entries = files.mapValues { (n, c) -> if (n == victim) mutate(c) else c }
