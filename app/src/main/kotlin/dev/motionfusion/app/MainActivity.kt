@@ -1,101 +1,78 @@
 package dev.motionfusion.app
 
 import android.app.Activity
-import android.hardware.SensorManager
+import android.content.Intent
+import android.os.Build
 import android.os.Bundle
-import android.os.Handler
-import android.os.Looper
-import android.widget.TextView
-import dev.motionfusion.app.live.LiveModel
-import dev.motionfusion.app.live.LiveState
-import dev.motionfusion.app.live.OrientationReading
-import dev.motionfusion.app.live.displayDegrees
-import dev.motionfusion.app.sensor.SensorKind
-import dev.motionfusion.app.sensor.SensorSource
-import kotlinx.coroutines.CoroutineScope
-import kotlinx.coroutines.Job
-import kotlinx.coroutines.MainScope
-import kotlinx.coroutines.cancel
-import kotlinx.coroutines.launch
+import android.view.Choreographer
+import android.view.Surface
+import dev.motionfusion.app.live.FusionEngine
+import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.live.LiveEngines
+import dev.motionfusion.app.live.LiveScreen
+import dev.motionfusion.app.settings.SettingsActivity
 
 /**
- * The live screen: each sensor's latest values and the accelerometer/magnetometer
- * orientation. Sensors are listened to only while the screen is visible (onStart..onStop).
+ * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
+ * surviving configuration changes); this activity only keeps it running while visible
+ * (onStart..onStop) and draws its latest state once per display frame.
  */
 class MainActivity : Activity() {
-    private lateinit var source: SensorSource
-    private lateinit var model: LiveModel
-    private val scope: CoroutineScope = MainScope()
-    private var capture: Job? = null
-    private val mainHandler = Handler(Looper.getMainLooper())
-    private var renderPending = false
-    private val render = Runnable {
-        renderPending = false
-        show(model.state())
+    private lateinit var engine: FusionEngine
+    private lateinit var screen: LiveScreen
+    private var shown: FusionState? = null
+    private var shownRotation = -1
+    private var visible = false
+
+    private val frame = object : Choreographer.FrameCallback {
+        override fun doFrame(frameTimeNanos: Long) {
+            if (!visible) return
+            render()
+            Choreographer.getInstance().postFrameCallback(this)
+        }
     }
 
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
-        source = SensorSource(getSystemService(SensorManager::class.java))
-        model = LiveModel(SensorKind.entries.toSet() - source.availableKinds())
-        show(model.state())
+        engine = LiveEngines.get(this)
+        screen = LiveScreen(this, engine.sensorInfo)
+        findViewById<android.view.View>(R.id.open_settings).setOnClickListener {
+            startActivity(Intent(this, SettingsActivity::class.java))
+        }
+        render()
     }
 
     override fun onStart() {
         super.onStart()
-        capture = scope.launch {
-            source.samples(SensorKind.entries.toSet(), SensorManager.SENSOR_DELAY_GAME).collect { sample ->
-                model.onSample(sample)
-                // Many samples per frame: draw once for all that arrived since the last draw.
-                if (!renderPending) {
-                    renderPending = true
-                    mainHandler.post(render)
-                }
-            }
-        }
+        engine.start()
+        visible = true
+        Choreographer.getInstance().postFrameCallback(frame)
     }
 
     override fun onStop() {
-        capture?.cancel()
-        capture = null
+        visible = false
+        Choreographer.getInstance().removeFrameCallback(frame)
+        engine.stop()
         super.onStop()
     }
 
-    override fun onDestroy() {
-        scope.cancel()
-        mainHandler.removeCallbacks(render)
-        super.onDestroy()
+    /** Draws the engine's latest state when it or the display rotation changed since the last frame. */
+    private fun render() {
+        val s = engine.state.value
+        val rotation = displayRotation()
+        if (s === shown && rotation == shownRotation) return
+        shown = s
+        shownRotation = rotation
+        screen.show(s, rotation)
     }
 
-    private fun show(state: LiveState) {
-        val angleViews = listOf(R.id.azimuth, R.id.pitch, R.id.roll).map { findViewById<TextView>(it) }
-        val status = findViewById<TextView>(R.id.orientation_status)
-        when (val o = state.orientation) {
-            is OrientationReading.Angles -> {
-                val values = listOf(o.azimuthDeg, o.pitchDeg, o.rollDeg)
-                angleViews.zip(values).forEach { (v, deg) -> v.text = getString(R.string.angle_deg, displayDegrees(deg)) }
-                status.setText(R.string.orientation_ok)
-            }
-            else -> {
-                angleViews.forEach { it.setText(R.string.angle_unknown) }
-                status.setText(
-                    if (o == OrientationReading.Undefined) R.string.orientation_unavailable else R.string.orientation_waiting,
-                )
-            }
+    /** Surface.ROTATION_0..270 of the display this activity is on (read each frame: 180° turns raise no event). */
+    private fun displayRotation(): Int {
+        val d = if (Build.VERSION.SDK_INT >= Build.VERSION_CODES.R) display else {
+            @Suppress("DEPRECATION")
+            windowManager.defaultDisplay
         }
-        showValues(R.id.accelerometer, SensorKind.ACCELEROMETER, state)
-        showValues(R.id.gyroscope, SensorKind.GYROSCOPE, state)
-        showValues(R.id.magnetometer, SensorKind.MAGNETOMETER, state)
-    }
-
-    private fun showValues(viewId: Int, kind: SensorKind, state: LiveState) {
-        val view = findViewById<TextView>(viewId)
-        val s = state.latest[kind]
-        view.text = when {
-            s != null -> getString(R.string.vector_values, s.x, s.y, s.z)
-            kind in state.missing -> getString(R.string.sensor_missing)
-            else -> getString(R.string.no_data)
-        }
+        return d?.rotation ?: Surface.ROTATION_0
     }
 }
