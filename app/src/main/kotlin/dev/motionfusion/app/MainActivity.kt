@@ -2,34 +2,49 @@ package dev.motionfusion.app
 
 import android.app.Activity
 import android.content.Intent
-import android.os.Build
+import android.content.res.Configuration
+import android.hardware.display.DisplayManager
 import android.os.Bundle
+import android.os.Handler
+import android.os.Looper
 import android.view.Choreographer
 import android.view.Surface
+import android.view.View
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.FusionState
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Job
+import kotlinx.coroutines.MainScope
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.launch
 
 /**
  * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
- * surviving configuration changes); this activity only keeps it running while visible
- * (onStart..onStop) and draws its latest state once per display frame.
+ * surviving configuration changes); this activity keeps it running while visible
+ * (onStart..onStop) and draws its latest state at most once per display frame: each new state
+ * or display change asks for the next frame, and the frame draws whatever is newest then.
  */
 class MainActivity : Activity() {
     private lateinit var engine: FusionEngine
     private lateinit var screen: LiveScreen
+    private val scope: CoroutineScope = MainScope()
+    private var watch: Job? = null
     private var shown: FusionState? = null
     private var shownRotation = -1
-    private var visible = false
+    private var framePending = false
 
-    private val frame = object : Choreographer.FrameCallback {
-        override fun doFrame(frameTimeNanos: Long) {
-            if (!visible) return
-            render()
-            Choreographer.getInstance().postFrameCallback(this)
-        }
+    private val frame = Choreographer.FrameCallback {
+        framePending = false
+        render()
+    }
+
+    private val displays = object : DisplayManager.DisplayListener {
+        override fun onDisplayAdded(displayId: Int) = Unit
+        override fun onDisplayRemoved(displayId: Int) = Unit
+        override fun onDisplayChanged(displayId: Int) = requestFrame() // e.g. a 180° turn, which is no configuration change
     }
 
     override fun onCreate(savedInstanceState: Bundle?) {
@@ -37,7 +52,7 @@ class MainActivity : Activity() {
         setContentView(R.layout.activity_main)
         engine = LiveEngines.get(this)
         screen = LiveScreen(this, engine.sensorInfo)
-        findViewById<android.view.View>(R.id.open_settings).setOnClickListener {
+        findViewById<View>(R.id.open_settings).setOnClickListener {
             startActivity(Intent(this, SettingsActivity::class.java))
         }
         render()
@@ -46,15 +61,34 @@ class MainActivity : Activity() {
     override fun onStart() {
         super.onStart()
         engine.start()
-        visible = true
-        Choreographer.getInstance().postFrameCallback(frame)
+        getSystemService(DisplayManager::class.java).registerDisplayListener(displays, Handler(Looper.getMainLooper()))
+        watch = scope.launch { engine.state.collect { requestFrame() } }
     }
 
     override fun onStop() {
-        visible = false
+        watch?.cancel()
+        watch = null
+        getSystemService(DisplayManager::class.java).unregisterDisplayListener(displays)
         Choreographer.getInstance().removeFrameCallback(frame)
+        framePending = false
         engine.stop()
         super.onStop()
+    }
+
+    override fun onDestroy() {
+        scope.cancel()
+        super.onDestroy()
+    }
+
+    override fun onConfigurationChanged(newConfig: Configuration) {
+        super.onConfigurationChanged(newConfig)
+        requestFrame()
+    }
+
+    private fun requestFrame() {
+        if (framePending) return
+        framePending = true
+        Choreographer.getInstance().postFrameCallback(frame)
     }
 
     /** Draws the engine's latest state when it or the display rotation changed since the last frame. */
@@ -67,12 +101,10 @@ class MainActivity : Activity() {
         screen.show(s, rotation)
     }
 
-    /** Surface.ROTATION_0..270 of the display this activity is on (read each frame: 180° turns raise no event). */
     private fun displayRotation(): Int {
-        val d = if (Build.VERSION.SDK_INT >= Build.VERSION_CODES.R) display else {
-            @Suppress("DEPRECATION")
-            windowManager.defaultDisplay
-        }
-        return d?.rotation ?: Surface.ROTATION_0
+        // An activity's WindowManager belongs to the activity's display (Activity.getDisplay, API 30,
+        // is the same display but throws before the window is attached).
+        @Suppress("DEPRECATION")
+        return windowManager.defaultDisplay?.rotation ?: Surface.ROTATION_0
     }
 }

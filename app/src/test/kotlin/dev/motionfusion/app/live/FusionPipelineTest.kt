@@ -45,8 +45,9 @@ class FusionPipelineTest {
         for (i in 1..9) p.onSample(gyro(2 * ms + i * 10 * ms))
         assertEquals(9L, p.snapshot().filterSteps)
         val a = angles(p)
-        // Within 0.01°: the filter's flux reference is refined on each step from float inputs.
-        assertEquals(0.0, wrapped(a.yaw), 0.01); assertEquals(0.0, a.pitch, 0.01); assertEquals(0.0, a.roll, 0.01)
+        // Within 0.05°: Madgwick's normalised gradient turns the rounding-level residual at the
+        // solution into full steps of up to 2βΔt (0.023° here), so the estimate chatters around it.
+        assertEquals(0.0, wrapped(a.yaw), 0.05); assertEquals(0.0, a.pitch, 0.05); assertEquals(0.0, a.roll, 0.05)
     }
 
     @Test

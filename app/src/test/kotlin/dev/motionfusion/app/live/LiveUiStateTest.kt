@@ -30,7 +30,7 @@ class LiveUiStateTest {
         assertTrue(ui.magWarnings.isEmpty())
         assertFalse(ui.showCalibrationHint)
         assertEquals(HeadingQuality.OK, ui.headingQuality)
-        assertEquals(0.0, ((ui.headingDeg!! + 180.0) % 360.0) - 180.0, 0.01)
+        assertEquals(0.0, ((ui.headingDeg!! + 180.0) % 360.0) - 180.0, 0.05)
     }
 
     @Test
@@ -60,9 +60,9 @@ class LiveUiStateTest {
         val h = Math.toRadians(-10.0) / 2
         p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 60 * ms, 0f, 0f, Math.sin(h).toFloat(), 3, Math.cos(h).toFloat()))
         val ui = LiveUiState.of(p.snapshot(), 0)
-        // Within 0.01°: the filter's own estimate is that close to north (FusionPipelineTest).
-        assertEquals(10.0, ui.differenceDeg!!, 0.01)
-        assertEquals(0.0, ui.tiltDifferenceDeg!!, 0.01)
+        // Within 0.05°: the filter's own estimate chatters that close to the truth (FusionPipelineTest).
+        assertEquals(10.0, ui.differenceDeg!!, 0.05)
+        assertEquals(0.0, ui.tiltDifferenceDeg!!, 0.05)
         assertEquals(10.0, ui.rotationVectorAngles!!.yaw, 1e-4)
         assertNull(ui.gameTiltDifferenceDeg)
     }
