@@ -11,6 +11,7 @@ import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterMode
 import org.junit.Assert.assertEquals
@@ -292,6 +293,10 @@ class MainActivityTest {
         val gyroRow = (0 until list.childCount).map { (list.getChildAt(it) as TextView).text.toString() }.first { it.startsWith("Gyroscope") }
         assertTrue(gyroRow, gyroRow.contains("Test gyroscope"))
         assertTrue(gyroRow, gyroRow.contains("requested 100 Hz · achieved 100.0 Hz · jitter 0.00 ms · accuracy high"))
+        // Nothing conflated on the data path: every event reached the fusion.
+        val stats = engine().state.value.sensors
+        for (k in listOf(SensorKind.ACCELEROMETER, SensorKind.GYROSCOPE, SensorKind.MAGNETOMETER)) assertEquals(30L, stats.getValue(k).samples)
+        assertEquals(29L, engine().state.value.filterSteps)
     }
 
     @Test

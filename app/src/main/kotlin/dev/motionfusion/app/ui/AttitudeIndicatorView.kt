@@ -39,9 +39,10 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
         invalidate()
     }
 
+    /** Square, as wide as given but at most [MAX_DIAL_DP] (so that landscape leaves room for the rest). */
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize(w, heightMeasureSpec))
+        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
     }
 
     override fun onDraw(canvas: Canvas) {
@@ -87,3 +88,6 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
 
     private fun dp(v: Float) = v * resources.displayMetrics.density
 }
+
+/** The largest diameter of the attitude indicator and the compass, dp. */
+internal const val MAX_DIAL_DP = 260f

@@ -38,9 +38,10 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
         invalidate()
     }
 
+    /** Square, as wide as given but at most [MAX_DIAL_DP] (so that landscape leaves room for the rest). */
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize(w, heightMeasureSpec))
+        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
     }
 
     override fun onDraw(canvas: Canvas) {
