@@ -10,6 +10,7 @@ import dev.motionfusion.app.live.LiveModel
 import dev.motionfusion.app.live.LiveState
 import dev.motionfusion.app.live.OrientationReading
 import dev.motionfusion.app.live.displayDegrees
+import dev.motionfusion.app.record.RecordBar
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSource
 import kotlinx.coroutines.CoroutineScope
@@ -37,6 +38,7 @@ class MainActivity : Activity() {
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
+        RecordBar.attach(this, findViewById(R.id.record_bar))
         source = SensorSource(getSystemService(SensorManager::class.java))
         model = LiveModel(SensorKind.entries.toSet() - source.availableKinds())
         show(model.state())
