@@ -29,17 +29,28 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
         w * o.z + x * o.y - y * o.x + z * o.w,
     )
 
+    /** Every component scaled by [s] (not a rotation unless renormalised). */
     public operator fun times(s: Double): Quaternion = Quaternion(w * s, x * s, y * s, z * s)
+
+    /** Componentwise sum (used by integration and interpolation). */
     public operator fun plus(o: Quaternion): Quaternion = Quaternion(w + o.w, x + o.x, y + o.y, z + o.z)
+
+    /** Componentwise difference. */
     public operator fun minus(o: Quaternion): Quaternion = Quaternion(w - o.w, x - o.x, y - o.y, z - o.z)
+
+    /** −q: the same rotation as q. */
     public operator fun unaryMinus(): Quaternion = Quaternion(-w, -x, -y, -z)
 
+    /** q* = [w, −x, −y, −z]: the inverse rotation of a unit quaternion (world → sensor for an orientation). */
     public fun conjugate(): Quaternion = Quaternion(w, -x, -y, -z)
 
+    /** |q|². */
     public fun normSquared(): Double = w * w + x * x + y * y + z * z
 
+    /** |q|, 1 for a rotation. */
     public fun norm(): Double = sqrt(normSquared())
 
+    /** 4-D dot product; |q·o| = cos(half the angle between the rotations) for unit quaternions. */
     public fun dot(o: Quaternion): Double = w * o.w + x * o.x + y * o.y + z * o.z
 
     public fun isFinite(): Boolean = w.isFinite() && x.isFinite() && y.isFinite() && z.isFinite()
@@ -140,9 +151,11 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
         return Vector3(c.x, c.y, c.z) * (angle / vn)
     }
 
+    /** [w, x, y, z]. */
     public fun toDoubleArray(): DoubleArray = doubleArrayOf(w, x, y, z)
 
     public companion object {
+        /** No rotation: the sensor frame coincides with the world frame. */
         public val IDENTITY: Quaternion = Quaternion(1.0, 0.0, 0.0, 0.0)
 
         /**

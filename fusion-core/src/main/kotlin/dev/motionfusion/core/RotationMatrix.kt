@@ -47,11 +47,9 @@ public data class RotationMatrix(
     /** The transpose, which is the inverse of a rotation (world → sensor for an orientation). */
     public fun transpose(): RotationMatrix = RotationMatrix(m00, m10, m20, m01, m11, m21, m02, m12, m22)
 
+    /** The determinant: +1 for a rotation, −1 for a reflection. */
     public fun determinant(): Double =
         m00 * (m11 * m22 - m12 * m21) - m01 * (m10 * m22 - m12 * m20) + m02 * (m10 * m21 - m11 * m20)
-
-    /** True when every element is finite. */
-    public fun isFinite(): Boolean = toDoubleArray().all { it.isFinite() }
 
     /**
      * True when this is a proper rotation within [tolerance]: ‖I − MᵀM‖_F < tolerance (the test
@@ -91,6 +89,7 @@ public data class RotationMatrix(
     public fun toDoubleArray(): DoubleArray = doubleArrayOf(m00, m01, m02, m10, m11, m12, m20, m21, m22)
 
     public companion object {
+        /** The identity: the sensor frame coincides with the world frame. */
         public val IDENTITY: RotationMatrix = RotationMatrix(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
 
         /**

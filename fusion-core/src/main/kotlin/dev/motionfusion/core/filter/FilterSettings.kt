@@ -60,7 +60,8 @@ public enum class Initialisation {
  * @property restAccThreshold rest when the accelerometer deviates from its low-passed value by less
  *   than this, m/s². Default 0.5 m/s².
  * @property restMinTime time the rest conditions must hold before rest is declared, s. Default 1.5 s.
- * @property restBiasTime time constant of the bias average at rest, s. Default 2 s.
+ * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began, for up to
+ *   this long, then a moving average with this time constant, s. Default 2 s.
  * @property magDisturbanceRejection ignore the magnetometer while its magnitude or dip angle
  *   departs from a learned reference (the gyroscope then holds heading).
  * @property magNormTolerance allowed relative deviation of the field magnitude from the reference.
@@ -123,10 +124,13 @@ public data class FilterSettings(
 
     public companion object {
         /**
-         * The report's filter exactly: MARG, β for ω̃_β = 5°/s and ζ for ω̃_ζ = 0.2°/s² as in its
-         * listing (eqs. 50–51), identity start, none of the additions.
+         * The report's filter exactly: β for ω̃_β = 5°/s and ζ for ω̃_ζ = 0.2°/s² as in its
+         * listing (eqs. 50–51; ζ acts in MARG steps only), identity start, none of the additions.
          */
-        public fun report(): FilterSettings = FilterSettings(
+        @JvmStatic
+        @JvmOverloads
+        public fun report(mode: FilterMode = FilterMode.MARG): FilterSettings = FilterSettings(
+            mode = mode,
             beta = SQRT_3_4 * 5.0 * DEG,
             zeta = SQRT_3_4 * 0.2 * DEG,
             initialisation = Initialisation.IDENTITY,

@@ -37,6 +37,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val maxGapNs = (settings.maxGap * 1e9).toLong()
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
     private val restBiasTime = settings.restBiasTime
+    private val restMinTime = settings.restMinTime
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val scratch = DoubleArray(4)
@@ -83,7 +84,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var accRejections = 0L
     private var magRejections = 0L
 
-    /** True once the filter has an orientation. Before that, [orientation] is the identity. */
+    /** True once the filter has an orientation. Before that, [orientation] is the identity (of the output frame). */
     public val isInitialised: Boolean get() = initialised
 
     /** Holds an accelerometer sample (m/s², device frame) for the next gyroscope steps. */
@@ -132,7 +133,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
 
         if (rest != null && rest.update(dt, x, y, z, accOk, ax, ay, az)) {
-            val k = dt / (restBiasTime + dt)
+            // Mean of the readings since rest began, then a moving average over restBiasTime.
+            val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
             wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
         }
 
@@ -146,14 +148,16 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             useAcc = accRejection.accept(dt, n, (ax * upx + ay * upy + az * upz) / n)
             if (!useAcc) accRejections++
         }
-        var useMag = magOk && useAcc
+        var useMag = magOk
         if (useMag && magDetector != null) {
             val n = sqrt(mx * mx + my * my + mz * mz)
-            useMag = magDetector.accept(dt, n, -(mx * upx + my * upy + mz * upz) / n)
+            val sinDip = -(mx * upx + my * upy + mz * upz) / n
+            val sinDipRaw = if (accOk) -(mx * ax + my * ay + mz * az) / (n * sqrt(ax * ax + ay * ay + az * az)) else sinDip
+            useMag = magDetector.accept(dt, n, sinDip, sinDipRaw)
             if (!useMag) magRejections++
         }
         when {
-            useMag -> margStep(dt, x, y, z)
+            useMag -> margStep(dt, x, y, z, useAcc)
             useAcc -> imuStep(dt, x, y, z)
             else -> gyroStep(dt, x, y, z)
         }
@@ -199,6 +203,10 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** Writes the orientation [w, x, y, z] in settings.outputFrame into out[offset..offset+3]. */
     public fun orientationInto(out: DoubleArray, offset: Int = 0) {
+        if (!initialised) {
+            out[offset] = 1.0; out[offset + 1] = 0.0; out[offset + 2] = 0.0; out[offset + 3] = 0.0
+            return
+        }
         EarthFrames.fromNwu(settings.outputFrame, q1, q2, q3, q4, out, offset)
     }
 
@@ -306,22 +314,29 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         lastT = t
     }
 
-    /** The report's MARG update (eqs. 25–26, 29–30, 34, 44, 47–49, 12, 42–43, 45–46). */
-    private fun margStep(dt: Double, gx: Double, gy: Double, gz: Double) {
-        var n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
-        val a1 = ax * n
-        val a2 = ay * n
-        val a3 = az * n
-        n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
+    /**
+     * The report's MARG update (eqs. 25–26, 29–30, 34, 44, 47–49, 12, 42–43, 45–46). Without
+     * [withAcc] (a rejected accelerometer) the accelerometer's rows of f are left out: with b taken
+     * from the estimate (eq. 46) the remaining gradient corrects heading only.
+     */
+    private fun margStep(dt: Double, gx: Double, gy: Double, gz: Double, withAcc: Boolean) {
+        var f1 = 0.0
+        var f2 = 0.0
+        var f3 = 0.0
+        if (withAcc) {
+            val n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
+            // Objective function, accelerometer part (eq. 25).
+            f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
+            f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
+            f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - az * n
+        }
+        val n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
         val m1 = mx * n
         val m2 = my * n
         val m3 = mz * n
         val twoBx = 2.0 * bx
         val twoBz = 2.0 * bz
-        // Objective function (eqs. 25, 29).
-        val f1 = 2.0 * (q2 * q4 - q1 * q3) - a1
-        val f2 = 2.0 * (q1 * q2 + q3 * q4) - a2
-        val f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - a3
+        // Objective function, magnetometer part (eq. 29).
         val f4 = twoBx * (0.5 - q3 * q3 - q4 * q4) + twoBz * (q2 * q4 - q1 * q3) - m1
         val f5 = twoBx * (q2 * q3 - q1 * q4) + twoBz * (q1 * q2 + q3 * q4) - m2
         val f6 = twoBx * (q1 * q3 + q2 * q4) + twoBz * (0.5 - q2 * q2 - q3 * q3) - m3

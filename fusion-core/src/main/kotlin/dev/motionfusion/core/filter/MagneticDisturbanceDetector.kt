@@ -5,7 +5,8 @@
  * the horizontal). A field whose magnitude or dip departs from a learned reference is disturbed
  * (a magnet, steel, a motor) and the filter then leaves the magnetometer out, so the gyroscope holds
  * heading. The dip is measured against the filter's own up direction, not the raw accelerometer,
- * so linear acceleration does not look like a disturbance. Units: µT (any unit, consistently),
+ * so linear acceleration does not look like a disturbance; a new reference is taken against the
+ * raw accelerometer, so it does not depend on an estimate that may not have converged yet. Units: µT (any unit, consistently),
  * radians, seconds. Allocation-free and free of trigonometric calls per sample.
  */
 package dev.motionfusion.core.filter
@@ -29,14 +30,15 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
 
     /**
      * Classifies one magnetometer reading of magnitude [norm] whose dip has sine [sinDip] (the
-     * component of the unit field along the estimated down direction), after [dt] s. Returns true
-     * when the reading may be used. The first reading, and a field disturbed for longer than
-     * magMaxRejectionTime, become the reference; an undisturbed field slowly updates it.
+     * component of the unit field along the estimated down direction), or [sinDipRaw] measured
+     * against the accelerometer, after [dt] s. Returns true when the reading may be used. The first
+     * reading, and a field disturbed for longer than magMaxRejectionTime, become the reference; an
+     * undisturbed field slowly updates it.
      */
-    fun accept(dt: Double, norm: Double, sinDip: Double): Boolean {
+    fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double): Boolean {
         if (!hasReference || disturbedTime > maxRejectionTime) {
             refNorm = norm
-            refSinDip = sinDip
+            refSinDip = sinDipRaw
             hasReference = true
             disturbedTime = 0.0
             disturbed = false

@@ -20,7 +20,9 @@ internal class RestDetector(settings: FilterSettings) {
     private var ax = 0.0
     private var ay = 0.0
     private var az = 0.0
-    private var restTime = 0.0
+    /** Time the rest conditions have held, s. */
+    var restTime = 0.0
+        private set
 
     /** True once the rest conditions have held for restMinTime. */
     var atRest = false

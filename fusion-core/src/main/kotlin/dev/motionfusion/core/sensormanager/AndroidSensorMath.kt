@@ -99,8 +99,9 @@ public enum class RemapAxis(public val aospValue: Int, internal val index: Int, 
 
 /**
  * remapCoordinateSystem on a typed matrix: the rotation [r] (device → world) rewritten for a
- * device frame in which the old device axis given by [x] becomes the new x axis and [y] the new
- * y axis (AOSP semantics: out = r · Sᵀ with S = [x | y | x × y] as signed unit vectors).
+ * new device frame in which the original x axis lies along the new axis [x] and the original y
+ * axis along the new axis [y] (AOSP semantics: new coordinates = S · old coordinates and
+ * out = r · Sᵀ, with S = [x | y | x × y] as signed unit vectors).
  * @throws IllegalArgumentException when [x] and [y] lie along the same device axis.
  */
 public fun remapCoordinateSystem(r: RotationMatrix, x: RemapAxis, y: RemapAxis): RotationMatrix {

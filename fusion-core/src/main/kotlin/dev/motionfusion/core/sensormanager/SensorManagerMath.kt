@@ -154,9 +154,12 @@ public object SensorManagerMath {
         else atan2(I[6].toDouble(), I[5].toDouble()).toFloat()
 
     /**
-     * Rewrites the rotation matrix [inR] (device → world) for a device frame whose x and y axes
-     * are the old axes [X] and [Y] (AXIS_* constants; the new z is X × Y), into [outR]. [inR] and
-     * [outR] must have the same length (9 or 16; other lengths ≥ 12 are treated as 3 rows of 3).
+     * Rewrites the rotation matrix [inR] (device → world) for a new device frame in which the
+     * original x axis lies along the new axis [X] and the original y axis along the new axis [Y]
+     * (AXIS_* constants; e.g. display rotation 90°: X = AXIS_Y, Y = AXIS_MINUS_X), into [outR]:
+     * out = in · Sᵀ with S = [X | Y | X × Y] as signed unit vectors. [inR] and
+     * [outR] must have the same length (9 or 16; like AOSP, any other length is treated as 3 rows
+     * of 3, and throws ArrayIndexOutOfBoundsException below 9).
      * 16-element outputs get the homogeneous last row and column.
      *
      * @return false, leaving [outR] untouched, for a length mismatch, an invalid axis or two

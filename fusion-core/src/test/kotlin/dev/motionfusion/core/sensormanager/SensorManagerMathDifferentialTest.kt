@@ -42,7 +42,8 @@ class SensorManagerMathDifferentialTest {
     fun `getRotationMatrix matches on random inputs, free fall and near-pole edges, all layouts`() {
         val rnd = Random(1)
         var successes = 0
-        var failures = 0
+        var freeFalls = 0
+        var nearPole = 0
         repeat(n) {
             val gravity = when (it % 4) {
                 0 -> vector(rnd, 12f) // includes small vectors: free fall
@@ -55,10 +56,16 @@ class SensorManagerMathDifferentialTest {
                 else -> vector(rnd, 80f)
             }
             val ok = compareRotationMatrix(rnd, gravity, geomagnetic)
-            if (ok) successes++ else failures++
+            val normSq = gravity[0] * gravity[0] + gravity[1] * gravity[1] + gravity[2] * gravity[2]
+            when {
+                ok -> successes++
+                normSq < 0.01f * 9.81f * 9.81f -> freeFalls++
+                else -> nearPole++ // |E × A| < 0.1
+            }
         }
-        // Both branches must have been exercised substantially.
-        assertTrue(successes > n / 4 && failures > n / 20, "successes $successes, failures $failures")
+        println("getRotationMatrix: ok $successes, free fall $freeFalls, near pole $nearPole")
+        // Every branch must have been exercised substantially.
+        assertTrue(successes > n / 4 && freeFalls > n / 20 && nearPole > n / 50, "ok $successes, free fall $freeFalls, near pole $nearPole")
     }
 
     @Test
@@ -151,6 +158,11 @@ class SensorManagerMathDifferentialTest {
             }
         }
         assertTrue(accepted > n / 10, "accepted $accepted")
+        // Lengths other than 9 and 16 are 3 rows of 3: 12 works, 4 throws.
+        for (length in intArrayOf(4, 12)) {
+            val inR = vectorOf(rnd, length, 1f)
+            assertSameOutcome { m -> m.remapCoordinateSystem(inR, SensorManagerMath.AXIS_Y, SensorManagerMath.AXIS_MINUS_X, FloatArray(length)) }
+        }
     }
 
     @Test
@@ -169,6 +181,26 @@ class SensorManagerMathDifferentialTest {
         val aliased16 = r16.copyOf().also { SensorManagerMath.remapCoordinateSystem(it, SensorManagerMath.AXIS_Y, SensorManagerMath.AXIS_MINUS_X, it) }
         val copied16 = FloatArray(16).also { SensorManager.remapCoordinateSystem(r16, SensorManager.AXIS_Y, SensorManager.AXIS_MINUS_X, it) }
         assertBitsEqual(copied16, aliased16) { "16 aliased" }
+    }
+
+    @Test
+    fun `remapCoordinateSystem in == out is thread-safe without AOSP's shared temp matrix`() {
+        val rnd = Random(11)
+        val inputs = Array(8) { rotationMatrix(rnd, 16) }
+        val expected = inputs.map { FloatArray(16).also { out -> SensorManager.remapCoordinateSystem(it, SensorManager.AXIS_Y, SensorManager.AXIS_MINUS_X, out) } }
+        val mismatches = java.util.concurrent.atomic.AtomicInteger()
+        val threads = inputs.indices.map { t ->
+            Thread {
+                repeat(20_000) {
+                    val r = inputs[t].copyOf()
+                    SensorManagerMath.remapCoordinateSystem(r, SensorManagerMath.AXIS_Y, SensorManagerMath.AXIS_MINUS_X, r)
+                    if (!r.contentEquals(expected[t])) mismatches.incrementAndGet()
+                }
+            }
+        }
+        threads.forEach { it.start() }
+        threads.forEach { it.join() }
+        assertEquals(0, mismatches.get())
     }
 
     @Test
@@ -248,6 +280,10 @@ class SensorManagerMathDifferentialTest {
 
         fun getOrientation(r: FloatArray, v: FloatArray) {
             if (this == AOSP) SensorManager.getOrientation(r, v) else SensorManagerMath.getOrientation(r, v)
+        }
+
+        fun remapCoordinateSystem(inR: FloatArray, x: Int, y: Int, outR: FloatArray) {
+            if (this == AOSP) SensorManager.remapCoordinateSystem(inR, x, y, outR) else SensorManagerMath.remapCoordinateSystem(inR, x, y, outR)
         }
 
         fun getRotationMatrixFromVector(r: FloatArray, rv: FloatArray) {

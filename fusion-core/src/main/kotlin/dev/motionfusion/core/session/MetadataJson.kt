@@ -1,0 +1,239 @@
+/*
+ * SessionMetadata ↔ meta.json. Members are named as in docs/SESSION_FORMAT.md; unknown members
+ * are ignored (newer minor versions may add some), missing ones take their defaults, a member
+ * of the wrong type is an error naming its path.
+ */
+package dev.motionfusion.core.session
+
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.Initialisation
+import dev.motionfusion.core.filter.OutputFrame
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.Json
+
+internal object MetadataJson {
+
+    fun write(m: SessionMetadata): String = Json.write(toMap(m))
+
+    fun toMap(m: SessionMetadata): Map<String, Any?> = linkedMapOf(
+        "format" to "motion-fusion-session",
+        "format_version" to m.formatVersion,
+        "app_version" to m.appVersion,
+        "source" to m.source,
+        "device" to linkedMapOf(
+            "manufacturer" to m.device.manufacturer,
+            "model" to m.device.model,
+            "android_version" to m.device.androidVersion,
+            "sdk_int" to m.device.sdkInt,
+        ),
+        "start_anchor" to m.startAnchor?.let(::anchor),
+        "anchors" to m.anchors.map(::anchor),
+        "end_elapsed_realtime_ns" to m.endElapsedRealtimeNs,
+        "complete" to m.complete,
+        "recovered" to m.recovered,
+        "pauses" to m.pauses.map { linkedMapOf("start_elapsed_realtime_ns" to it.startElapsedRealtimeNs, "end_elapsed_realtime_ns" to it.endElapsedRealtimeNs) },
+        "sensors" to m.sensors.map { s ->
+            linkedMapOf(
+                "stream" to s.stream.key,
+                "name" to s.name,
+                "vendor" to s.vendor,
+                "version" to s.version,
+                "type" to s.type,
+                "maximum_range" to s.maximumRange,
+                "resolution" to s.resolution,
+                "power_ma" to s.powerMa,
+                "min_delay_us" to s.minDelayUs,
+                "max_delay_us" to s.maxDelayUs,
+                "fifo_reserved_event_count" to s.fifoReservedEventCount,
+                "fifo_max_event_count" to s.fifoMaxEventCount,
+                "wake_up" to s.wakeUp,
+                "requested_period_us" to s.requestedPeriodUs,
+                "max_report_latency_us" to s.maxReportLatencyUs,
+            )
+        },
+        "streams" to m.streams.entries.sortedBy { it.key.ordinal }.associate { (k, v) ->
+            k.key to linkedMapOf(
+                "file" to k.fileName,
+                "samples" to v.samples,
+                "first_timestamp_ns" to v.firstTimestampNs,
+                "last_timestamp_ns" to v.lastTimestampNs,
+                "achieved_rate_hz" to v.achievedRateHz,
+                "interval_std_ms" to v.intervalStdMs,
+                "backwards" to v.backwards,
+                "duplicates" to v.duplicates,
+            )
+        },
+        "filter_settings" to m.filterSettings?.let(::settings),
+    )
+
+    private fun anchor(a: ClockAnchor) = linkedMapOf("wall_clock_ms" to a.wallClockMs, "elapsed_realtime_ns" to a.elapsedRealtimeNs)
+
+    fun settings(s: FilterSettings): Map<String, Any?> = linkedMapOf(
+        "mode" to s.mode.name,
+        "beta" to s.beta,
+        "zeta" to s.zeta,
+        "initialisation" to s.initialisation.name,
+        "rest_bias_estimation" to s.restBiasEstimation,
+        "rest_gyro_threshold_rad_s" to s.restGyroThreshold,
+        "rest_acc_threshold_m_s2" to s.restAccThreshold,
+        "rest_min_time_s" to s.restMinTime,
+        "rest_bias_time_s" to s.restBiasTime,
+        "mag_disturbance_rejection" to s.magDisturbanceRejection,
+        "mag_norm_tolerance" to s.magNormTolerance,
+        "mag_dip_tolerance_rad" to s.magDipTolerance,
+        "mag_max_rejection_time_s" to s.magMaxRejectionTime,
+        "mag_reference_time_s" to s.magReferenceTime,
+        "acc_rejection" to s.accRejection,
+        "acc_norm_tolerance_m_s2" to s.accNormTolerance,
+        "acc_angle_tolerance_rad" to s.accAngleTolerance,
+        "acc_max_rejection_time_s" to s.accMaxRejectionTime,
+        "output_frame" to s.outputFrame.name,
+        "max_gap_s" to s.maxGap,
+    )
+
+    fun parse(text: String, sourceName: String): SessionMetadata {
+        val root = Json.parse(text, sourceName) as? Map<*, *> ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
+        val r = Obj(root, "", sourceName)
+        val version = r.int("format_version", -1)
+        if (version < 1) throw DataFormatException(sourceName, 0, 0, "format_version missing or not a positive integer")
+        if (version > SessionMetadata.FORMAT_VERSION) {
+            throw DataFormatException(sourceName, 0, 0, "format_version $version is newer than this reader (${SessionMetadata.FORMAT_VERSION}); update fusion")
+        }
+        val device = r.obj("device")
+        return SessionMetadata(
+            formatVersion = version,
+            appVersion = r.string("app_version"),
+            source = r.string("source"),
+            device = DeviceInfo(device.string("manufacturer"), device.string("model"), device.string("android_version"), device.int("sdk_int", 0)),
+            startAnchor = r.objOrNull("start_anchor")?.let(::parseAnchor),
+            anchors = r.list("anchors").map(::parseAnchor),
+            sensors = r.list("sensors").map { s ->
+                val key = s.string("stream")
+                val stream = SessionStream.ofKey(key) ?: throw s.error("stream", "unknown stream '$key'")
+                SensorInfo(
+                    stream = stream,
+                    name = s.string("name"), vendor = s.string("vendor"), version = s.int("version", 0),
+                    type = s.int("type", stream.androidType),
+                    maximumRange = s.double("maximum_range"), resolution = s.double("resolution"), powerMa = s.double("power_ma"),
+                    minDelayUs = s.int("min_delay_us", 0), maxDelayUs = s.int("max_delay_us", 0),
+                    fifoReservedEventCount = s.int("fifo_reserved_event_count", 0), fifoMaxEventCount = s.int("fifo_max_event_count", 0),
+                    wakeUp = s.bool("wake_up", false),
+                    requestedPeriodUs = s.int("requested_period_us", 0), maxReportLatencyUs = s.int("max_report_latency_us", 0),
+                )
+            },
+            filterSettings = r.objOrNull("filter_settings")?.let(::parseSettings),
+            pauses = r.list("pauses").map { Pause(it.long("start_elapsed_realtime_ns", 0L), it.longOrNull("end_elapsed_realtime_ns")) },
+            complete = r.bool("complete", false),
+            recovered = r.bool("recovered", false),
+            endElapsedRealtimeNs = r.longOrNull("end_elapsed_realtime_ns"),
+            streams = r.objOrNull("streams")?.let { o ->
+                o.keys().mapNotNull { k ->
+                    val stream = SessionStream.ofKey(k) ?: return@mapNotNull null
+                    val s = o.obj(k)
+                    stream to StreamStats(
+                        s.long("samples", 0L), s.long("first_timestamp_ns", 0L), s.long("last_timestamp_ns", 0L),
+                        s.double("achieved_rate_hz"), s.double("interval_std_ms"), s.long("backwards", 0L), s.long("duplicates", 0L),
+                    )
+                }.toMap()
+            } ?: emptyMap(),
+        )
+    }
+
+    private fun parseAnchor(o: Obj) = ClockAnchor(o.long("wall_clock_ms", 0L), o.long("elapsed_realtime_ns", 0L))
+
+    private fun parseSettings(o: Obj): FilterSettings {
+        val d = FilterSettings()
+        return try {
+            FilterSettings(
+                mode = o.enum("mode", d.mode) { FilterMode.valueOf(it) },
+                beta = o.double("beta", d.beta),
+                zeta = o.double("zeta", d.zeta),
+                initialisation = o.enum("initialisation", d.initialisation) { Initialisation.valueOf(it) },
+                restBiasEstimation = o.bool("rest_bias_estimation", d.restBiasEstimation),
+                restGyroThreshold = o.double("rest_gyro_threshold_rad_s", d.restGyroThreshold),
+                restAccThreshold = o.double("rest_acc_threshold_m_s2", d.restAccThreshold),
+                restMinTime = o.double("rest_min_time_s", d.restMinTime),
+                restBiasTime = o.double("rest_bias_time_s", d.restBiasTime),
+                magDisturbanceRejection = o.bool("mag_disturbance_rejection", d.magDisturbanceRejection),
+                magNormTolerance = o.double("mag_norm_tolerance", d.magNormTolerance),
+                magDipTolerance = o.double("mag_dip_tolerance_rad", d.magDipTolerance),
+                magMaxRejectionTime = o.double("mag_max_rejection_time_s", d.magMaxRejectionTime),
+                magReferenceTime = o.double("mag_reference_time_s", d.magReferenceTime),
+                accRejection = o.bool("acc_rejection", d.accRejection),
+                accNormTolerance = o.double("acc_norm_tolerance_m_s2", d.accNormTolerance),
+                accAngleTolerance = o.double("acc_angle_tolerance_rad", d.accAngleTolerance),
+                accMaxRejectionTime = o.double("acc_max_rejection_time_s", d.accMaxRejectionTime),
+                outputFrame = o.enum("output_frame", d.outputFrame) { OutputFrame.valueOf(it) },
+                maxGap = o.double("max_gap_s", d.maxGap),
+            )
+        } catch (e: IllegalArgumentException) {
+            throw o.error("", "invalid filter settings: ${e.message}")
+        }
+    }
+
+    /** Typed access to a JSON object, with errors naming the member's path. */
+    private class Obj(val map: Map<*, *>, val path: String, val source: String) {
+        fun error(key: String, reason: String) = DataFormatException(source, 0, 0, "${path}$key: $reason")
+        fun keys(): List<String> = map.keys.map { it.toString() }
+        private fun raw(key: String): Any? = map[key]
+
+        fun string(key: String): String = when (val v = raw(key)) {
+            null -> ""
+            is String -> v
+            else -> throw error(key, "expected a string")
+        }
+
+        fun longOrNull(key: String): Long? = when (val v = raw(key)) {
+            null -> null
+            is Long -> v
+            is Double -> if (v == Math.rint(v) && kotlin.math.abs(v) < 9e18) v.toLong() else throw error(key, "expected an integer")
+            else -> throw error(key, "expected an integer")
+        }
+
+        fun long(key: String, default: Long): Long = longOrNull(key) ?: default
+
+        fun int(key: String, default: Int): Int {
+            val v = longOrNull(key) ?: return default
+            if (v < Int.MIN_VALUE || v > Int.MAX_VALUE) throw error(key, "integer out of range")
+            return v.toInt()
+        }
+
+        fun double(key: String, default: Double = Double.NaN): Double = when (val v = raw(key)) {
+            null -> default
+            is Long -> v.toDouble()
+            is Double -> v
+            else -> throw error(key, "expected a number")
+        }
+
+        fun bool(key: String, default: Boolean): Boolean = when (val v = raw(key)) {
+            null -> default
+            is Boolean -> v
+            else -> throw error(key, "expected true or false")
+        }
+
+        fun <E> enum(key: String, default: E, parse: (String) -> E): E {
+            val s = string(key)
+            if (s.isEmpty()) return default
+            return try {
+                parse(s)
+            } catch (e: IllegalArgumentException) {
+                throw error(key, "unknown value '$s'")
+            }
+        }
+
+        fun objOrNull(key: String): Obj? = when (val v = raw(key)) {
+            null -> null
+            is Map<*, *> -> Obj(v, "$path$key.", source)
+            else -> throw error(key, "expected an object")
+        }
+
+        fun obj(key: String): Obj = objOrNull(key) ?: Obj(emptyMap<String, Any>(), "$path$key.", source)
+
+        fun list(key: String): List<Obj> = when (val v = raw(key)) {
+            null -> emptyList()
+            is List<*> -> v.mapIndexed { i, x -> (x as? Map<*, *>)?.let { Obj(it, "$path$key[$i].", source) } ?: throw error("$key[$i]", "expected an object") }
+            else -> throw error(key, "expected an array")
+        }
+    }
+}

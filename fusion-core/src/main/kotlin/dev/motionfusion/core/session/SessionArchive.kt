@@ -1,0 +1,91 @@
+/*
+ * Zip export and import of session folders: the zip holds one folder named after the session
+ * with meta.json and the stream files (SessionReader also reads zips with the files at the root).
+ */
+package dev.motionfusion.core.session
+
+import dev.motionfusion.core.io.DataFormatException
+import java.io.BufferedOutputStream
+import java.io.OutputStream
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.zip.ZipEntry
+import java.util.zip.ZipException
+import java.util.zip.ZipFile
+import java.util.zip.ZipOutputStream
+
+public object SessionArchive {
+    /** Largest file accepted by [unzip] (protects against zip bombs): 8 GiB. */
+    public const val MAX_ENTRY_BYTES: Long = 8L shl 30
+
+    /**
+     * Writes the session folder [dir] as a zip to [zipFile] (deflate), files inside a folder
+     * named like [dir]. Only meta.json and the stream files are included.
+     */
+    @JvmStatic
+    public fun zip(dir: Path, zipFile: Path) {
+        require(Files.isRegularFile(dir.resolve(SessionMetadata.FILE_NAME))) { "$dir is not a session folder (no meta.json)" }
+        Files.newOutputStream(zipFile).use { zip(dir, it) }
+    }
+
+    /** As [zip], to a stream (e.g. a content:// URI's output stream on Android); does not close [out]. */
+    @JvmStatic
+    public fun zip(dir: Path, out: OutputStream) {
+        val folder = dir.toAbsolutePath().normalize().fileName?.toString() ?: "session"
+        val z = ZipOutputStream(BufferedOutputStream(out, 1 shl 16))
+        val names = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }
+        for (name in names) {
+            val f = dir.resolve(name)
+            if (!Files.isRegularFile(f)) continue
+            val e = ZipEntry("$folder/$name")
+            e.time = Files.getLastModifiedTime(f).toMillis()
+            z.putNextEntry(e)
+            Files.copy(f, z)
+            z.closeEntry()
+        }
+        z.finish()
+        z.flush()
+    }
+
+    /**
+     * Extracts the session in [zipFile] into the new folder [target] (which must not exist).
+     * Only flat files beside meta.json are extracted; paths are never followed out of [target].
+     * @throws DataFormatException when the zip is broken or holds no session.
+     */
+    @JvmStatic
+    public fun unzip(zipFile: Path, target: Path): Path {
+        require(!Files.exists(target)) { "$target already exists" }
+        try {
+            ZipFile(zipFile.toFile()).use { zip ->
+                val entries = zip.entries().asSequence().toList()
+                val meta = entries.map { it.name }.filter { it == SessionMetadata.FILE_NAME || it.endsWith("/" + SessionMetadata.FILE_NAME) }
+                    .minByOrNull { it.length } ?: throw DataFormatException(zipFile.toString(), 0, 0, "no meta.json: not a session zip")
+                val prefix = meta.removeSuffix(SessionMetadata.FILE_NAME)
+                Files.createDirectories(target)
+                for (e in entries) {
+                    if (e.isDirectory || !e.name.startsWith(prefix)) continue
+                    val name = e.name.removePrefix(prefix)
+                    if (name.isEmpty() || '/' in name || '\\' in name || name == "." || name == "..") continue
+                    val out = target.resolve(name).normalize()
+                    check(out.parent == target.normalize()) { "unsafe entry ${e.name}" }
+                    zip.getInputStream(e).use { input ->
+                        Files.newOutputStream(out).use { o ->
+                            val buf = ByteArray(1 shl 16)
+                            var total = 0L
+                            while (true) {
+                                val n = input.read(buf)
+                                if (n < 0) break
+                                total += n
+                                if (total > MAX_ENTRY_BYTES) throw DataFormatException("$zipFile!/${e.name}", 0, 0, "entry larger than $MAX_ENTRY_BYTES bytes")
+                                o.write(buf, 0, n)
+                            }
+                        }
+                    }
+                }
+            }
+        } catch (e: ZipException) {
+            throw DataFormatException(zipFile.toString(), 0, 0, "not a readable zip file: ${e.message}", e)
+        }
+        return target
+    }
+}

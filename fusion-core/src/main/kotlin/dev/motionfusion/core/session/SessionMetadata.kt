@@ -1,0 +1,119 @@
+/*
+ * meta.json of a session (docs/SESSION_FORMAT.md): what was recorded, on what, when, and how.
+ * Times: wall clock in ms since the Unix epoch (System.currentTimeMillis), sensor time in ns on
+ * the SystemClock.elapsedRealtimeNanos base (the base of SensorEvent.timestamp).
+ */
+package dev.motionfusion.core.session
+
+import dev.motionfusion.core.filter.FilterSettings
+
+/** The device the session was recorded on (android.os.Build). */
+public data class DeviceInfo(
+    val manufacturer: String = "",
+    val model: String = "",
+    /** Build.VERSION.RELEASE, e.g. "14". */
+    val androidVersion: String = "",
+    /** Build.VERSION.SDK_INT, e.g. 34; 0 when unknown. */
+    val sdkInt: Int = 0,
+)
+
+/**
+ * A wall-clock anchor: [wallClockMs] (System.currentTimeMillis) and [elapsedRealtimeNs]
+ * (SystemClock.elapsedRealtimeNanos) read together. UTC of a sensor timestamp t:
+ * wallClockMs + (t − elapsedRealtimeNs) / 1e6.
+ */
+public data class ClockAnchor(val wallClockMs: Long, val elapsedRealtimeNs: Long) {
+    /** Unix time in ms of the sensor timestamp [timestampNs]. */
+    public fun toWallClockMs(timestampNs: Long): Double = wallClockMs + (timestampNs - elapsedRealtimeNs) / 1e6
+}
+
+/**
+ * One sensor as android.hardware.Sensor describes it, and how it was registered. Delays in µs,
+ * range and resolution in the stream's unit, power in mA.
+ */
+public data class SensorInfo(
+    val stream: SessionStream,
+    val name: String = "",
+    val vendor: String = "",
+    val version: Int = 0,
+    /** Sensor.getType(). */
+    val type: Int = stream.androidType,
+    val maximumRange: Double = Double.NaN,
+    val resolution: Double = Double.NaN,
+    val powerMa: Double = Double.NaN,
+    /** Sensor.getMinDelay(): shortest period, µs (0 for on-change sensors). */
+    val minDelayUs: Int = 0,
+    /** Sensor.getMaxDelay(): longest period, µs. */
+    val maxDelayUs: Int = 0,
+    val fifoReservedEventCount: Int = 0,
+    val fifoMaxEventCount: Int = 0,
+    val wakeUp: Boolean = false,
+    /** The samplingPeriodUs passed to registerListener. */
+    val requestedPeriodUs: Int = 0,
+    /** The maxReportLatencyUs passed to registerListener (0: no batching). */
+    val maxReportLatencyUs: Int = 0,
+) {
+    /** Requested rate, Hz (NaN for 0 = fastest). */
+    public val requestedRateHz: Double get() = if (requestedPeriodUs > 0) 1e6 / requestedPeriodUs else Double.NaN
+}
+
+/** A pause of the recording from [startElapsedRealtimeNs] to [endElapsedRealtimeNs] (null while paused). */
+public data class Pause(val startElapsedRealtimeNs: Long, val endElapsedRealtimeNs: Long?)
+
+/**
+ * What was actually recorded in one stream: counts, first and last timestamps and the achieved
+ * rate. Intervals longer than one second (pauses, gaps) are left out of the rate and jitter.
+ *
+ * @property achievedRateHz 1 / mean sample interval.
+ * @property intervalStdMs standard deviation of the sample interval (jitter), ms.
+ * @property backwards samples whose timestamp is earlier than the previous one's.
+ * @property duplicates samples with the previous sample's timestamp.
+ */
+public data class StreamStats(
+    val samples: Long,
+    val firstTimestampNs: Long,
+    val lastTimestampNs: Long,
+    val achievedRateHz: Double,
+    val intervalStdMs: Double,
+    val backwards: Long,
+    val duplicates: Long,
+)
+
+/**
+ * The contents of meta.json. [formatVersion] is the version of docs/SESSION_FORMAT.md the
+ * session follows; readers reject a newer major version.
+ *
+ * @property startAnchor wall clock and sensor clock read together when recording started.
+ * @property anchors later anchors (e.g. every minute), to detect wall-clock adjustments.
+ * @property sensors every sensor recorded, with its registration.
+ * @property filterSettings the settings of the live filter that wrote orientation.csv, if any.
+ * @property pauses pauses of the recording (samples are absent during them).
+ * @property complete true once the writer closed the session normally.
+ * @property recovered true when the session was repaired after its process was killed.
+ * @property endElapsedRealtimeNs when recording stopped (sensor clock), null if unknown.
+ * @property streams per-stream counts and achieved rates, filled on close or recovery.
+ * @property source who made the session, e.g. "Motion Fusion 0.1.0" or "fusion simulate --seed 1".
+ */
+public data class SessionMetadata(
+    val formatVersion: Int = FORMAT_VERSION,
+    val appVersion: String = "",
+    val source: String = "",
+    val device: DeviceInfo = DeviceInfo(),
+    val startAnchor: ClockAnchor? = null,
+    val anchors: List<ClockAnchor> = emptyList(),
+    val sensors: List<SensorInfo> = emptyList(),
+    val filterSettings: FilterSettings? = null,
+    val pauses: List<Pause> = emptyList(),
+    val complete: Boolean = false,
+    val recovered: Boolean = false,
+    val endElapsedRealtimeNs: Long? = null,
+    val streams: Map<SessionStream, StreamStats> = emptyMap(),
+) {
+    public companion object {
+        /** The version of the format this library writes (and the newest it reads). */
+        public const val FORMAT_VERSION: Int = 1
+
+        /** File name of the metadata inside a session folder. */
+        public const val FILE_NAME: String = "meta.json"
+    }
+}

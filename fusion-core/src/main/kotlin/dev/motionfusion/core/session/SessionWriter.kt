@@ -1,0 +1,363 @@
+/*
+ * The streaming writer of a session folder (docs/SESSION_FORMAT.md), built for the app's hot
+ * path: one writer thread hands it samples it has already copied out of SensorEvent; each call
+ * formats one CSV row into that stream's byte buffer (no String, no String.format, no boxing,
+ * locale-independent) and the buffer goes to the file when full or on flush().
+ *
+ * Durability: flush() hands buffered rows to the operating system, so they survive the process
+ * being killed; call it at least once a second. sync() also forces them to the storage device
+ * (survives power loss); it is slow, call it rarely (e.g. every minute and on pause). A killed
+ * process leaves at most a partial last line per file and meta.json with "complete": false:
+ * SessionRecovery.recover repairs that.
+ *
+ * Units and frames are those of SessionStream: SI, Android device frame, ENU quaternions.
+ */
+package dev.motionfusion.core.session
+
+import dev.motionfusion.core.io.AsciiNumbers
+import java.io.Closeable
+import java.io.FileOutputStream
+import java.io.Flushable
+import java.io.IOException
+import java.nio.charset.StandardCharsets
+import java.nio.file.Files
+import java.nio.file.Path
+import java.nio.file.StandardCopyOption
+
+/**
+ * Writes one session into a folder: a CSV file per stream (created at the stream's first
+ * sample) and meta.json. Not thread-safe: call every method from one thread.
+ */
+public class SessionWriter private constructor(
+    /** The session folder. */
+    public val directory: Path,
+    initial: SessionMetadata,
+    private val bufferBytes: Int,
+) : Closeable, Flushable {
+
+    private val outs = arrayOfNulls<StreamOut>(SessionStream.entries.size)
+    private var meta = initial.copy(formatVersion = SessionMetadata.FORMAT_VERSION, complete = false)
+    private var closed = false
+    private var lastTimestampNs = Long.MIN_VALUE
+
+    /** The metadata as it stands (stream statistics are filled in by [close]). */
+    public val metadata: SessionMetadata get() = meta
+
+    init {
+        writeMetadata()
+    }
+
+    /** TYPE_ACCELEROMETER sample: m/s², device frame; [accuracy] = SensorEvent.accuracy. */
+    public fun accelerometer(timestampNs: Long, x: Float, y: Float, z: Float, accuracy: Int): Unit =
+        row3(SessionStream.ACCELEROMETER, timestampNs, x, y, z, accuracy)
+
+    /** TYPE_GYROSCOPE sample: rad/s, device frame. */
+    public fun gyroscope(timestampNs: Long, x: Float, y: Float, z: Float, accuracy: Int): Unit =
+        row3(SessionStream.GYROSCOPE, timestampNs, x, y, z, accuracy)
+
+    /** TYPE_MAGNETIC_FIELD sample: µT, device frame. */
+    public fun magnetometer(timestampNs: Long, x: Float, y: Float, z: Float, accuracy: Int): Unit =
+        row3(SessionStream.MAGNETOMETER, timestampNs, x, y, z, accuracy)
+
+    /** TYPE_GYROSCOPE_UNCALIBRATED sample: rate and estimated drift, rad/s. */
+    public fun gyroscopeUncalibrated(
+        timestampNs: Long, x: Float, y: Float, z: Float, biasX: Float, biasY: Float, biasZ: Float, accuracy: Int,
+    ) {
+        val o = begin(SessionStream.GYROSCOPE_UNCALIBRATED, timestampNs)
+        o.float(x); o.float(y); o.float(z); o.float(biasX); o.float(biasY); o.float(biasZ)
+        o.end(accuracy)
+    }
+
+    /** TYPE_MAGNETIC_FIELD_UNCALIBRATED sample: field and hard-iron bias, µT. */
+    public fun magnetometerUncalibrated(
+        timestampNs: Long, x: Float, y: Float, z: Float, biasX: Float, biasY: Float, biasZ: Float, accuracy: Int,
+    ) {
+        val o = begin(SessionStream.MAGNETOMETER_UNCALIBRATED, timestampNs)
+        o.float(x); o.float(y); o.float(z); o.float(biasX); o.float(biasY); o.float(biasZ)
+        o.end(accuracy)
+    }
+
+    /**
+     * TYPE_ROTATION_VECTOR sample as Android's values: [x], [y], [z] = axis·sin(θ/2), [w] =
+     * cos(θ/2) (device → ENU), [headingAccuracyRad] (−1 when unknown; NaN writes an empty field).
+     */
+    public fun rotationVector(timestampNs: Long, x: Float, y: Float, z: Float, w: Float, headingAccuracyRad: Float, accuracy: Int) {
+        val o = begin(SessionStream.ROTATION_VECTOR, timestampNs)
+        o.float(x); o.float(y); o.float(z); o.float(w)
+        if (headingAccuracyRad.isNaN()) o.empty() else o.float(headingAccuracyRad)
+        o.end(accuracy)
+    }
+
+    /** TYPE_GAME_ROTATION_VECTOR sample (x, y, z, w as [rotationVector]; arbitrary yaw). */
+    public fun gameRotationVector(timestampNs: Long, x: Float, y: Float, z: Float, w: Float, accuracy: Int) {
+        val o = begin(SessionStream.GAME_ROTATION_VECTOR, timestampNs)
+        o.float(x); o.float(y); o.float(z); o.float(w)
+        o.end(accuracy)
+    }
+
+    /** The live filter's orientation (sensor → ENU, [w, x, y, z]); stored with float precision. */
+    public fun orientation(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double): Unit =
+        quaternion(SessionStream.ORIENTATION, timestampNs, qw, qx, qy, qz)
+
+    /** A known true orientation (sensor → ENU), for simulated or motion-captured sessions. */
+    public fun truth(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double): Unit =
+        quaternion(SessionStream.TRUTH, timestampNs, qw, qx, qy, qz)
+
+    /** The live filter's diagnostics: gyroscope bias estimate (rad/s, device frame) and its flags. */
+    public fun filterDiagnostics(
+        timestampNs: Long, biasX: Double, biasY: Double, biasZ: Double,
+        atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean,
+    ) {
+        val o = begin(SessionStream.FILTER_DIAGNOSTICS, timestampNs)
+        o.float(biasX.toFloat()); o.float(biasY.toFloat()); o.float(biasZ.toFloat())
+        o.flag(atRest); o.flag(magneticDisturbance); o.flag(accelerometerRejected)
+        o.end(NO_ACCURACY)
+    }
+
+    /**
+     * Any stream from a copy of SensorEvent.values: the first [SessionStream.valueCount] of
+     * [values] (missing trailing values, e.g. a rotation vector without heading accuracy, are
+     * written as empty fields); [accuracy] ignored by streams without an accuracy column.
+     */
+    public fun write(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
+        val o = begin(stream, timestampNs)
+        val n = stream.valueCount
+        for (i in 0 until n) if (i < values.size) o.float(values[i]) else o.empty()
+        o.end(if (stream.hasAccuracy) accuracy else NO_ACCURACY)
+    }
+
+    /** Records that recording paused at [elapsedRealtimeNs] (sensor clock); rewrites meta.json. */
+    public fun pause(elapsedRealtimeNs: Long) {
+        checkOpen()
+        meta = meta.copy(pauses = meta.pauses + Pause(elapsedRealtimeNs, null))
+        writeMetadata()
+    }
+
+    /** Records that recording resumed at [elapsedRealtimeNs]; rewrites meta.json. */
+    public fun resume(elapsedRealtimeNs: Long) {
+        checkOpen()
+        val last = meta.pauses.lastOrNull()
+        check(last != null && last.endElapsedRealtimeNs == null) { "resume without pause" }
+        meta = meta.copy(pauses = meta.pauses.dropLast(1) + last.copy(endElapsedRealtimeNs = elapsedRealtimeNs))
+        writeMetadata()
+    }
+
+    /** Adds a wall-clock anchor taken during recording (e.g. every minute); rewrites meta.json. */
+    public fun anchor(anchor: ClockAnchor) {
+        checkOpen()
+        meta = meta.copy(anchors = meta.anchors + anchor)
+        writeMetadata()
+    }
+
+    /** Replaces the metadata by [transform] of it (e.g. achieved settings known later); rewrites meta.json. */
+    public fun updateMetadata(transform: (SessionMetadata) -> SessionMetadata) {
+        checkOpen()
+        meta = transform(meta).copy(formatVersion = SessionMetadata.FORMAT_VERSION, complete = false)
+        writeMetadata()
+    }
+
+    /** Hands every buffered row to the operating system (survives a killed process). */
+    override fun flush() {
+        checkOpen()
+        for (o in outs) o?.drain()
+    }
+
+    /** [flush], then forces the files to the storage device (survives power loss). Slow. */
+    public fun sync() {
+        flush()
+        for (o in outs) o?.sync()
+    }
+
+    /** Closes with the end time set to the latest sample timestamp written. */
+    override fun close() {
+        if (closed) return
+        close(if (lastTimestampNs == Long.MIN_VALUE) null else lastTimestampNs)
+    }
+
+    /**
+     * Flushes and closes every stream and writes the final meta.json (complete, per-stream
+     * statistics, [endElapsedRealtimeNs]). A second close does nothing.
+     */
+    public fun close(endElapsedRealtimeNs: Long?) {
+        if (closed) return
+        var failure: IOException? = null
+        for (o in outs) {
+            try {
+                o?.close()
+            } catch (e: IOException) {
+                if (failure == null) failure = e else failure.addSuppressed(e)
+            }
+        }
+        closed = true
+        val stats = SessionStream.entries.mapNotNull { s -> outs[s.ordinal]?.let { s to it.stats() } }.toMap()
+        meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, streams = stats)
+        writeMetadata()
+        if (failure != null) throw failure
+    }
+
+    private fun row3(stream: SessionStream, t: Long, x: Float, y: Float, z: Float, accuracy: Int) {
+        val o = begin(stream, t)
+        o.float(x); o.float(y); o.float(z)
+        o.end(accuracy)
+    }
+
+    private fun quaternion(stream: SessionStream, t: Long, w: Double, x: Double, y: Double, z: Double) {
+        val o = begin(stream, t)
+        o.float(w.toFloat()); o.float(x.toFloat()); o.float(y.toFloat()); o.float(z.toFloat())
+        o.end(NO_ACCURACY)
+    }
+
+    private fun begin(stream: SessionStream, t: Long): StreamOut {
+        checkOpen()
+        val o = outs[stream.ordinal] ?: StreamOut(stream).also { outs[stream.ordinal] = it }
+        o.begin(t)
+        if (t > lastTimestampNs) lastTimestampNs = t
+        return o
+    }
+
+    private fun checkOpen() = check(!closed) { "session writer closed" }
+
+    private fun writeMetadata() {
+        val tmp = directory.resolve(SessionMetadata.FILE_NAME + ".tmp")
+        Files.write(tmp, MetadataJson.write(meta).toByteArray(StandardCharsets.UTF_8))
+        try {
+            Files.move(tmp, directory.resolve(SessionMetadata.FILE_NAME), StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
+        } catch (e: java.nio.file.AtomicMoveNotSupportedException) {
+            Files.move(tmp, directory.resolve(SessionMetadata.FILE_NAME), StandardCopyOption.REPLACE_EXISTING)
+        }
+    }
+
+    /** One stream's file, byte buffer and running statistics. */
+    private inner class StreamOut(private val stream: SessionStream) {
+        private val file = FileOutputStream(directory.resolve(stream.fileName).toFile())
+        private val buf = ByteArray(bufferBytes)
+        private var pos = 0
+        private val stats = StatsAccumulator()
+
+        init {
+            val h = (stream.header + "\n").toByteArray(StandardCharsets.US_ASCII)
+            h.copyInto(buf)
+            pos = h.size
+        }
+
+        fun begin(t: Long) {
+            if (pos + MAX_ROW_BYTES > buf.size) drain()
+            pos = AsciiNumbers.long(buf, pos, t)
+            stats.add(t)
+        }
+
+        fun float(v: Float) {
+            buf[pos++] = COMMA
+            pos = AsciiNumbers.float(buf, pos, v)
+        }
+
+        fun empty() {
+            buf[pos++] = COMMA
+        }
+
+        fun flag(b: Boolean) {
+            buf[pos++] = COMMA
+            buf[pos++] = if (b) ONE else ZERO
+        }
+
+        fun end(accuracy: Int) {
+            if (accuracy != NO_ACCURACY) {
+                buf[pos++] = COMMA
+                pos = AsciiNumbers.long(buf, pos, accuracy.toLong())
+            }
+            buf[pos++] = NEWLINE
+        }
+
+        fun drain() {
+            if (pos > 0) {
+                file.write(buf, 0, pos)
+                pos = 0
+            }
+        }
+
+        fun sync() = file.fd.sync()
+
+        fun close() {
+            try {
+                drain()
+            } finally {
+                file.close()
+            }
+        }
+
+        fun stats(): StreamStats = stats.result()
+    }
+
+    public companion object {
+        private const val COMMA = ','.code.toByte()
+        private const val NEWLINE = '\n'.code.toByte()
+        private const val ONE = '1'.code.toByte()
+        private const val ZERO = '0'.code.toByte()
+        private const val NO_ACCURACY = Int.MIN_VALUE
+
+        /** Upper bound of one row: timestamp, 6 floats, accuracy, separators. */
+        private const val MAX_ROW_BYTES = AsciiNumbers.MAX_LONG_CHARS + 8 * (AsciiNumbers.MAX_FLOAT_CHARS + 1) + 16
+
+        /** Default buffer per stream: 64 KiB (≈ 1,500 rows; a second at 1.5 kHz). */
+        public const val DEFAULT_BUFFER_BYTES: Int = 1 shl 16
+
+        /**
+         * Starts a session in [directory] (created if missing; must not already hold a session)
+         * and writes meta.json with [metadata] and "complete": false.
+         * @throws IllegalArgumentException when [directory] already holds a meta.json.
+         */
+        @JvmStatic
+        @JvmOverloads
+        public fun create(directory: Path, metadata: SessionMetadata, bufferBytes: Int = DEFAULT_BUFFER_BYTES): SessionWriter {
+            require(bufferBytes >= 4 * MAX_ROW_BYTES) { "bufferBytes must be ≥ ${4 * MAX_ROW_BYTES}" }
+            Files.createDirectories(directory)
+            require(!Files.exists(directory.resolve(SessionMetadata.FILE_NAME))) { "$directory already holds a session" }
+            return SessionWriter(directory, metadata, bufferBytes)
+        }
+    }
+}
+
+/**
+ * Running statistics of a stream's timestamps: count, first, last, backwards and duplicate
+ * steps, and mean and standard deviation of the intervals up to [MAX_INTERVAL_NS].
+ */
+internal class StatsAccumulator {
+    private var count = 0L
+    private var first = 0L
+    private var last = 0L
+    private var backwards = 0L
+    private var duplicates = 0L
+    private var intervals = 0L
+    private var sum = 0.0
+    private var sumSq = 0.0
+
+    fun add(t: Long) {
+        if (count > 0) {
+            val dt = t - last
+            when {
+                dt < 0 -> backwards++
+                dt == 0L -> duplicates++
+                dt <= MAX_INTERVAL_NS -> {
+                    val s = dt * 1e-9
+                    intervals++
+                    sum += s
+                    sumSq += s * s
+                }
+            }
+        } else {
+            first = t
+        }
+        last = t
+        count++
+    }
+
+    fun result(): StreamStats {
+        val mean = if (intervals > 0) sum / intervals else Double.NaN
+        val variance = if (intervals > 1) ((sumSq - sum * mean) / (intervals - 1)).coerceAtLeast(0.0) else Double.NaN
+        return StreamStats(count, first, last, 1.0 / mean, kotlin.math.sqrt(variance) * 1e3, backwards, duplicates)
+    }
+
+    companion object {
+        const val MAX_INTERVAL_NS = 1_000_000_000L
+    }
+}
