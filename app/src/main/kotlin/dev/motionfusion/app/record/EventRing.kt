@@ -1,12 +1,13 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import java.util.concurrent.atomic.AtomicLong
 
 /**
  * A bounded single-producer single-consumer queue of sensor events kept as primitives, so
  * that the sensor thread hands an event to the writer thread without allocating, locking or
  * waiting. Memory is fixed at construction: per slot one timestamp, one stream/accuracy int
- * and [RecordStream.MAX_VALUES] floats (36 bytes; 2^17 slots ≈ 4.7 MB).
+ * and [SensorStreams.maxValues] floats (36 bytes; 2^17 slots ≈ 4.7 MB).
  *
  * The producer is the one sensor HandlerThread; the consumer is the one writer thread.
  * Publication: the producer writes the slot, then advances [head] with a release store
@@ -26,7 +27,7 @@ internal class EventRing(capacity: Int) {
     private val mask = capacity - 1L
     private val times = LongArray(capacity)
     private val meta = IntArray(capacity)
-    private val values = FloatArray(capacity * RecordStream.MAX_VALUES)
+    private val values = FloatArray(capacity * SensorStreams.maxValues)
     private val head = AtomicLong() // next slot the producer writes
     private val tail = AtomicLong() // next slot the consumer reads
     @Volatile private var refusing = false
@@ -52,7 +53,7 @@ internal class EventRing(capacity: Int) {
      * Producer: queues one event, copying [count] values from [src] (the rest of the slot is
      * NaN). Returns false, without waiting, when the ring is full or refusing.
      */
-    fun offer(stream: RecordStream, timestampNs: Long, accuracy: Int, src: FloatArray, count: Int): Boolean {
+    fun offer(stream: SessionStream, timestampNs: Long, accuracy: Int, src: FloatArray, count: Int): Boolean {
         if (refusing) {
             refused++
             return false
@@ -67,10 +68,10 @@ internal class EventRing(capacity: Int) {
         val slot = (h and mask).toInt()
         times[slot] = timestampNs
         meta[slot] = (stream.ordinal shl 8) or (accuracy and 0xff)
-        val base = slot * RecordStream.MAX_VALUES
+        val base = slot * SensorStreams.maxValues
         val n = minOf(count, stream.valueCount, src.size)
         System.arraycopy(src, 0, values, base, n)
-        for (i in n until RecordStream.MAX_VALUES) values[base + i] = Float.NaN
+        for (i in n until SensorStreams.maxValues) values[base + i] = Float.NaN
         head.lazySet(h + 1)
         return true
     }
@@ -82,7 +83,7 @@ internal class EventRing(capacity: Int) {
 
     /** Receives drained events; [values] is only valid during the call. */
     fun interface Consumer {
-        fun event(stream: RecordStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+        fun event(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
     }
 
     /**
@@ -99,7 +100,7 @@ internal class EventRing(capacity: Int) {
             while (i < n) {
                 val slot = ((t + i) and mask).toInt()
                 val m = meta[slot]
-                consumer.event(RecordStream.ofOrdinal(m ushr 8), times[slot], m.toByte().toInt(), values, slot * RecordStream.MAX_VALUES)
+                consumer.event(SensorStreams.ofOrdinal(m ushr 8), times[slot], m.toByte().toInt(), values, slot * SensorStreams.maxValues)
                 i++
             }
         } finally {

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.filter.MadgwickFilter
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -10,7 +11,8 @@ import java.util.concurrent.locks.LockSupport
  * The writer side of a recording: one thread drains the [EventRing] into a [SessionSink],
  * runs the Madgwick [filter] on the accelerometer, magnetometer and gyroscope rows in the
  * order they are written (one fused row after each gyroscope row once the filter is
- * initialised) and flushes at least every [flushIntervalNs].
+ * initialised, its diagnostics every [diagnosticsIntervalNs]) and flushes at least every
+ * [flushIntervalNs].
  *
  * The recording ends, and [onEnd] is called once from the writer thread, when
  * - [stop] was called: the queue is closed, drained to the last event, the session finished;
@@ -31,12 +33,18 @@ internal class Recorder(
     private val spaceCheckIntervalNs: Long = 2_000_000_000L,
     private val nanoTime: () -> Long = System::nanoTime,
     private val idleParkNs: Long = 2_000_000L,
+    /** Filter diagnostics are written at most this often (sensor time): they change slowly. */
+    private val diagnosticsIntervalNs: Long = 100_000_000L,
 ) {
-    private val rows = AtomicLongArray(RecordStream.entries.size)
+    private var lastDiagnosticsNs = Long.MIN_VALUE / 2
+    private val rows = AtomicLongArray(SessionStream.entries.size)
     @Volatile private var fusedRows = 0L
     @Volatile private var stopRequested = false
     private val ended = CountDownLatch(1)
     private var thread: Thread? = null
+
+    /** The writer thread once started (for tests and diagnostics). */
+    internal val writerThread: Thread? get() = thread
     private val q = DoubleArray(4)
 
     @Volatile var result: RecorderResult? = null
@@ -46,7 +54,7 @@ internal class Recorder(
     val rowCount: Long get() = (0 until rows.length()).sumOf { rows.get(it) }
 
     /** Raw rows written so far, per stream. Any thread. */
-    fun rowCount(stream: RecordStream): Long = rows.get(stream.ordinal)
+    fun rowCount(stream: SessionStream): Long = rows.get(stream.ordinal)
 
     /** Fused orientation rows written so far. Any thread. */
     val fusedCount: Long get() = fusedRows
@@ -57,21 +65,32 @@ internal class Recorder(
         if (filter != null) fuse(filter, stream, t, values, offset)
     }
 
-    private fun fuse(filter: MadgwickFilter, stream: RecordStream, t: Long, v: FloatArray, o: Int) {
+    private fun fuse(filter: MadgwickFilter, stream: SessionStream, t: Long, v: FloatArray, o: Int) {
         when (stream) {
-            RecordStream.ACCELEROMETER -> filter.updateAccelerometer(t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
-            RecordStream.MAGNETOMETER -> filter.updateMagnetometer(t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
-            RecordStream.GYROSCOPE -> {
+            SessionStream.ACCELEROMETER -> filter.updateAccelerometer(t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+            SessionStream.MAGNETOMETER -> filter.updateMagnetometer(t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+            SessionStream.GYROSCOPE -> {
                 filter.updateGyroscope(t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
                 if (filter.isInitialised) {
                     filter.orientationInto(q, 0)
-                    sink.fused(t, q, 0, 0L)
+                    sink.fused(t, q, 0)
                     fusedRows++
+                    if (t - lastDiagnosticsNs >= diagnosticsIntervalNs || t < lastDiagnosticsNs) {
+                        lastDiagnosticsNs = t
+                        val d = filter.diagnostics()
+                        sink.diagnostics(t, d.gyroBias.x, d.gyroBias.y, d.gyroBias.z, d.atRest, d.magneticDisturbance, d.accelerometerRejected)
+                    }
                 }
             }
             else -> Unit
         }
     }
+
+    /**
+     * Writes up to [max] queued events on the calling thread, exactly as the writer loop does;
+     * for the benchmark (a recorder that is not started). Returns how many were written.
+     */
+    fun writeQueued(max: Int): Int = ring.drain(consumer, max)
 
     /** Starts the writer thread. */
     fun start() {
@@ -160,7 +179,7 @@ internal class Recorder(
 /** How a recording ended and what it holds. */
 internal data class RecorderResult(
     val end: RecordingEnd,
-    /** Raw rows written per stream, indexed by [RecordStream.ordinal]. */
+    /** Raw rows written per stream, indexed by [SessionStream.ordinal]. */
     val rowsPerStream: LongArray,
     val fusedRows: Long,
     /** Events the queue refused (after an overflow or after stop): never written. */

@@ -4,57 +4,46 @@ import android.hardware.Sensor
 import android.os.Build
 import android.os.SystemClock
 import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.DeviceInfo
+import dev.motionfusion.core.session.SensorInfo
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionStream
 
-/** One recorded sensor as Android describes it (units: range and resolution in the stream's SI unit, delays µs). */
-internal data class RecordedSensor(
-    val stream: RecordStream,
-    val name: String,
-    val vendor: String,
-    val type: Int,
-    val stringType: String,
-    val version: Int,
-    val maximumRange: Float,
-    val resolution: Float,
-    val powerMa: Float,
-    val minDelayUs: Int,
-    val maxDelayUs: Int,
-    val fifoReservedEventCount: Int,
-    val fifoMaxEventCount: Int,
-    val requestedPeriodUs: Int,
-) {
-    companion object {
-        fun of(stream: RecordStream, s: Sensor, requestedPeriodUs: Int) = RecordedSensor(
-            stream, s.name ?: "", s.vendor ?: "", s.type, s.stringType ?: "", s.version,
-            s.maximumRange, s.resolution, s.power, s.minDelay, s.maxDelay,
-            s.fifoReservedEventCount, s.fifoMaxEventCount, requestedPeriodUs,
-        )
+/** The metadata of a session about to be recorded (docs/SESSION_FORMAT.md, meta.json). */
+internal object RecordingMetadata {
+    /** A wall-clock anchor: the midpoint of two elapsed-realtime reads around the wall-clock read. */
+    fun anchorNow(): ClockAnchor {
+        val e0 = SystemClock.elapsedRealtimeNanos()
+        val wall = System.currentTimeMillis()
+        val e1 = SystemClock.elapsedRealtimeNanos()
+        return ClockAnchor(wall, e0 + (e1 - e0) / 2)
     }
-}
 
-/** What a session's metadata says about the recording, taken when it starts. */
-internal data class RecordingMetadata(
-    val appVersion: String,
-    val deviceManufacturer: String,
-    val deviceModel: String,
-    val androidRelease: String,
-    val androidSdk: Int,
-    val sensors: List<RecordedSensor>,
-    /** Wall clock anchor: `System.currentTimeMillis()` … */
-    val startWallClockMs: Long,
-    /** … and `SystemClock.elapsedRealtimeNanos()` (the SensorEvent.timestamp base) taken together. */
-    val startElapsedRealtimeNs: Long,
-    val filterSettings: FilterSettings,
-) {
-    companion object {
-        fun now(appVersion: String, sensors: List<RecordedSensor>, settings: FilterSettings): RecordingMetadata {
-            // Bracket the wall clock read with two elapsed reads and keep their midpoint.
-            val e0 = SystemClock.elapsedRealtimeNanos()
-            val wall = System.currentTimeMillis()
-            val e1 = SystemClock.elapsedRealtimeNanos()
-            return RecordingMetadata(
-                appVersion, Build.MANUFACTURER ?: "", Build.MODEL ?: "", Build.VERSION.RELEASE ?: "",
-                Build.VERSION.SDK_INT, sensors, wall, e0 + (e1 - e0) / 2, settings,
-            )
-        }
-    }
+    fun sensorInfo(stream: SessionStream, s: Sensor, requestedPeriodUs: Int, maxReportLatencyUs: Int) = SensorInfo(
+        stream = stream,
+        name = s.name ?: "",
+        vendor = s.vendor ?: "",
+        version = s.version,
+        type = s.type,
+        maximumRange = s.maximumRange.toDouble(),
+        resolution = s.resolution.toDouble(),
+        powerMa = s.power.toDouble(),
+        minDelayUs = s.minDelay,
+        maxDelayUs = s.maxDelay,
+        fifoReservedEventCount = s.fifoReservedEventCount,
+        fifoMaxEventCount = s.fifoMaxEventCount,
+        wakeUp = s.isWakeUpSensor,
+        requestedPeriodUs = requestedPeriodUs,
+        maxReportLatencyUs = maxReportLatencyUs,
+    )
+
+    fun create(appVersion: String, sensors: List<SensorInfo>, settings: FilterSettings, anchor: ClockAnchor) = SessionMetadata(
+        appVersion = appVersion,
+        source = "Motion Fusion $appVersion",
+        device = DeviceInfo(Build.MANUFACTURER ?: "", Build.MODEL ?: "", Build.VERSION.RELEASE ?: "", Build.VERSION.SDK_INT),
+        startAnchor = anchor,
+        sensors = sensors,
+        filterSettings = settings,
+    )
 }

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import android.app.Notification
 import android.app.NotificationChannel
 import android.app.NotificationManager
@@ -75,16 +76,17 @@ class RecordingService : Service() {
         val sensorManager = getSystemService(SensorManager::class.java)
         val capture = SensorCapture(sensorManager, ring)
         val settings = FilterSettings()
-        val metadata = RecordingMetadata.now(
+        val metadata = RecordingMetadata.create(
             appVersion(),
-            capture.sensors.map { (stream, s) -> RecordedSensor.of(stream, s, capture.requestedPeriodUs) },
+            capture.sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, capture.requestedPeriodUs, 0) },
             settings,
+            RecordingMetadata.anchorNow(),
         )
         val sink = try {
             dir.mkdirs()
             format.create(dir, metadata)
         } catch (e: Exception) {
-            ended(dir, RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(RecordStream.entries.size), 0, 0))
+            ended(dir, RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0, 0))
             return
         }
         val minFree = RecordingDeps.minFreeBytes

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import android.hardware.Sensor
 import android.hardware.SensorEvent
 import android.hardware.SensorEventListener
@@ -9,7 +10,7 @@ import android.os.HandlerThread
 import android.os.Process
 
 /**
- * The recording's own sensor listeners: every [RecordStream] the device has, registered on a
+ * The recording's own sensor listeners: every [SessionStream] the device has, registered on a
  * dedicated [HandlerThread] at [samplingPeriodUs] (0 = as fast as the device gives, which
  * `HIGH_SAMPLING_RATE_SENSORS` allows above 200 Hz). Each event is copied into the [ring] at
  * once — no allocation, no lock, no I/O on this thread — with `SensorEvent.timestamp` and the
@@ -21,7 +22,7 @@ internal class SensorCapture(
     private val samplingPeriodUs: Int = SensorManager.SENSOR_DELAY_FASTEST,
 ) {
     /** The default sensor of each stream the device has. */
-    val sensors: Map<RecordStream, Sensor> = RecordStream.entries
+    val sensors: Map<SessionStream, Sensor> = SensorStreams.all
         .mapNotNull { s -> sensorManager.getDefaultSensor(s.androidType)?.let { s to it } }
         .toMap()
 
@@ -29,7 +30,7 @@ internal class SensorCapture(
 
     private val listener = object : SensorEventListener {
         override fun onSensorChanged(event: SensorEvent) {
-            val stream = RecordStream.of(event.sensor.type) ?: return
+            val stream = SensorStreams.ofAndroidType(event.sensor.type) ?: return
             val v = event.values
             ring.offer(stream, event.timestamp, event.accuracy, v, v.size)
         }

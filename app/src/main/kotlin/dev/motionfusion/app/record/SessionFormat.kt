@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionMetadata
 import java.io.File
 import java.io.IOException
 
@@ -11,7 +12,7 @@ import java.io.IOException
 internal interface SessionFormat {
     /** Starts a new session in the empty folder [dir]. */
     @Throws(IOException::class)
-    fun create(dir: File, metadata: RecordingMetadata): SessionSink
+    fun create(dir: File, metadata: SessionMetadata): SessionSink
 
     /** True when the session in [dir] was never finished (the app died or storage failed). */
     fun isInterrupted(dir: File): Boolean

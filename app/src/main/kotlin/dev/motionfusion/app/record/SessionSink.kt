@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import java.io.IOException
 
 /**
@@ -9,17 +10,21 @@ import java.io.IOException
  * storage removed): the recording then stops, and what reached the storage stays there.
  */
 internal interface SessionSink {
-    /** One raw sensor row: [RecordStream.valueCount] values at [values]`[offset..]`. */
+    /** One raw sensor row: [SessionStream.valueCount] values at [values]`[offset..]`. */
     @Throws(IOException::class)
-    fun raw(stream: RecordStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+    fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
 
     /**
      * One row of the live fused orientation, written after the gyroscope row at [timestampNs]
      * that stepped the filter: quaternion [w, x, y, z], Hamilton, sensor→ENU, at
-     * [q]`[offset..offset+3]`; [flags] are the filter's diagnostic flags.
+     * [q]`[offset..offset+3]`.
      */
     @Throws(IOException::class)
-    fun fused(timestampNs: Long, q: DoubleArray, offset: Int, flags: Long)
+    fun fused(timestampNs: Long, q: DoubleArray, offset: Int)
+
+    /** The live filter's gyroscope bias estimate (rad/s, device frame) and flags at [timestampNs]. */
+    @Throws(IOException::class)
+    fun diagnostics(timestampNs: Long, biasX: Double, biasY: Double, biasZ: Double, atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean)
 
     /** Hands every row so far to the operating system, so a killed process loses none of them. */
     @Throws(IOException::class)

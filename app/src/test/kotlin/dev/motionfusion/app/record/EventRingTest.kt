@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
@@ -7,20 +8,20 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
 
 class EventRingTest {
-    private class Row(val stream: RecordStream, val t: Long, val accuracy: Int, val values: List<Float>)
+    private class Row(val stream: SessionStream, val t: Long, val accuracy: Int, val values: List<Float>)
 
     private fun EventRing.drainAll(): List<Row> {
         val out = ArrayList<Row>()
-        drain({ s, t, a, v, o -> out += Row(s, t, a, (0 until RecordStream.MAX_VALUES).map { v[o + it] }) })
+        drain({ s, t, a, v, o -> out += Row(s, t, a, (0 until SensorStreams.maxValues).map { v[o + it] }) })
         return out
     }
 
     @Test
     fun `events come out in order with their values, accuracy and NaN padding`() {
         val ring = EventRing(8)
-        assertTrue(ring.offer(RecordStream.ACCELEROMETER, 10, 3, floatArrayOf(1f, 2f, 3f), 3))
-        assertTrue(ring.offer(RecordStream.ROTATION_VECTOR, 11, -1, floatArrayOf(0.1f, 0.2f, 0.3f, 0.9f), 4))
-        assertTrue(ring.offer(RecordStream.GYROSCOPE_UNCALIBRATED, 12, 0, floatArrayOf(1f, 2f, 3f, 4f, 5f, 6f, 7f), 7))
+        assertTrue(ring.offer(SessionStream.ACCELEROMETER, 10, 3, floatArrayOf(1f, 2f, 3f), 3))
+        assertTrue(ring.offer(SessionStream.ROTATION_VECTOR, 11, -1, floatArrayOf(0.1f, 0.2f, 0.3f, 0.9f), 4))
+        assertTrue(ring.offer(SessionStream.GYROSCOPE_UNCALIBRATED, 12, 0, floatArrayOf(1f, 2f, 3f, 4f, 5f, 6f, 7f), 7))
         val rows = ring.drainAll()
         assertEquals(listOf(10L, 11L, 12L), rows.map { it.t })
         assertEquals(listOf(3, -1, 0), rows.map { it.accuracy })
@@ -38,7 +39,7 @@ class EventRingTest {
         var next = 0L
         var expected = 0L
         repeat(100) {
-            repeat(3) { assertTrue(ring.offer(RecordStream.GYROSCOPE, next++, 3, floatArrayOf(0f, 0f, 0f), 3)) }
+            repeat(3) { assertTrue(ring.offer(SessionStream.GYROSCOPE, next++, 3, floatArrayOf(0f, 0f, 0f), 3)) }
             for (r in ring.drainAll()) assertEquals(expected++, r.t)
         }
         assertEquals(300L, expected)
@@ -48,11 +49,11 @@ class EventRingTest {
     fun `overflow is final so a recording never has a hole`() {
         val ring = EventRing(4)
         val v = floatArrayOf(0f, 0f, 0f)
-        repeat(4) { assertTrue(ring.offer(RecordStream.GYROSCOPE, it.toLong(), 3, v, 3)) }
-        assertFalse(ring.offer(RecordStream.GYROSCOPE, 4, 3, v, 3))
+        repeat(4) { assertTrue(ring.offer(SessionStream.GYROSCOPE, it.toLong(), 3, v, 3)) }
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, 4, 3, v, 3))
         assertEquals(4L, ring.overflowTimestampNs)
         assertEquals(4, ring.drainAll().size)
-        assertFalse(ring.offer(RecordStream.GYROSCOPE, 5, 3, v, 3), "space freed, but the ring keeps refusing")
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, 5, 3, v, 3), "space freed, but the ring keeps refusing")
         assertEquals(2L, ring.refused)
         assertTrue(ring.overflowed)
     }
@@ -61,7 +62,7 @@ class EventRingTest {
     fun `a consumer that throws leaves its event queued`() {
         val ring = EventRing(4)
         val v = floatArrayOf(0f, 0f, 0f)
-        repeat(3) { ring.offer(RecordStream.GYROSCOPE, it.toLong(), 3, v, 3) }
+        repeat(3) { ring.offer(SessionStream.GYROSCOPE, it.toLong(), 3, v, 3) }
         var seen = 0
         assertThrows<IllegalStateException> {
             ring.drain({ _, t, _, _, _ -> if (t == 1L) error("disk"); seen++ })
@@ -87,7 +88,7 @@ class EventRingTest {
                 v[0] = i.toFloat()
                 // A producer that never waits: spin only because this test wants every event.
                 if (ring.size < ring.capacity) {
-                    check(ring.offer(RecordStream.entries[(i % 7).toInt()], i, 3, v, 6))
+                    check(ring.offer(SensorStreams.all[(i % 7).toInt()], i, 3, v, 6))
                     i++
                 }
             }

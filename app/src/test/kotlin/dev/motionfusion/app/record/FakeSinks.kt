@@ -1,12 +1,13 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import java.io.IOException
 import java.util.concurrent.CopyOnWriteArrayList
 
 /** A sink that keeps what it is given in memory (timestamps and first values) and can fail on cue. */
 internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : SessionSink {
     val times = ArrayList<Long>()
-    val streams = ArrayList<RecordStream>()
+    val streams = ArrayList<SessionStream>()
     val firstValues = ArrayList<Float>()
     val fusedTimes = ArrayList<Long>()
     val fusedW = ArrayList<Double>()
@@ -14,14 +15,20 @@ internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : Se
     @Volatile var finished: RecordingEnd? = null
     @Volatile var abandoned = false
 
-    override fun raw(stream: RecordStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+    override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
         if (times.size.toLong() >= failAfterRows) throw IOException("No space left on device")
         times += timestampNs
         streams += stream
         firstValues += values[offset]
     }
 
-    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int, flags: Long) {
+    val diagnosticTimes = ArrayList<Long>()
+
+    override fun diagnostics(t: Long, bx: Double, by: Double, bz: Double, rest: Boolean, mag: Boolean, acc: Boolean) {
+        diagnosticTimes += t
+    }
+
+    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int) {
         fusedTimes += timestampNs
         fusedW += q[offset]
     }

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import java.io.File
 import java.io.IOException
 import java.io.OutputStream
@@ -13,9 +14,9 @@ import java.io.RandomAccessFile
 internal class LineFormat(private val failAfterBytes: Long = Long.MAX_VALUE) : SessionFormat {
     @Volatile var created: File? = null
 
-    override fun create(dir: File, metadata: RecordingMetadata): SessionSink {
+    override fun create(dir: File, metadata: dev.motionfusion.core.session.SessionMetadata): SessionSink {
         created = dir
-        File(dir, "meta.txt").writeText("sensors=${metadata.sensors.joinToString(",") { it.stream.name }}\n")
+        File(dir, "meta.txt").writeText("sensors=${metadata.sensors.joinToString(",") { it.stream.key }}\n")
         return LineSink(dir, failAfterBytes)
     }
 
@@ -66,7 +67,7 @@ internal class LineSink(private val dir: File, failAfterBytes: Long) : SessionSi
     private val out = java.io.BufferedOutputStream(FailingStream(file, failAfterBytes), 8192)
     private val sb = StringBuilder()
 
-    override fun raw(stream: RecordStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+    override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
         sb.setLength(0)
         sb.append(stream.name).append(',').append(timestampNs).append(',').append(accuracy)
         for (i in 0 until stream.valueCount) sb.append(',').append(values[offset + i])
@@ -74,7 +75,9 @@ internal class LineSink(private val dir: File, failAfterBytes: Long) : SessionSi
         out.write(sb.toString().toByteArray())
     }
 
-    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int, flags: Long) {
+    override fun diagnostics(t: Long, bx: Double, by: Double, bz: Double, rest: Boolean, mag: Boolean, acc: Boolean) = Unit
+
+    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int) {
         out.write("FUSED,$timestampNs,${q[offset]},${q[offset + 1]},${q[offset + 2]},${q[offset + 3]}\n".toByteArray())
     }
 

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.filter.MadgwickFilter
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
@@ -23,7 +24,7 @@ class RecorderTest {
         val sink = MemorySink()
         val r = recorder(ring, sink)
         r.start()
-        repeat(500) { ring.offer(RecordStream.entries[it % 7], it.toLong(), 3, floatArrayOf(it.toFloat(), 0f, 0f, 0f, 0f, 0f), 6) }
+        repeat(500) { ring.offer(SensorStreams.all[it % 7], it.toLong(), 3, floatArrayOf(it.toFloat(), 0f, 0f, 0f, 0f, 0f), 6) }
         r.stop()
         assertTrue(r.awaitEnd(5_000))
         assertEquals((0L until 500L).toList(), sink.times)
@@ -32,7 +33,7 @@ class RecorderTest {
         assertEquals(1, ends.size)
         assertEquals(500L, ends[0].rows)
         assertEquals(RecordingEnd.Stopped, ends[0].end)
-        assertFalse(ring.offer(RecordStream.GYROSCOPE, 999, 3, v3, 3), "nothing is accepted after stop")
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, 999, 3, v3, 3), "nothing is accepted after stop")
     }
 
     @Test
@@ -44,7 +45,7 @@ class RecorderTest {
         val t0 = System.nanoTime()
         var i = 0L
         while (System.nanoTime() - t0 < 600_000_000L) {
-            ring.offer(RecordStream.ACCELEROMETER, i++, 3, v3, 3)
+            ring.offer(SessionStream.ACCELEROMETER, i++, 3, v3, 3)
             Thread.sleep(1)
         }
         r.stop()
@@ -60,7 +61,7 @@ class RecorderTest {
         val sink = MemorySink(failAfterRows = 123)
         val r = recorder(ring, sink)
         r.start()
-        repeat(300) { ring.offer(RecordStream.GYROSCOPE, it.toLong(), 3, v3, 3) }
+        repeat(300) { ring.offer(SessionStream.GYROSCOPE, it.toLong(), 3, v3, 3) }
         assertTrue(r.awaitEnd(5_000))
         assertEquals((0L until 123L).toList(), sink.times, "every row before the failure, in order")
         assertTrue(sink.abandoned)
@@ -69,7 +70,7 @@ class RecorderTest {
         assertInstanceOf(RecordingEnd.WriteFailed::class.java, end.end)
         assertEquals("No space left on device", (end.end as RecordingEnd.WriteFailed).message)
         assertEquals(123L, end.rows)
-        assertFalse(ring.offer(RecordStream.GYROSCOPE, 1_000, 3, v3, 3), "sensors are refused after the failure")
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, 1_000, 3, v3, 3), "sensors are refused after the failure")
     }
 
     @Test
@@ -80,7 +81,7 @@ class RecorderTest {
         // A sink that blocks until the test has overflowed the queue: storage that cannot keep up.
         val sink = object : SessionSink by MemorySink() {
             val times = ArrayList<Long>()
-            override fun raw(stream: RecordStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+            override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
                 synchronized(gate) { while (!open) gate.wait() }
                 times += timestampNs
             }
@@ -88,7 +89,7 @@ class RecorderTest {
         val r = recorder(ring, sink)
         r.start()
         var offered = 0L
-        while (ring.offer(RecordStream.GYROSCOPE, offered, 3, v3, 3)) offered++
+        while (ring.offer(SessionStream.GYROSCOPE, offered, 3, v3, 3)) offered++
         synchronized(gate) { open = true; gate.notifyAll() }
         assertTrue(r.awaitEnd(5_000))
         val end = ends.single()
@@ -105,7 +106,7 @@ class RecorderTest {
         val r = Recorder(ring, sink, null, onEnd = { ends += it }, freeBytes = { free.get() }, minFreeBytes = 32L * 1024 * 1024,
             spaceCheckIntervalNs = 10_000_000L)
         r.start()
-        repeat(50) { ring.offer(RecordStream.ACCELEROMETER, it.toLong(), 3, v3, 3) }
+        repeat(50) { ring.offer(SessionStream.ACCELEROMETER, it.toLong(), 3, v3, 3) }
         Thread.sleep(100)
         free.set(10L * 1024 * 1024)
         assertTrue(r.awaitEnd(5_000))
@@ -122,21 +123,23 @@ class RecorderTest {
         r.start()
         var t = 1_000_000_000L
         repeat(1000) {
-            ring.offer(RecordStream.ACCELEROMETER, t, 3, floatArrayOf(0f, 0f, 9.81f), 3)
-            ring.offer(RecordStream.MAGNETOMETER, t + 1, 3, floatArrayOf(0f, 22f, -40f), 3)
-            ring.offer(RecordStream.GYROSCOPE, t + 2, 3, floatArrayOf(0f, 0f, 0f), 3)
-            ring.offer(RecordStream.ROTATION_VECTOR, t + 3, 3, floatArrayOf(0f, 0f, 0f, 1f, 0.1f), 5)
+            ring.offer(SessionStream.ACCELEROMETER, t, 3, floatArrayOf(0f, 0f, 9.81f), 3)
+            ring.offer(SessionStream.MAGNETOMETER, t + 1, 3, floatArrayOf(0f, 22f, -40f), 3)
+            ring.offer(SessionStream.GYROSCOPE, t + 2, 3, floatArrayOf(0f, 0f, 0f), 3)
+            ring.offer(SessionStream.ROTATION_VECTOR, t + 3, 3, floatArrayOf(0f, 0f, 0f, 1f, 0.1f), 5)
             t += 5_000_000L
         }
         r.stop()
         assertTrue(r.awaitEnd(5_000))
         assertEquals(4000, sink.times.size)
-        val gyroTimes = sink.times.filterIndexed { i, _ -> sink.streams[i] == RecordStream.GYROSCOPE }
+        val gyroTimes = sink.times.filterIndexed { i, _ -> sink.streams[i] == SessionStream.GYROSCOPE }
         // The first gyroscope sample initialises the filter; every later one steps it and writes a row.
         assertEquals(gyroTimes.drop(1), sink.fusedTimes.drop(sink.fusedTimes.size - gyroTimes.size + 1))
         assertTrue(sink.fusedTimes.size >= 999)
         assertEquals(sink.fusedTimes.size.toLong(), ends.single().fusedRows)
         // Flat, top towards magnetic north: the identity in ENU, |w| = 1 (q and −q are the same rotation).
         assertEquals(1.0, kotlin.math.abs(sink.fusedW.last()), 1e-3)
+        // Diagnostics every 100 ms of sensor time: 5 s of data gives about 50 rows.
+        assertTrue(sink.diagnosticTimes.size in 45..55, "${sink.diagnosticTimes.size} diagnostics rows")
     }
 }

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.SessionStream
 import android.Manifest
 import android.app.Notification
 import android.app.NotificationManager
@@ -37,7 +38,7 @@ import java.io.File
 class RecordingServiceTest {
     private val app = RuntimeEnvironment.getApplication()
     private lateinit var sensors: ShadowSensorManager
-    private lateinit var all: Map<RecordStream, Sensor>
+    private lateinit var all: Map<SessionStream, Sensor>
     private val format = LineFormat()
 
     @Before
@@ -46,7 +47,7 @@ class RecordingServiceTest {
         RecordingDeps.minFreeBytes = 0
         RecordingStatus.state = RecordingStatus.State.Idle
         sensors = shadowOf(app.getSystemService(SensorManager::class.java))
-        all = RecordStream.entries.associateWith { s ->
+        all = SensorStreams.all.associateWith { s ->
             SensorBuilder.newBuilder().setType(s.androidType).setName("Test ${s.name}").build().also(sensors::addSensor)
         }
     }
@@ -59,7 +60,7 @@ class RecordingServiceTest {
 
     private fun idle() = shadowOf(Looper.getMainLooper()).idle()
 
-    private fun send(stream: RecordStream, t: Long) {
+    private fun send(stream: SessionStream, t: Long) {
         val values = FloatArray(stream.valueCount) { (t % 1000).toFloat() + it }
         sensors.sendSensorEventToListeners(
             SensorEventBuilder.newBuilder().setSensor(all.getValue(stream)).setValues(values).setTimestamp(t)
@@ -67,7 +68,7 @@ class RecordingServiceTest {
         )
     }
 
-    private fun sendRound(t: Long) = RecordStream.entries.forEachIndexed { i, s -> send(s, t + i) }
+    private fun sendRound(t: Long) = SensorStreams.all.forEachIndexed { i, s -> send(s, t + i) }
 
     private fun startService(intent: Intent = Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START)):
         ServiceController<RecordingService> {
