@@ -15,6 +15,7 @@ import dev.motionfusion.app.live.FusionState
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity
+import dev.motionfusion.app.record.RecordBar
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.MainScope
@@ -55,6 +56,7 @@ class MainActivity : Activity() {
         findViewById<View>(R.id.open_settings).setOnClickListener {
             startActivity(Intent(this, SettingsActivity::class.java))
         }
+        RecordBar.attach(this, findViewById(R.id.record_bar))
         render()
     }
 
