@@ -48,6 +48,11 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     private val mag = FloatArray(3)
     private var lastT = 0L
 
+    // 6D: rotation about up applied to the filter's output so that the relative heading starts at 0.
+    private var hasYawOffset = false
+    private var yawOffsetW = 1.0
+    private var yawOffsetZ = 0.0
+
     /**
      * Applies new settings. The filter is rebuilt (and restarts from the next samples) only when
      * its own settings or the effective mode change; the convention and rate don't touch it.
@@ -59,6 +64,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
         mode = newMode
         if (filterChanged) {
             filter = newFilter()
+            hasYawOffset = false
             if (mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU) hasOrientation = false
         }
     }
@@ -146,11 +152,38 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
                 filter.updateGyroscope(s.timestampNs, x, y, z)
                 if (filter.isInitialised) {
                     filter.orientationInto(q)
+                    if (mode.mode == FusionMode.IMU) relativeHeading()
                     hasOrientation = true
                 }
             }
             else -> Unit
         }
+    }
+
+    /**
+     * 6D has no north: the filter starts with the device's x axis towards its x ("north"), so the
+     * first heading would be an arbitrary number. Turn the output about up by the first azimuth
+     * ψ (q ← [cos ψ/2, 0, 0, sin ψ/2] ⊗ q) so that the relative heading starts at 0; tilt is
+     * unchanged.
+     */
+    private fun relativeHeading() {
+        if (!hasYawOffset) {
+            // Azimuth of the device's y axis: atan2(R01, R11) of q's matrix.
+            val r01 = 2.0 * (q[1] * q[2] - q[0] * q[3])
+            val r11 = 1.0 - 2.0 * (q[1] * q[1] + q[3] * q[3])
+            val psi = kotlin.math.atan2(r01, r11)
+            yawOffsetW = kotlin.math.cos(psi / 2)
+            yawOffsetZ = kotlin.math.sin(psi / 2)
+            hasYawOffset = true
+        }
+        val w = q[0]
+        val x = q[1]
+        val y = q[2]
+        val z = q[3]
+        q[0] = yawOffsetW * w - yawOffsetZ * z
+        q[1] = yawOffsetW * x - yawOffsetZ * y
+        q[2] = yawOffsetW * y + yawOffsetZ * x
+        q[3] = yawOffsetW * z + yawOffsetZ * w
     }
 
     private fun accMag() {

@@ -65,12 +65,13 @@ class FusionPipelineTest {
         assertEquals(FusionMode.IMU, p.mode.mode)
         p.onSample(acc(0, 0f, 0f, 9.81f))
         p.onSample(gyro(0))
-        val start = angles(p).yaw // 6D: the start heading is arbitrary
+        val start = angles(p).yaw
         // 0.5 rad/s counter-clockwise (seen from above) about up for 1 s at 100 Hz: azimuth −28.65°.
         for (i in 1..100) {
             p.onSample(acc(i * 10 * ms, 0f, 0f, 9.81f))
             p.onSample(gyro(i * 10 * ms, z = 0.5f))
         }
+        assertEquals(0.0, start, 1e-9, "6D: the relative heading starts at 0")
         assertEquals(-Math.toDegrees(0.5), wrapped(angles(p).yaw - start), 0.05)
         assertEquals(100L, p.snapshot().filterSteps)
     }
