@@ -156,6 +156,7 @@ class MainActivityTest {
         assertEquals(View.GONE, a.findViewById<View>(R.id.mag_warning).visibility)
         assertTrue(a.text(R.id.mag_status), a.text(R.id.mag_status).contains("45.7 µT"))
         assertTrue(a.text(R.id.rv_difference), a.text(R.id.rv_difference).contains("0.0° apart"))
+        assertTrue(a.text(R.id.rv_angles), a.text(R.id.rv_angles).endsWith("heading accuracy ±5.7°"))
         Screenshots.capture(a, "live-flat")
     }
 

@@ -43,6 +43,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     private var hasOrientation = false
     private val rv = DoubleArray(4)
     private val grv = DoubleArray(4)
+    private var rvHeadingAccuracy = Float.NaN
     private val r = FloatArray(9)
     private val acc = FloatArray(3)
     private val mag = FloatArray(3)
@@ -85,7 +86,10 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
             FusionMode.NONE -> Unit
         }
         when (s.kind) {
-            SensorKind.ROTATION_VECTOR -> unitQuaternion(s, rv)
+            SensorKind.ROTATION_VECTOR -> {
+                unitQuaternion(s, rv)
+                rvHeadingAccuracy = s.headingAccuracyRad
+            }
             SensorKind.GAME_ROTATION_VECTOR -> unitQuaternion(s, grv)
             else -> Unit
         }
@@ -119,6 +123,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
             settings = settings,
             orientation = if (hasOrientation) Quaternion(q[0], q[1], q[2], q[3]) else null,
             rotationVector = if (seen[SensorKind.ROTATION_VECTOR.ordinal]) Quaternion(rv[0], rv[1], rv[2], rv[3]) else null,
+            rotationVectorHeadingAccuracyRad = rvHeadingAccuracy.takeIf { it.isFinite() && it >= 0f }?.toDouble(),
             gameRotationVector = if (seen[SensorKind.GAME_ROTATION_VECTOR.ordinal]) Quaternion(grv[0], grv[1], grv[2], grv[3]) else null,
             sensors = stats,
             magneticFieldUt = if (seen[SensorKind.MAGNETOMETER.ordinal]) {

@@ -107,13 +107,16 @@ class FusionPipelineTest {
     fun `rotation vectors are kept normalised, per kind`() {
         val p = FusionPipeline(all, LiveSettings())
         val h = Math.sqrt(0.5).toFloat()
-        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 0, 0f, 0f, 2 * h, 3, 2 * h))
+        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 0, 0f, 0f, 2 * h, 3, 2 * h, headingAccuracyRad = 0.05f))
         p.onSample(SensorSample(SensorKind.GAME_ROTATION_VECTOR, 0, 0f, 0f, 0f, 3, 1f))
         val st = p.snapshot()
         val rv = st.rotationVector!!
         assertEquals(1.0, rv.norm(), 1e-6)
         assertEquals(0.0, Readout.angleBetweenDeg(rv, Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.PI / 2)), 1e-4)
         assertEquals(Quaternion(1.0, 0.0, 0.0, 0.0), st.gameRotationVector)
+        assertEquals(0.05, st.rotationVectorHeadingAccuracyRad!!, 1e-7)
+        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 1, 0f, 0f, 0f, 3, 1f, headingAccuracyRad = -1f))
+        assertNull(p.snapshot().rotationVectorHeadingAccuracyRad, "−1: unknown")
     }
 
     @Test
