@@ -1,0 +1,100 @@
+package dev.motionfusion.app.export
+
+import android.content.ClipData
+import android.content.ContentValues
+import android.content.Context
+import android.content.Intent
+import android.net.Uri
+import android.os.Build
+import android.os.Environment
+import android.provider.MediaStore
+import dev.motionfusion.app.R
+import dev.motionfusion.core.session.SessionArchive
+import java.io.File
+import java.io.IOException
+
+/**
+ * The three ways a session leaves app-private storage, each as one zip of the session format
+ * ([SessionArchive.zip]: the folder's files inside a folder named after the session):
+ * Downloads through MediaStore (API 29+, no permission), a document the user picks
+ * (ACTION_CREATE_DOCUMENT), and a share sheet with a content:// URI from [ExportProvider].
+ * Blocking: call off the main thread.
+ */
+internal object Exporter {
+    fun zipName(dir: File): String = "${dir.name}.zip"
+
+    /** Writes the zip to [target] through a temporary file, so a failed export leaves no partial zip. */
+    @Throws(IOException::class)
+    fun writeZip(dir: File, target: File) {
+        target.parentFile?.mkdirs()
+        val tmp = File(target.parentFile, target.name + ".part")
+        try {
+            tmp.outputStream().use { SessionArchive.zip(dir.toPath(), it) }
+            if (target.exists()) target.delete()
+            if (!tmp.renameTo(target)) throw IOException("cannot write ${target.name}")
+        } finally {
+            tmp.delete()
+        }
+    }
+
+    /** MediaStore.Downloads needs API 29; before that, Save as… covers it without a storage permission. */
+    val downloadsAvailable: Boolean get() = Build.VERSION.SDK_INT >= 29
+
+    /** Saves to Downloads: inserted pending, written, then published. Returns the display name. */
+    @Throws(IOException::class)
+    fun toDownloads(context: Context, dir: File): String {
+        check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
+        val resolver = context.contentResolver
+        val name = zipName(dir)
+        val values = ContentValues().apply {
+            put(MediaStore.MediaColumns.DISPLAY_NAME, name)
+            put(MediaStore.MediaColumns.MIME_TYPE, ExportProvider.MIME_ZIP)
+            put(MediaStore.MediaColumns.RELATIVE_PATH, Environment.DIRECTORY_DOWNLOADS)
+            put(MediaStore.MediaColumns.IS_PENDING, 1)
+        }
+        val uri = resolver.insert(MediaStore.Downloads.EXTERNAL_CONTENT_URI, values)
+            ?: throw IOException("Downloads refused the file")
+        try {
+            resolver.openOutputStream(uri, "w")?.use { SessionArchive.zip(dir.toPath(), it) } ?: throw IOException("cannot open $name")
+            resolver.update(uri, ContentValues().apply { put(MediaStore.MediaColumns.IS_PENDING, 0) }, null, null)
+        } catch (e: Exception) {
+            resolver.delete(uri, null, null)
+            throw e as? IOException ?: IOException(e.message, e)
+        }
+        return name
+    }
+
+    /** The intent that asks the user where to save the zip (result: a document URI for [toDocument]). */
+    fun createDocumentIntent(dir: File): Intent =
+        Intent(Intent.ACTION_CREATE_DOCUMENT)
+            .addCategory(Intent.CATEGORY_OPENABLE)
+            .setType(ExportProvider.MIME_ZIP)
+            .putExtra(Intent.EXTRA_TITLE, zipName(dir))
+
+    /** Writes the zip into the document the user created. */
+    @Throws(IOException::class)
+    fun toDocument(context: Context, dir: File, document: Uri) {
+        context.contentResolver.openOutputStream(document, "wt")?.use { SessionArchive.zip(dir.toPath(), it) }
+            ?: throw IOException("cannot open the document")
+    }
+
+    /** Zips into the provider's folder and returns a chooser for ACTION_SEND with a read grant. */
+    @Throws(IOException::class)
+    fun shareIntent(context: Context, dir: File): Intent {
+        val exports = ExportProvider.exportDir(context)
+        // The cache is for handing over, not for keeping: zips shared a day ago are gone.
+        val dayAgo = System.currentTimeMillis() - 24L * 3600 * 1000
+        exports.listFiles()?.filter { it.lastModified() < dayAgo }?.forEach { it.delete() }
+        val zip = File(exports, zipName(dir))
+        writeZip(dir, zip)
+        val uri = ExportProvider.uriFor(context, zip)
+        val send = Intent(Intent.ACTION_SEND)
+            .setType(ExportProvider.MIME_ZIP)
+            .putExtra(Intent.EXTRA_STREAM, uri)
+            .putExtra(Intent.EXTRA_SUBJECT, dir.name)
+            .addFlags(Intent.FLAG_GRANT_READ_URI_PERMISSION)
+        send.clipData = ClipData.newRawUri(dir.name, uri)
+        return Intent.createChooser(send, context.getString(R.string.export_share_title))
+            .addFlags(Intent.FLAG_GRANT_READ_URI_PERMISSION)
+    }
+}

@@ -1,0 +1,64 @@
+package dev.motionfusion.app.record
+
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionReader
+import dev.motionfusion.core.session.SessionRecovery
+import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.session.SessionWriter
+import java.io.File
+
+/** The app's binding to the session format of `fusion-core` (docs/SESSION_FORMAT.md). */
+internal object CoreSessionFormat : SessionFormat {
+    override fun create(dir: File, metadata: SessionMetadata): SessionSink = CoreSessionSink(SessionWriter.create(dir.toPath(), metadata))
+
+    /** meta.json says "complete": false (or is unreadable: a session killed before its first metadata write). */
+    override fun isInterrupted(dir: File): Boolean =
+        try {
+            SessionReader.open(dir.toPath()).use { !it.metadata.complete }
+        } catch (_: Exception) {
+            false // not a session this app can repair; listed as unreadable instead
+        }
+
+    override fun recover(dir: File) {
+        SessionRecovery.recover(dir.toPath())
+    }
+}
+
+/**
+ * [SessionSink] on a [SessionWriter]: each raw row through the writer's typed, allocation-free
+ * methods. After a failure the writer is not closed (that would write "complete": true over
+ * files whose last rows never reached the disk): the session stays interrupted and
+ * [SessionRecovery] repairs it from what is on disk.
+ */
+internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink {
+    override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+        val v = values
+        val o = offset
+        when (stream) {
+            SessionStream.ACCELEROMETER -> writer.accelerometer(timestampNs, v[o], v[o + 1], v[o + 2], accuracy)
+            SessionStream.GYROSCOPE -> writer.gyroscope(timestampNs, v[o], v[o + 1], v[o + 2], accuracy)
+            SessionStream.MAGNETOMETER -> writer.magnetometer(timestampNs, v[o], v[o + 1], v[o + 2], accuracy)
+            SessionStream.GYROSCOPE_UNCALIBRATED ->
+                writer.gyroscopeUncalibrated(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], v[o + 5], accuracy)
+            SessionStream.MAGNETOMETER_UNCALIBRATED ->
+                writer.magnetometerUncalibrated(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], v[o + 5], accuracy)
+            SessionStream.ROTATION_VECTOR -> writer.rotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], accuracy)
+            SessionStream.GAME_ROTATION_VECTOR -> writer.gameRotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], accuracy)
+            else -> throw IllegalArgumentException("$stream is not a sensor stream")
+        }
+    }
+
+    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int) =
+        writer.orientation(timestampNs, q[offset], q[offset + 1], q[offset + 2], q[offset + 3])
+
+    override fun diagnostics(
+        timestampNs: Long, biasX: Double, biasY: Double, biasZ: Double,
+        atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean,
+    ) = writer.filterDiagnostics(timestampNs, biasX, biasY, biasZ, atRest, magneticDisturbance, accelerometerRejected)
+
+    override fun flush() = writer.flush()
+
+    override fun finish(end: RecordingEnd) = writer.close()
+
+    override fun abandon() = Unit
+}

@@ -1,0 +1,111 @@
+package dev.motionfusion.app.record
+
+import dev.motionfusion.core.session.SessionStream
+import java.util.concurrent.atomic.AtomicLong
+
+/**
+ * A bounded single-producer single-consumer queue of sensor events kept as primitives, so
+ * that the sensor thread hands an event to the writer thread without allocating, locking or
+ * waiting. Memory is fixed at construction: per slot one timestamp, one stream/accuracy int
+ * and [SensorStreams.maxValues] floats (36 bytes; 2^17 slots ≈ 4.7 MB).
+ *
+ * The producer is the one sensor HandlerThread; the consumer is the one writer thread.
+ * Publication: the producer writes the slot, then advances [head] with a release store
+ * (`lazySet`); the consumer reads [head] (acquire) before reading slots, and advances [tail]
+ * after it is done with them, which frees the slots for the producer.
+ *
+ * Overflow is final: once an offer finds the queue full, the ring refuses every later offer
+ * too, even after the consumer frees space. A recording therefore ends at the overflow and
+ * never has a hole in the middle.
+ */
+internal class EventRing(capacity: Int) {
+    init {
+        require(capacity >= 2 && capacity and (capacity - 1) == 0) { "capacity must be a power of two ≥ 2, was $capacity" }
+    }
+
+    val capacity: Int = capacity
+    private val mask = capacity - 1L
+    private val times = LongArray(capacity)
+    private val meta = IntArray(capacity)
+    private val values = FloatArray(capacity * SensorStreams.maxValues)
+    private val head = AtomicLong() // next slot the producer writes
+    private val tail = AtomicLong() // next slot the consumer reads
+    @Volatile private var refusing = false
+    @Volatile private var overflowAtNs = Long.MIN_VALUE
+
+    /** Producer-side count of offers refused (after overflow or [close]). */
+    @Volatile var refused: Long = 0L
+        private set
+
+    /** True once an offer found the queue full. */
+    val overflowed: Boolean get() = overflowAtNs != Long.MIN_VALUE
+
+    /** Sensor timestamp of the first event refused because the queue was full, or null. */
+    val overflowTimestampNs: Long? get() = overflowAtNs.takeIf { it != Long.MIN_VALUE }
+
+    /** Events waiting for the consumer. */
+    val size: Int get() = (head.get() - tail.get()).toInt()
+
+    /** Events ever accepted. */
+    val accepted: Long get() = head.get()
+
+    /**
+     * Producer: queues one event, copying [count] values from [src] (the rest of the slot is
+     * NaN). Returns false, without waiting, when the ring is full or refusing.
+     */
+    fun offer(stream: SessionStream, timestampNs: Long, accuracy: Int, src: FloatArray, count: Int): Boolean {
+        if (refusing) {
+            refused++
+            return false
+        }
+        val h = head.get()
+        if (h - tail.get() >= capacity) {
+            overflowAtNs = timestampNs
+            refusing = true
+            refused++
+            return false
+        }
+        val slot = (h and mask).toInt()
+        times[slot] = timestampNs
+        meta[slot] = (stream.ordinal shl 8) or (accuracy and 0xff)
+        val base = slot * SensorStreams.maxValues
+        val n = minOf(count, stream.valueCount, src.size)
+        System.arraycopy(src, 0, values, base, n)
+        for (i in n until SensorStreams.maxValues) values[base + i] = Float.NaN
+        head.lazySet(h + 1)
+        return true
+    }
+
+    /** Refuses all later offers (the recording is stopping); queued events stay drainable. */
+    fun close() {
+        refusing = true
+    }
+
+    /** Receives drained events; [values] is only valid during the call. */
+    fun interface Consumer {
+        fun event(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+    }
+
+    /**
+     * Consumer: hands up to [max] queued events, oldest first, to [consumer] and frees their
+     * slots. Returns how many were handed over. If [consumer] throws, the event it threw on
+     * and the later ones stay queued.
+     */
+    fun drain(consumer: Consumer, max: Int = Int.MAX_VALUE): Int {
+        val t = tail.get()
+        val available = head.get() - t
+        val n = minOf(available, max.toLong()).toInt()
+        var i = 0
+        try {
+            while (i < n) {
+                val slot = ((t + i) and mask).toInt()
+                val m = meta[slot]
+                consumer.event(SensorStreams.ofOrdinal(m ushr 8), times[slot], m.toByte().toInt(), values, slot * SensorStreams.maxValues)
+                i++
+            }
+        } finally {
+            tail.lazySet(t + i)
+        }
+        return i
+    }
+}

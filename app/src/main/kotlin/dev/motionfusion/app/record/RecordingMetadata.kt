@@ -1,0 +1,49 @@
+package dev.motionfusion.app.record
+
+import android.hardware.Sensor
+import android.os.Build
+import android.os.SystemClock
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.DeviceInfo
+import dev.motionfusion.core.session.SensorInfo
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionStream
+
+/** The metadata of a session about to be recorded (docs/SESSION_FORMAT.md, meta.json). */
+internal object RecordingMetadata {
+    /** A wall-clock anchor: the midpoint of two elapsed-realtime reads around the wall-clock read. */
+    fun anchorNow(): ClockAnchor {
+        val e0 = SystemClock.elapsedRealtimeNanos()
+        val wall = System.currentTimeMillis()
+        val e1 = SystemClock.elapsedRealtimeNanos()
+        return ClockAnchor(wall, e0 + (e1 - e0) / 2)
+    }
+
+    fun sensorInfo(stream: SessionStream, s: Sensor, requestedPeriodUs: Int, maxReportLatencyUs: Int) = SensorInfo(
+        stream = stream,
+        name = s.name ?: "",
+        vendor = s.vendor ?: "",
+        version = s.version,
+        type = s.type,
+        maximumRange = s.maximumRange.toDouble(),
+        resolution = s.resolution.toDouble(),
+        powerMa = s.power.toDouble(),
+        minDelayUs = s.minDelay,
+        maxDelayUs = s.maxDelay,
+        fifoReservedEventCount = s.fifoReservedEventCount,
+        fifoMaxEventCount = s.fifoMaxEventCount,
+        wakeUp = s.isWakeUpSensor,
+        requestedPeriodUs = requestedPeriodUs,
+        maxReportLatencyUs = maxReportLatencyUs,
+    )
+
+    fun create(appVersion: String, sensors: List<SensorInfo>, settings: FilterSettings, anchor: ClockAnchor) = SessionMetadata(
+        appVersion = appVersion,
+        source = "Motion Fusion $appVersion",
+        device = DeviceInfo(Build.MANUFACTURER ?: "", Build.MODEL ?: "", Build.VERSION.RELEASE ?: "", Build.VERSION.SDK_INT),
+        startAnchor = anchor,
+        sensors = sensors,
+        filterSettings = settings,
+    )
+}

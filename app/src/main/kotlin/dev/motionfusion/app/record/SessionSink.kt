@@ -1,0 +1,56 @@
+package dev.motionfusion.app.record
+
+import dev.motionfusion.core.session.SessionStream
+import java.io.IOException
+
+/**
+ * Where the writer thread puts a recording: the session format's streaming writer behind a
+ * small interface, so the queue, the writer loop and their failure handling are tested with
+ * fakes. Called from the writer thread only. Any method may throw [IOException] (disk full,
+ * storage removed): the recording then stops, and what reached the storage stays there.
+ */
+internal interface SessionSink {
+    /** One raw sensor row: [SessionStream.valueCount] values at [values]`[offset..]`. */
+    @Throws(IOException::class)
+    fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+
+    /**
+     * One row of the live fused orientation, written after the gyroscope row at [timestampNs]
+     * that stepped the filter: quaternion [w, x, y, z], Hamilton, sensor→ENU, at
+     * [q]`[offset..offset+3]`.
+     */
+    @Throws(IOException::class)
+    fun fused(timestampNs: Long, q: DoubleArray, offset: Int)
+
+    /** The live filter's gyroscope bias estimate (rad/s, device frame) and flags at [timestampNs]. */
+    @Throws(IOException::class)
+    fun diagnostics(timestampNs: Long, biasX: Double, biasY: Double, biasZ: Double, atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean)
+
+    /** Hands every row so far to the operating system, so a killed process loses none of them. */
+    @Throws(IOException::class)
+    fun flush()
+
+    /** Completes the session (summary, end reason) and closes it. */
+    @Throws(IOException::class)
+    fun finish(end: RecordingEnd)
+
+    /** Closes files without completing the session, after a failure; never throws. */
+    fun abandon()
+}
+
+/** Why a recording ended. */
+internal sealed interface RecordingEnd {
+    /** The user (or the notification's Stop action) stopped it. */
+    data object Stopped : RecordingEnd
+
+    /** The queue between sensors and writer filled up: storage could not keep up. */
+    data class QueueOverflow(val atTimestampNs: Long) : RecordingEnd
+
+    /** Free space fell below the recorder's margin; stopped before the disk was full. */
+    data class StorageLow(val freeBytes: Long) : RecordingEnd
+
+    /** Writing failed. */
+    data class WriteFailed(val message: String) : RecordingEnd
+
+    val isFailure: Boolean get() = this !is Stopped
+}

@@ -1,0 +1,168 @@
+package dev.motionfusion.app.sessions
+
+import android.app.Activity
+import android.app.AlertDialog
+import android.content.ActivityNotFoundException
+import android.content.Intent
+import android.os.Bundle
+import android.text.InputType
+import android.view.View
+import android.widget.Button
+import android.widget.EditText
+import android.widget.TextView
+import dev.motionfusion.app.R
+import dev.motionfusion.app.export.Exporter
+import dev.motionfusion.app.record.SessionFolders
+import kotlinx.coroutines.MainScope
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.withContext
+import java.io.File
+
+/**
+ * One session: its summary (start, duration, size, per-stream samples and achieved rates), a
+ * plot of the fused orientation's angles, rename, delete (after confirmation) and export
+ * (Downloads, Save as…, Share).
+ */
+class SessionDetailActivity : Activity() {
+    private val scope = MainScope()
+    private lateinit var dir: File
+    private val message: TextView get() = findViewById(R.id.detail_message)
+
+    /** The dialog on screen (rename or delete), for tests. */
+    internal var dialog: AlertDialog? = null
+        private set
+
+    override fun onCreate(savedInstanceState: Bundle?) {
+        super.onCreate(savedInstanceState)
+        setContentView(R.layout.activity_session_detail)
+        val name = intent.getStringExtra(EXTRA_SESSION)
+        dir = File(SessionFolders.root(this), name ?: "")
+        if (name.isNullOrEmpty() || !dir.isDirectory) {
+            finish()
+            return
+        }
+        findViewById<Button>(R.id.detail_rename).setOnClickListener { askRename() }
+        findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
+        findViewById<Button>(R.id.detail_downloads).apply {
+            visibility = if (Exporter.downloadsAvailable) View.VISIBLE else View.GONE
+            setOnClickListener { export { getString(R.string.export_done_downloads, Exporter.toDownloads(this@SessionDetailActivity, dir)) } }
+        }
+        findViewById<Button>(R.id.detail_save_as).setOnClickListener {
+            try {
+                startActivityForResult(Exporter.createDocumentIntent(dir), REQUEST_SAVE_AS)
+            } catch (e: ActivityNotFoundException) {
+                message.text = getString(R.string.export_failed, e.message)
+            }
+        }
+        findViewById<Button>(R.id.detail_share).setOnClickListener {
+            scope.launch {
+                try {
+                    val intent = withContext(SessionsDeps.io) { Exporter.shareIntent(this@SessionDetailActivity, dir) }
+                    startActivity(intent)
+                } catch (e: Exception) {
+                    message.text = getString(R.string.export_failed, e.message)
+                }
+            }
+        }
+        load()
+    }
+
+    private fun load() {
+        findViewById<TextView>(R.id.detail_name).text = dir.name
+        title = dir.name
+        scope.launch {
+            val library = SessionsDeps.library
+            try {
+                val (summary, angles) = withContext(SessionsDeps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
+                show(summary, angles)
+            } catch (e: Exception) {
+                findViewById<TextView>(R.id.detail_when).text = getString(R.string.session_unreadable, e.message)
+            }
+        }
+    }
+
+    private fun show(s: SessionSummary, angles: AngleSeries) {
+        findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, dir)
+        val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
+            getString(R.string.session_fused_line, s.fusedRows)
+        findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
+        findViewById<AnglePlotView>(R.id.detail_plot).setSeries(angles)
+    }
+
+    private fun export(action: () -> String) {
+        scope.launch {
+            message.text = try {
+                withContext(SessionsDeps.io) { action() }
+            } catch (e: Exception) {
+                getString(R.string.export_failed, e.message)
+            }
+        }
+    }
+
+    @Deprecated("Framework API; no AndroidX Activity Result API here")
+    override fun onActivityResult(requestCode: Int, resultCode: Int, data: Intent?) {
+        @Suppress("DEPRECATION")
+        super.onActivityResult(requestCode, resultCode, data)
+        val uri = data?.data
+        if (requestCode == REQUEST_SAVE_AS && resultCode == RESULT_OK && uri != null) {
+            export {
+                Exporter.toDocument(this, dir, uri)
+                getString(R.string.export_done_document)
+            }
+        }
+    }
+
+    private fun askRename() {
+        val input = EditText(this).apply {
+            setText(dir.name)
+            setSelection(text.length)
+            hint = getString(R.string.session_rename_hint)
+            inputType = InputType.TYPE_CLASS_TEXT
+            id = R.id.detail_rename_input
+        }
+        dialog = AlertDialog.Builder(this)
+            .setTitle(R.string.session_rename)
+            .setView(input)
+            .setNegativeButton(R.string.cancel, null)
+            .setPositiveButton(R.string.ok) { _, _ -> rename(input.text.toString()) }
+            .show()
+    }
+
+    internal fun rename(newName: String) {
+        try {
+            dir = SessionStore.rename(dir, newName)
+            intent.putExtra(EXTRA_SESSION, dir.name)
+            message.text = ""
+            load()
+        } catch (e: Exception) {
+            message.text = getString(R.string.session_rename_invalid)
+        }
+    }
+
+    private fun askDelete() {
+        dialog = AlertDialog.Builder(this)
+            .setMessage(getString(R.string.session_delete_confirm, dir.name))
+            .setNegativeButton(R.string.cancel, null)
+            .setPositiveButton(R.string.session_delete) { _, _ ->
+                try {
+                    SessionStore.delete(dir)
+                    finish()
+                } catch (e: Exception) {
+                    message.text = e.message
+                }
+            }
+            .show()
+    }
+
+    override fun onDestroy() {
+        scope.cancel()
+        super.onDestroy()
+    }
+
+    internal companion object {
+        const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
+        const val REQUEST_SAVE_AS = 71
+        const val PLOT_POINTS = 1500
+    }
+}

@@ -1,0 +1,38 @@
+package dev.motionfusion.app.sessions
+
+import java.io.File
+import java.io.IOException
+
+/** One raw stream of a session: rows and the achieved rate (rows over the stream's time span). */
+internal data class StreamSummary(val name: String, val rows: Long, val rateHz: Double)
+
+/** What the sessions list and detail show of a session. */
+internal data class SessionSummary(
+    val name: String,
+    /** UTC start, ms since the epoch, from the session's wall-clock anchor; null if unknown. */
+    val startWallClockMs: Long?,
+    /** From the first to the last sensor timestamp, ns. */
+    val durationNs: Long,
+    /** Bytes on disk, all files of the session. */
+    val sizeBytes: Long,
+    val streams: List<StreamSummary>,
+    val fusedRows: Long,
+    val recovered: Boolean,
+) {
+    val totalRows: Long get() = streams.sumOf { it.rows }
+}
+
+/** Android azimuth, pitch and roll of the fused orientation over time, in degrees, for plotting. */
+internal class AngleSeries(val timeS: FloatArray, val azimuthDeg: FloatArray, val pitchDeg: FloatArray, val rollDeg: FloatArray) {
+    val size: Int get() = timeS.size
+}
+
+/** Reading sessions for the screens; bound to the session format's reader in [CoreSessionLibrary]. */
+internal interface SessionLibrary {
+    @Throws(IOException::class)
+    fun summary(dir: File): SessionSummary
+
+    /** The fused orientation as angles, thinned to at most [maxPoints] points spread over the session. */
+    @Throws(IOException::class)
+    fun angles(dir: File, maxPoints: Int): AngleSeries
+}

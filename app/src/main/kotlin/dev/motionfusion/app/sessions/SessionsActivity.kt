@@ -1,0 +1,132 @@
+package dev.motionfusion.app.sessions
+
+import android.app.Activity
+import android.content.Intent
+import android.os.Bundle
+import android.text.format.DateUtils
+import android.text.format.Formatter
+import android.view.View
+import android.view.ViewGroup
+import android.widget.BaseAdapter
+import android.widget.ListView
+import android.widget.TextView
+import dev.motionfusion.app.R
+import dev.motionfusion.app.record.SessionFolders
+import dev.motionfusion.app.record.SessionRecovery
+import kotlinx.coroutines.Job
+import kotlinx.coroutines.MainScope
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.withContext
+import java.io.File
+import java.text.DateFormat
+import java.util.Date
+
+/**
+ * The recorded sessions, newest first: name, start date, duration, size, samples and each
+ * stream's achieved rate. Interrupted sessions are repaired before listing. Tap for detail.
+ */
+class SessionsActivity : Activity() {
+    private val scope = MainScope()
+    private var loading: Job? = null
+    private val adapter = Adapter()
+
+    /** One row of the list: a readable summary, or why the session cannot be read. */
+    internal class Item(val dir: File, val summary: SessionSummary?, val error: String?)
+
+    override fun onCreate(savedInstanceState: Bundle?) {
+        super.onCreate(savedInstanceState)
+        setContentView(R.layout.activity_sessions)
+        val list = findViewById<ListView>(R.id.sessions_list)
+        list.adapter = adapter
+        list.setOnItemClickListener { _, _, position, _ ->
+            startActivity(Intent(this, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, adapter.items[position].dir.name))
+        }
+    }
+
+    override fun onStart() {
+        super.onStart()
+        reload()
+    }
+
+    internal fun reload() {
+        loading?.cancel()
+        loading = scope.launch {
+            val items = withContext(SessionsDeps.io) { load() }
+            adapter.items = items
+            adapter.notifyDataSetChanged()
+            findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
+        }
+    }
+
+    private fun load(): List<Item> {
+        SessionRecovery.recoverAll(this)
+        val library = SessionsDeps.library
+        return SessionFolders.list(this).map { dir ->
+            try {
+                Item(dir, library.summary(dir), null)
+            } catch (e: Exception) {
+                Item(dir, null, e.message ?: e.javaClass.simpleName)
+            }
+        }
+    }
+
+    override fun onDestroy() {
+        scope.cancel()
+        super.onDestroy()
+    }
+
+    internal val items: List<Item> get() = adapter.items
+
+    private inner class Adapter : BaseAdapter() {
+        var items: List<Item> = emptyList()
+        override fun getCount() = items.size
+        override fun getItem(position: Int) = items[position]
+        override fun getItemId(position: Int) = position.toLong()
+
+        override fun getView(position: Int, convertView: View?, parent: ViewGroup): View {
+            val v = convertView ?: layoutInflater.inflate(R.layout.session_item, parent, false)
+            val item = items[position]
+            v.findViewById<TextView>(R.id.session_name).text = item.dir.name
+            val line1 = v.findViewById<TextView>(R.id.session_line1)
+            val line2 = v.findViewById<TextView>(R.id.session_line2)
+            val s = item.summary
+            if (s == null) {
+                line1.text = getString(R.string.session_unreadable, item.error)
+                line2.text = ""
+            } else {
+                line1.text = describe(this@SessionsActivity, s, item.dir)
+                line2.text = s.streams.filter { it.rows > 0 }.joinToString("  ") { "${shortName(it.name)} ${"%.0f".format(java.util.Locale.ROOT, it.rateHz)} Hz" }
+            }
+            return v
+        }
+    }
+
+    internal companion object {
+        /** "date · duration · size", then samples, and whether recovered or recording now. */
+        fun describe(activity: Activity, s: SessionSummary, dir: File): String {
+            val date = s.startWallClockMs?.let { DateFormat.getDateTimeInstance(DateFormat.MEDIUM, DateFormat.SHORT).format(Date(it)) } ?: "—"
+            val duration = DateUtils.formatElapsedTime(s.durationNs / 1_000_000_000L)
+            val size = Formatter.formatShortFileSize(activity, s.sizeBytes)
+            val counts = activity.getString(R.string.session_list_counts, activity.getString(R.string.session_line1, date, duration, size), s.totalRows)
+            val extra = when {
+                SessionStore.isRecording(dir) -> activity.getString(R.string.session_recording_now)
+                s.recovered -> activity.getString(R.string.session_recovered)
+                else -> null
+            }
+            return if (extra == null) counts else "$counts · $extra"
+        }
+
+        /** Short labels for the list's rate line. */
+        fun shortName(stream: String): String = when (stream.lowercase()) {
+            "accelerometer" -> "acc"
+            "gyroscope" -> "gyr"
+            "magnetometer" -> "mag"
+            "gyroscope_uncalibrated" -> "gyrU"
+            "magnetometer_uncalibrated" -> "magU"
+            "rotation_vector" -> "rv"
+            "game_rotation_vector" -> "grv"
+            else -> stream
+        }
+    }
+}

@@ -1,0 +1,47 @@
+package dev.motionfusion.app.record
+
+import dev.motionfusion.core.session.SessionStream
+import java.io.IOException
+import java.util.concurrent.CopyOnWriteArrayList
+
+/** A sink that keeps what it is given in memory (timestamps and first values) and can fail on cue. */
+internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : SessionSink {
+    val times = ArrayList<Long>()
+    val streams = ArrayList<SessionStream>()
+    val firstValues = ArrayList<Float>()
+    val fusedTimes = ArrayList<Long>()
+    val fusedW = ArrayList<Double>()
+    val flushes = CopyOnWriteArrayList<Long>()
+    @Volatile var finished: RecordingEnd? = null
+    @Volatile var abandoned = false
+
+    override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+        if (times.size.toLong() >= failAfterRows) throw IOException("No space left on device")
+        times += timestampNs
+        streams += stream
+        firstValues += values[offset]
+    }
+
+    val diagnosticTimes = ArrayList<Long>()
+
+    override fun diagnostics(t: Long, bx: Double, by: Double, bz: Double, rest: Boolean, mag: Boolean, acc: Boolean) {
+        diagnosticTimes += t
+    }
+
+    override fun fused(timestampNs: Long, q: DoubleArray, offset: Int) {
+        fusedTimes += timestampNs
+        fusedW += q[offset]
+    }
+
+    override fun flush() {
+        flushes += System.nanoTime()
+    }
+
+    override fun finish(end: RecordingEnd) {
+        finished = end
+    }
+
+    override fun abandon() {
+        abandoned = true
+    }
+}

@@ -1,0 +1,197 @@
+package dev.motionfusion.app.record
+
+import dev.motionfusion.core.session.SessionStream
+import android.Manifest
+import android.app.Notification
+import android.app.NotificationManager
+import android.content.Intent
+import android.content.pm.ServiceInfo
+import android.hardware.Sensor
+import android.hardware.SensorManager
+import android.os.Looper
+import android.widget.Button
+import dev.motionfusion.app.MainActivity
+import dev.motionfusion.app.R
+import org.junit.After
+import org.junit.Assert.assertEquals
+import org.junit.Assert.assertFalse
+import org.junit.Assert.assertNotNull
+import org.junit.Assert.assertTrue
+import org.junit.Before
+import org.junit.Test
+import org.junit.runner.RunWith
+import org.robolectric.Robolectric
+import org.robolectric.RobolectricTestRunner
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+import org.robolectric.android.controller.ServiceController
+import org.robolectric.annotation.Config
+import org.robolectric.shadows.SensorBuilder
+import org.robolectric.shadows.SensorEventBuilder
+import org.robolectric.shadows.ShadowPowerManager
+import org.robolectric.shadows.ShadowSensorManager
+import java.io.File
+
+/** The recording service with the sensors ShadowSensorManager provides and a test double of the session format. */
+@RunWith(RobolectricTestRunner::class)
+@Config(sdk = [34])
+class RecordingServiceTest {
+    private val app = RuntimeEnvironment.getApplication()
+    private lateinit var sensors: ShadowSensorManager
+    private lateinit var all: Map<SessionStream, Sensor>
+    private val format = LineFormat()
+
+    @Before
+    fun setUp() {
+        RecordingDeps.format = format
+        RecordingDeps.minFreeBytes = 0
+        RecordingStatus.state = RecordingStatus.State.Idle
+        sensors = shadowOf(app.getSystemService(SensorManager::class.java))
+        all = SensorStreams.all.associateWith { s ->
+            SensorBuilder.newBuilder().setType(s.androidType).setName("Test ${s.name}").build().also(sensors::addSensor)
+        }
+    }
+
+    @After
+    fun tearDown() {
+        RecordingDeps.reset()
+        RecordingStatus.state = RecordingStatus.State.Idle
+    }
+
+    private fun idle() = shadowOf(Looper.getMainLooper()).idle()
+
+    private fun send(stream: SessionStream, t: Long) {
+        val values = FloatArray(stream.valueCount) { (t % 1000).toFloat() + it }
+        sensors.sendSensorEventToListeners(
+            SensorEventBuilder.newBuilder().setSensor(all.getValue(stream)).setValues(values).setTimestamp(t)
+                .setAccuracy(SensorManager.SENSOR_STATUS_ACCURACY_HIGH).build(),
+        )
+    }
+
+    private fun sendRound(t: Long) = SensorStreams.all.forEachIndexed { i, s -> send(s, t + i) }
+
+    private fun startService(intent: Intent = Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START)):
+        ServiceController<RecordingService> {
+        val c = Robolectric.buildService(RecordingService::class.java, intent).create().startCommand(0, 1)
+        idle()
+        return c
+    }
+
+    private fun awaitEnded(): RecordingStatus.State.Ended {
+        val deadline = System.currentTimeMillis() + 10_000
+        while (System.currentTimeMillis() < deadline) {
+            idle()
+            (RecordingStatus.state as? RecordingStatus.State.Ended)?.let { return it }
+            Thread.sleep(5)
+        }
+        error("recording did not end; state ${RecordingStatus.state}")
+    }
+
+    private fun awaitRows(n: Long) {
+        val deadline = System.currentTimeMillis() + 10_000
+        val active = RecordingStatus.state as? RecordingStatus.State.Active ?: error("not recording: ${RecordingStatus.state}")
+        while (active.rows() < n) {
+            check(System.currentTimeMillis() < deadline) { "only ${active.rows()} of $n rows" }
+            Thread.sleep(5)
+        }
+    }
+
+    @Test
+    fun `start goes foreground as health with a wake lock and listens to every stream`() {
+        val c = startService()
+        val service = shadowOf(c.get())
+        assertNotNull(service.lastForegroundNotification)
+        assertEquals(ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH, c.get().foregroundServiceType)
+        val lock = ShadowPowerManager.getLatestWakeLock()
+        assertTrue("partial wake lock held", lock.isHeld)
+        val listener = sensors.listeners.single()
+        all.values.forEach { assertTrue(sensors.hasListener(listener, it)) }
+        assertTrue(RecordingStatus.isRecording)
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+        assertFalse("wake lock released", lock.isHeld)
+        assertTrue(sensors.listeners.isEmpty())
+        assertTrue(service.isForegroundStopped)
+        assertTrue(service.isStoppedBySelf)
+    }
+
+    @Test
+    fun `keeps recording after the activity is destroyed, and Stop in the notification ends it with every sample`() {
+        val activity = Robolectric.buildActivity(MainActivity::class.java).setup()
+        activity.get().findViewById<Button>(R.id.record_toggle).performClick()
+        val started = shadowOf(app).nextStartedService
+        assertEquals(RecordingService.ACTION_START, started.action)
+        assertEquals(Manifest.permission.POST_NOTIFICATIONS, shadowOf(activity.get()).lastRequestedPermission?.requestedPermissions?.single())
+        // Permission denied (never granted here): recording starts anyway.
+        val c = startService(started)
+        for (i in 0 until 100) sendRound(1_000_000_000L + i * 5_000_000L)
+        activity.pause().stop().destroy()
+        idle()
+        for (i in 100 until 300) sendRound(1_000_000_000L + i * 5_000_000L)
+        awaitRows(300L * 7)
+        assertTrue("still recording", RecordingStatus.isRecording)
+
+        // The elapsed time and the sample count are in the notification, which has Stop.
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(2))
+        val nm = app.getSystemService(NotificationManager::class.java)
+        val n: Notification = shadowOf(nm).getNotification(RecordingService.NOTIFICATION_ID)
+        val text = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
+        assertTrue(text, text.contains("2,100 samples"))
+        assertTrue(n.flags and Notification.FLAG_ONGOING_EVENT != 0)
+        val stop = n.actions.single { it.title == app.getString(R.string.record_stop) }
+        val stopIntent = shadowOf(stop.actionIntent).savedIntent
+        assertEquals(RecordingService.ACTION_STOP, stopIntent.action)
+        c.get().onStartCommand(stopIntent, 0, 2)
+        val ended = awaitEnded()
+        assertEquals(RecordingEnd.Stopped, ended.result.end)
+        assertEquals(2100L, ended.result.rows)
+        val dir = format.created!!
+        val rows = LineFormat.rows(dir).filterNot { it.startsWith("FUSED") }
+        assertEquals(2100, rows.size)
+        assertTrue(File(dir, "finished").exists())
+        // Every stream in order of timestamps as sent.
+        val times = rows.map { it.split(',')[1].toLong() }
+        assertEquals(times.sorted(), times)
+        assertTrue("sessions are in app-private storage", dir.startsWith(SessionFolders.root(app)))
+    }
+
+    @Test
+    fun `storage failure stops cleanly, keeps what was written and tells the user`() {
+        RecordingDeps.format = LineFormat(failAfterBytes = 20_000)
+        startService()
+        for (i in 0 until 2000) sendRound(1_000_000_000L + i * 5_000_000L)
+        val ended = awaitEnded()
+        val end = ended.result.end
+        assertTrue(end.toString(), end is RecordingEnd.WriteFailed)
+        assertTrue(ShadowPowerManager.getLatestWakeLock().let { !it.isHeld })
+        assertTrue(sensors.listeners.isEmpty())
+        // Recovered in place: the partial line cut off; every complete row is a prefix of what was sent.
+        val dir = ended.session
+        assertTrue(File(dir, "recovered").exists())
+        val rows = LineFormat.rows(dir)
+        assertTrue(rows.size > 100)
+        assertTrue(File(dir, "rows.txt").length() <= 20_000)
+        val times = rows.filterNot { it.startsWith("FUSED") }.map { it.split(',')[1].toLong() }
+        val sent = (0 until 2000).flatMap { i -> (0 until 7).map { 1_000_000_000L + i * 5_000_000L + it } }
+        assertEquals(sent.take(times.size), times)
+        // The user is told, in a notification and on the main screen.
+        val nm = app.getSystemService(NotificationManager::class.java)
+        val alert = shadowOf(nm).getNotification(RecordingService.END_NOTIFICATION_ID)
+        val text = alert.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
+        assertTrue(text, text.contains("No space left on device"))
+        val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        assertTrue(main.findViewById<android.widget.TextView>(R.id.record_status).text.contains("Writing failed"))
+    }
+
+    @Test
+    fun `an interrupted session is recovered on the next start`() {
+        val root = SessionFolders.root(app)
+        val old = File(root, "session_2026-01-01_00-00-00").apply { mkdirs() }
+        File(old, "rows.txt").writeText("ACCELEROMETER,1,3,0.0,0.0,9.81\nGYROSCOPE,2,3,0.0,0.")
+        val c = startService()
+        assertTrue(File(old, "recovered").exists())
+        assertEquals(listOf("ACCELEROMETER,1,3,0.0,0.0,9.81"), LineFormat.rows(old))
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+    }
+}
