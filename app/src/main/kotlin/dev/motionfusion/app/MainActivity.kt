@@ -1,18 +1,21 @@
 package dev.motionfusion.app
 
 import android.app.Activity
-import android.hardware.SensorManager
+import android.content.Intent
+import android.content.res.Configuration
+import android.hardware.display.DisplayManager
 import android.os.Bundle
 import android.os.Handler
 import android.os.Looper
-import android.widget.TextView
-import dev.motionfusion.app.live.LiveModel
-import dev.motionfusion.app.live.LiveState
-import dev.motionfusion.app.live.OrientationReading
-import dev.motionfusion.app.live.displayDegrees
+import android.view.Choreographer
+import android.view.Surface
+import android.view.View
+import dev.motionfusion.app.live.FusionEngine
+import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.live.LiveEngines
+import dev.motionfusion.app.live.LiveScreen
+import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.record.RecordBar
-import dev.motionfusion.app.sensor.SensorKind
-import dev.motionfusion.app.sensor.SensorSource
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.MainScope
@@ -20,84 +23,90 @@ import kotlinx.coroutines.cancel
 import kotlinx.coroutines.launch
 
 /**
- * The live screen: each sensor's latest values and the accelerometer/magnetometer
- * orientation. Sensors are listened to only while the screen is visible (onStart..onStop).
+ * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
+ * surviving configuration changes); this activity keeps it running while visible
+ * (onStart..onStop) and draws its latest state at most once per display frame: each new state
+ * or display change asks for the next frame, and the frame draws whatever is newest then.
  */
 class MainActivity : Activity() {
-    private lateinit var source: SensorSource
-    private lateinit var model: LiveModel
+    private lateinit var engine: FusionEngine
+    private lateinit var screen: LiveScreen
     private val scope: CoroutineScope = MainScope()
-    private var capture: Job? = null
-    private val mainHandler = Handler(Looper.getMainLooper())
-    private var renderPending = false
-    private val render = Runnable {
-        renderPending = false
-        show(model.state())
+    private var watch: Job? = null
+    private var shown: FusionState? = null
+    private var shownRotation = -1
+    private var framePending = false
+
+    private val frame = Choreographer.FrameCallback {
+        framePending = false
+        render()
+    }
+
+    private val displays = object : DisplayManager.DisplayListener {
+        override fun onDisplayAdded(displayId: Int) = Unit
+        override fun onDisplayRemoved(displayId: Int) = Unit
+        override fun onDisplayChanged(displayId: Int) = requestFrame() // e.g. a 180° turn, which is no configuration change
     }
 
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
+        engine = LiveEngines.get(this)
+        screen = LiveScreen(this, engine.sensorInfo)
+        findViewById<View>(R.id.open_settings).setOnClickListener {
+            startActivity(Intent(this, SettingsActivity::class.java))
+        }
         RecordBar.attach(this, findViewById(R.id.record_bar))
-        source = SensorSource(getSystemService(SensorManager::class.java))
-        model = LiveModel(SensorKind.entries.toSet() - source.availableKinds())
-        show(model.state())
+        render()
     }
 
     override fun onStart() {
         super.onStart()
-        capture = scope.launch {
-            source.samples(SensorKind.entries.toSet(), SensorManager.SENSOR_DELAY_GAME).collect { sample ->
-                model.onSample(sample)
-                // Many samples per frame: draw once for all that arrived since the last draw.
-                if (!renderPending) {
-                    renderPending = true
-                    mainHandler.post(render)
-                }
-            }
-        }
+        engine.start()
+        getSystemService(DisplayManager::class.java).registerDisplayListener(displays, Handler(Looper.getMainLooper()))
+        watch = scope.launch { engine.state.collect { requestFrame() } }
     }
 
     override fun onStop() {
-        capture?.cancel()
-        capture = null
+        watch?.cancel()
+        watch = null
+        getSystemService(DisplayManager::class.java).unregisterDisplayListener(displays)
+        Choreographer.getInstance().removeFrameCallback(frame)
+        framePending = false
+        engine.stop()
         super.onStop()
     }
 
     override fun onDestroy() {
         scope.cancel()
-        mainHandler.removeCallbacks(render)
         super.onDestroy()
     }
 
-    private fun show(state: LiveState) {
-        val angleViews = listOf(R.id.azimuth, R.id.pitch, R.id.roll).map { findViewById<TextView>(it) }
-        val status = findViewById<TextView>(R.id.orientation_status)
-        when (val o = state.orientation) {
-            is OrientationReading.Angles -> {
-                val values = listOf(o.azimuthDeg, o.pitchDeg, o.rollDeg)
-                angleViews.zip(values).forEach { (v, deg) -> v.text = getString(R.string.angle_deg, displayDegrees(deg)) }
-                status.setText(R.string.orientation_ok)
-            }
-            else -> {
-                angleViews.forEach { it.setText(R.string.angle_unknown) }
-                status.setText(
-                    if (o == OrientationReading.Undefined) R.string.orientation_unavailable else R.string.orientation_waiting,
-                )
-            }
-        }
-        showValues(R.id.accelerometer, SensorKind.ACCELEROMETER, state)
-        showValues(R.id.gyroscope, SensorKind.GYROSCOPE, state)
-        showValues(R.id.magnetometer, SensorKind.MAGNETOMETER, state)
+    override fun onConfigurationChanged(newConfig: Configuration) {
+        super.onConfigurationChanged(newConfig)
+        requestFrame()
     }
 
-    private fun showValues(viewId: Int, kind: SensorKind, state: LiveState) {
-        val view = findViewById<TextView>(viewId)
-        val s = state.latest[kind]
-        view.text = when {
-            s != null -> getString(R.string.vector_values, s.x, s.y, s.z)
-            kind in state.missing -> getString(R.string.sensor_missing)
-            else -> getString(R.string.no_data)
-        }
+    private fun requestFrame() {
+        if (framePending) return
+        framePending = true
+        Choreographer.getInstance().postFrameCallback(frame)
+    }
+
+    /** Draws the engine's latest state when it or the display rotation changed since the last frame. */
+    private fun render() {
+        val s = engine.state.value
+        val rotation = displayRotation()
+        if (s === shown && rotation == shownRotation) return
+        shown = s
+        shownRotation = rotation
+        screen.show(s, rotation)
+    }
+
+    private fun displayRotation(): Int {
+        // An activity's WindowManager belongs to the activity's display (Activity.getDisplay, API 30,
+        // is the same display but throws before the window is attached).
+        @Suppress("DEPRECATION")
+        return windowManager.defaultDisplay?.rotation ?: Surface.ROTATION_0
     }
 }

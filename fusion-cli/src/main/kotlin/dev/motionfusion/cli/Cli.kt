@@ -9,7 +9,10 @@ import java.util.Properties
 /** Dispatches `fusion` subcommands and turns failures into messages and [ExitCode]s. */
 internal class Cli(private val out: PrintStream, private val err: PrintStream) {
 
-    private val commands: List<Command> = listOf(SummaryCommand())
+    private val commands: List<Command> = listOf(
+        ReplayCommand(err), EvalCommand(err), CompareCommand(err), PlotCommand(err),
+        SimulateCommand(), RecoverCommand(), SummaryCommand(),
+    )
 
     fun run(args: List<String>): Int {
         val first = args.firstOrNull()

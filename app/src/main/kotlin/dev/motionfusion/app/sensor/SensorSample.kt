@@ -5,6 +5,8 @@ package dev.motionfusion.app.sensor
  * Values in the device frame and SI units ([SensorKind.unit]); [timestampNs] is
  * `SensorEvent.timestamp` (elapsedRealtimeNanos time base); [accuracy] is
  * `SensorEvent.accuracy` read on every event (SensorManager.SENSOR_STATUS_*).
+ * For the rotation vectors, x, y, z are values[0..2] and [w] is values[3] (cos(θ/2));
+ * for the other kinds [w] is NaN.
  */
 data class SensorSample(
     val kind: SensorKind,
@@ -13,4 +15,5 @@ data class SensorSample(
     val y: Float,
     val z: Float,
     val accuracy: Int,
+    val w: Float = Float.NaN,
 )

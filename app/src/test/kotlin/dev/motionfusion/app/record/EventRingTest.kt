@@ -98,7 +98,7 @@ class EventRingTest {
         var bad = 0L
         while (expected < n) {
             ring.drain({ s, t, _, vs, o ->
-                if (t != expected || s.ordinal != (t % 7).toInt() || vs[o] != t.toFloat()) bad++
+                if (t != expected || s != SensorStreams.all[(t % 7).toInt()] || vs[o] != t.toFloat()) bad++
                 expected++
             })
         }

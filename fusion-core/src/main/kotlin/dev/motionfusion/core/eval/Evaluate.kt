@@ -8,8 +8,11 @@
 
 package dev.motionfusion.core.eval
 
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.Initialisation
+import dev.motionfusion.core.io.DataFormatException
 import java.io.File
 import kotlin.system.exitProcess
 
@@ -27,10 +30,17 @@ public fun main(args: Array<String>) {
         }
     }
     if (dirs.isEmpty()) usage("no trial folder given")
-    settings = overrides.fold(settings) { s, o -> SettingsOverride.apply(s, o) }
-    val results = Evaluation.findTrials(dirs).map { Evaluation.evaluate(Trial.load(it), settings) }
-    println(settings)
-    print(Evaluation.table(results))
+    try {
+        settings = overrides.fold(settings) { s, o -> SettingsOverride.apply(s, o) }
+        val results = Evaluation.evaluateAll(dirs, settings)
+        println(settings)
+        print(Evaluation.table(results))
+    } catch (e: DataFormatException) {
+        System.err.println(e.message)
+        exitProcess(1)
+    } catch (e: IllegalArgumentException) {
+        usage(e.message ?: e.toString())
+    }
 }
 
 private fun usage(message: String): Nothing {
@@ -38,14 +48,22 @@ private fun usage(message: String): Nothing {
     exitProcess(2)
 }
 
-/** Applies "name=value" to a settings value by the name of its property. */
-internal object SettingsOverride {
-    fun apply(s: FilterSettings, assignment: String): FilterSettings {
+/** Command-line overrides of [FilterSettings]: "name=value" by the name of a property. */
+public object SettingsOverride {
+    /**
+     * [s] with the property named before '=' set to the value after it (numbers in SI units as the
+     * property documents, booleans true/false, enums by name).
+     * @throws IllegalArgumentException for an unknown name or a value the settings reject.
+     */
+    public fun apply(s: FilterSettings, assignment: String): FilterSettings {
+        require('=' in assignment) { "expected name=value: $assignment" }
         val (name, value) = assignment.split('=', limit = 2)
         fun d() = value.toDouble()
         fun b() = value.toBooleanStrict()
         return when (name) {
             "mode" -> s.copy(mode = FilterMode.valueOf(value))
+            "initialisation" -> s.copy(initialisation = Initialisation.valueOf(value))
+            "outputFrame" -> s.copy(outputFrame = WorldFrame.valueOf(value))
             "beta" -> s.copy(beta = d())
             "zeta" -> s.copy(zeta = d())
             "restBiasEstimation" -> s.copy(restBiasEstimation = b())

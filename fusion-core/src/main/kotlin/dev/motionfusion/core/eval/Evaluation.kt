@@ -4,10 +4,10 @@
  */
 package dev.motionfusion.core.eval
 
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
-import dev.motionfusion.core.filter.OutputFrame
 import java.io.File
 import kotlin.math.roundToLong
 
@@ -17,7 +17,7 @@ public data class TrialResult(val trial: String, val error: ErrorRmse)
 public object Evaluation {
     /** The filter's ENU orientation after each row of [trial] (identity rows before initialisation). */
     public fun run(trial: Trial, settings: FilterSettings): Array<DoubleArray> {
-        val filter = MadgwickFilter(settings.copy(outputFrame = OutputFrame.ENU))
+        val filter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.ENU))
         return Array(trial.size) { i ->
             val r = trial.imu[i]
             val t = (trial.timeS[i] * 1e9).roundToLong()
@@ -35,6 +35,10 @@ public object Evaluation {
         val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
         return TrialResult(trial.name, BroadMetric.rmse(run(trial, settings), trial.truth, trial.movement, removeHeadingOffset = sixD))
     }
+
+    /** Loads and scores every trial under [paths] (see [findTrials]), in name order. */
+    public fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
+        findTrials(paths).map { evaluate(Trial.load(it), settings) }
 
     /**
      * The trial folders under [paths]: each path is a trial folder or a folder of trial folders

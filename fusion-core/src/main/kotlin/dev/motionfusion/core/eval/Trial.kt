@@ -6,10 +6,9 @@
  */
 package dev.motionfusion.core.eval
 
-import java.io.BufferedReader
+import dev.motionfusion.core.io.ImuTableReader
+import dev.motionfusion.core.io.Inputs
 import java.io.File
-import java.io.InputStreamReader
-import java.util.zip.GZIPInputStream
 
 /**
  * One trial in memory.
@@ -34,34 +33,36 @@ public class Trial(
 
     public companion object {
         /**
-         * Loads the trial in [dir] (input.csv.gz or input.csv, truth.csv.gz or truth.csv).
+         * Loads the trial in [dir] (input.csv.gz or input.csv, truth.csv.gz or truth.csv). The input is
+         * an IMU table read by [ImuTableReader]; empty or "nan" truth fields read as NaN.
          * @throws IllegalArgumentException for missing files, bad headers or misaligned rows.
+         * @throws dev.motionfusion.core.io.DataFormatException for a malformed input table.
          */
         public fun load(dir: File): Trial {
-            val input = readCsv(locate(dir, "input"))
-            val truth = readCsv(locate(dir, "truth"))
-            val inHeader = input.first
-            require(inHeader.take(7) == listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az")) { "${dir.name}: unexpected input header $inHeader" }
-            val hasMag = inHeader.size >= 10 && inHeader.subList(7, 10) == listOf("mx", "my", "mz")
-            require(truth.first == listOf("t_s", "qw", "qx", "qy", "qz", "movement")) { "${dir.name}: unexpected truth header ${truth.first}" }
-            val rows = input.second
-            val truthRows = truth.second
-            require(rows.size == truthRows.size) { "${dir.name}: ${rows.size} input rows but ${truthRows.size} truth rows" }
-            val n = rows.size
-            val t = DoubleArray(n)
-            val imu = Array(n) { DoubleArray(9) { Double.NaN } }
-            val q = Array(n) { DoubleArray(4) }
-            val movement = BooleanArray(n)
-            for (i in 0 until n) {
-                val r = rows[i]
-                val tr = truthRows[i]
-                t[i] = r[0]
-                require(tr[0] == r[0]) { "${dir.name}: row $i truth time ${tr[0]} ≠ input time ${r[0]}" }
-                for (k in 0 until (if (hasMag) 9 else 6)) imu[i][k] = r[k + 1]
-                for (k in 0 until 4) q[i][k] = tr[k + 1]
-                movement[i] = tr[5] == 1.0
+            val input = ImuTableReader.open(locate(dir, "input").toPath()).use { r -> r.asSequence().toList() to r.hasMagnetometer }
+            val rows = input.first
+            val hasMag = input.second
+            val truthFile = locate(dir, "truth")
+            val truth = Inputs.reader(truthFile.toPath()).use { reader ->
+                val header = reader.readLine()?.split(',')?.map { it.trim() }
+                require(header == TRUTH_HEADER) { "${truthFile.path}: header $header, expected $TRUTH_HEADER" }
+                reader.lineSequence().filter { it.isNotBlank() }.map { line ->
+                    val parts = line.split(',')
+                    require(parts.size == TRUTH_HEADER.size) { "${truthFile.path}: ${parts.size} fields in '$line'" }
+                    DoubleArray(parts.size) { k -> parts[k].trim().let { v -> if (v.isEmpty() || v.equals("nan", ignoreCase = true)) Double.NaN else v.toDouble() } }
+                }.toList()
             }
-            return Trial(dir.name, t, imu, hasMag, q, movement)
+            require(rows.size == truth.size) { "${dir.name}: ${rows.size} input rows but ${truth.size} truth rows" }
+            val n = rows.size
+            for (i in 0 until n) require(truth[i][0] == rows[i].timeS) { "${dir.name}: row $i truth time ${truth[i][0]} ≠ input time ${rows[i].timeS}" }
+            return Trial(
+                dir.name,
+                DoubleArray(n) { rows[it].timeS },
+                Array(n) { rows[it].let { r -> doubleArrayOf(r.gx, r.gy, r.gz, r.ax, r.ay, r.az, r.mx, r.my, r.mz) } },
+                hasMag,
+                Array(n) { truth[it].copyOfRange(1, 5) },
+                BooleanArray(n) { truth[it][5] == 1.0 },
+            )
         }
 
         /** True when [dir] holds a trial (an input and a truth file). */
@@ -72,20 +73,6 @@ public class Trial(
             listOf(File(dir, "$stem.csv.gz"), File(dir, "$stem.csv")).firstOrNull { it.isFile }
                 ?: throw IllegalArgumentException("${dir.path}: no $stem.csv.gz or $stem.csv")
 
-        /** Header and numeric rows; empty fields and "nan" read as NaN. */
-        private fun readCsv(file: File): Pair<List<String>, List<DoubleArray>> {
-            val stream = file.inputStream().let { if (file.name.endsWith(".gz")) GZIPInputStream(it) else it }
-            BufferedReader(InputStreamReader(stream, Charsets.UTF_8)).use { reader ->
-                val header = reader.readLine()?.split(',')?.map { it.trim() }
-                    ?: throw IllegalArgumentException("${file.path}: empty")
-                val rows = ArrayList<DoubleArray>()
-                reader.lineSequence().filter { it.isNotBlank() }.forEach { line ->
-                    val parts = line.split(',')
-                    require(parts.size == header.size) { "${file.path}: ${parts.size} fields in '$line'" }
-                    rows.add(DoubleArray(parts.size) { k -> parts[k].trim().let { s -> if (s.isEmpty() || s.equals("nan", ignoreCase = true)) Double.NaN else s.toDouble() } })
-                }
-                return header to rows
-            }
-        }
+        private val TRUTH_HEADER = listOf("t_s", "qw", "qx", "qy", "qz", "movement")
     }
 }

@@ -9,6 +9,7 @@
  */
 package dev.motionfusion.core.filter
 
+import dev.motionfusion.core.STANDARD_GRAVITY
 import kotlin.math.abs
 import kotlin.math.cos
 
@@ -57,7 +58,5 @@ internal class AccelerometerRejection(settings: FilterSettings) {
     companion object {
         const val STATE_SIZE = 3
 
-        /** Standard gravity, m/s². */
-        const val STANDARD_GRAVITY = 9.80665
     }
 }

@@ -17,7 +17,8 @@ import dev.motionfusion.core.Vector3
  * @property accelerometerRejected the accelerometer is currently left out (linear acceleration).
  * @property gyroscopeSteps gyroscope samples integrated.
  * @property skippedBeforeInit gyroscope samples dropped while waiting for initialisation.
- * @property skippedNonFinite samples (any sensor) with a NaN or infinite value, dropped.
+ * @property skippedNonFinite samples (any sensor) with a NaN or infinite value, dropped, and steps
+ *   whose result was not finite (absurd readings), not applied.
  * @property skippedZero accelerometer or magnetometer samples of zero length, dropped.
  * @property skippedTimestamp gyroscope samples whose timestamp did not advance, dropped.
  * @property skippedGap gyroscope samples after a gap longer than maxGap, not integrated.

@@ -3,10 +3,11 @@
  *
  * Frames: sensor readings in the Android device frame (x right, y up along the screen, z out of
  * the screen); the filter works internally in the report's North-West-Up earth frame and outputs
- * in [OutputFrame]. Units: SI (rad/s, m/s², µT, s); angles in radians.
+ * in a [WorldFrame]. Units: SI (rad/s, m/s², µT, s); angles in radians.
  */
 package dev.motionfusion.core.filter
 
+import dev.motionfusion.core.WorldFrame
 import kotlin.math.PI
 
 /** Which sensors the filter fuses. */
@@ -16,18 +17,6 @@ public enum class FilterMode {
 
     /** 9D: gyroscope + accelerometer + magnetometer (the report's MARG update). */
     MARG,
-}
-
-/** The earth frame of the filter's output orientation (sensor → earth). */
-public enum class OutputFrame {
-    /** East (x), North (y), Up (z): Android's world frame (getRotationMatrix, rotation vectors). */
-    ENU,
-
-    /** North (x), West (y), Up (z): the report's earth frame. */
-    NWU,
-
-    /** North (x), East (y), Down (z): the aerospace frame. */
-    NED,
 }
 
 /** How the filter starts. */
@@ -47,12 +36,13 @@ public enum class Initialisation {
  * measured on the BROAD trials (docs/ACCURACY.md); [report] gives the report's own filter.
  *
  * @property mode 6D or 9D. Default [FilterMode.MARG].
- * @property beta β, gain of the normalised gradient step (eq. 42), in 1/s (quaternion-rate units;
- *   the correction rotates the estimate at up to 2β rad/s); β = √(3/4)·ω̃_β (eq. 50). ≥ 0.
- *   Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
- * @property zeta ζ, rate of the report's gyroscope bias drift compensation (eq. 48), in rad/s per
- *   unit of normalised error, ζ = √(3/4)·ω̃_ζ (eq. 51). Applied in MARG steps. 0 disables it. ≥ 0.
- *   Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate replaces it.
+ * @property beta β, gain of the normalised gradient step (eq. 42), rad/s: β = √(3/4)·ω̃_β (eq. 50)
+ *   with ω̃_β the gyroscope measurement error; the correction turns the estimate at up to 2β rad/s.
+ *   ≥ 0. Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
+ * @property zeta ζ, gain of the report's gyroscope bias drift compensation (eq. 48), rad/s²:
+ *   ζ = √(3/4)·ω̃_ζ (eq. 51) with ω̃_ζ the gyroscope drift rate. Acts in MARG steps, as in the report.
+ *   0 disables it. ≥ 0. Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate
+ *   replaces it.
  * @property initialisation [Initialisation.FIRST_SAMPLE] by default.
  * @property restBiasEstimation estimate the gyroscope bias while the sensor is at rest.
  * @property restGyroThreshold rest when the gyroscope deviates from its low-passed value, and that
@@ -79,7 +69,8 @@ public enum class Initialisation {
  *   Default 10°.
  * @property accMaxRejectionTime after this long continuously rejected, the accelerometer is trusted
  *   again (recovery from a wrong estimate), s. Default 5 s.
- * @property outputFrame frame of [MadgwickFilter.orientation]. Default [OutputFrame.ENU].
+ * @property outputFrame earth frame of [MadgwickFilter.orientation]. Default [WorldFrame.ENU] (Android's
+ *   world); [WorldFrame.NWU] is the report's, [WorldFrame.NED] the aerospace one.
  * @property maxGap longest accepted time between samples, s: a longer gyroscope gap is not
  *   integrated, and an accelerometer or magnetometer sample older than this is not used. Default 0.5 s.
  */
@@ -102,7 +93,7 @@ public data class FilterSettings(
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
     val accMaxRejectionTime: Double = 5.0,
-    val outputFrame: OutputFrame = OutputFrame.ENU,
+    val outputFrame: WorldFrame = WorldFrame.ENU,
     val maxGap: Double = 0.5,
 ) {
     init {

@@ -1,7 +1,7 @@
 /*
  * The Madgwick orientation filter: S. O. H. Madgwick, "An efficient orientation filter for
- * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report"), with
- * equations as restated in docs/../shared/reference/madgwick.md; equation numbers are the report's.
+ * inertial and inertial/magnetic sensor arrays", University of Bristol, 2010 (the "report").
+ * Equation numbers in the comments are the report's.
  *
  * Frames. Inputs in the Android device frame (x right, y up along the screen, z out of the
  * screen). The estimate q̂ = [w, x, y, z] (Hamilton) is the sensor's orientation in the report's
@@ -15,11 +15,17 @@
  * and magnetometer sample and steps on each gyroscope sample, over the time since the previous
  * gyroscope sample, with the held samples if they are no older than maxGap. A non-finite or zero
  * sample replaces the held one by "none" (the next steps run without that correction).
+ *
+ * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
+ * with neither: gyroscope integration. The report's equations hold exactly with
+ * FilterSettings.report(); the additions (rest bias, magnetic disturbance, accelerometer
+ * rejection) only decide which readings enter and what bias is removed.
  */
 package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.WorldFrame
 import kotlin.math.sqrt
 
 /**
@@ -41,6 +47,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val scratch = DoubleArray(4)
+
+    // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
+    private val outputChange = WorldFrame.NWU.quaternionTo(settings.outputFrame)
+    private val c1 = outputChange.w
+    private val c2 = outputChange.x
+    private val c3 = outputChange.y
+    private val c4 = outputChange.z
 
     // Estimate q̂ (NWU), the report's SEq_1..4.
     private var q1 = 1.0
@@ -138,22 +151,19 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
         }
 
-        // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
-        val upx = 2.0 * (q2 * q4 - q1 * q3)
-        val upy = 2.0 * (q1 * q2 + q3 * q4)
-        val upz = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
         var useAcc = accOk
         if (useAcc && accRejection != null) {
             val n = sqrt(ax * ax + ay * ay + az * az)
-            useAcc = accRejection.accept(dt, n, (ax * upx + ay * upy + az * upz) / n)
+            useAcc = accRejection.accept(dt, n, (ax * upX() + ay * upY() + az * upZ()) / n)
             if (!useAcc) accRejections++
         }
         var useMag = magOk
         if (useMag && magDetector != null) {
-            val n = sqrt(mx * mx + my * my + mz * mz)
-            val sinDip = -(mx * upx + my * upy + mz * upz) / n
-            val sinDipRaw = if (accOk) -(mx * ax + my * ay + mz * az) / (n * sqrt(ax * ax + ay * ay + az * az)) else sinDip
-            useMag = magDetector.accept(dt, n, sinDip, sinDipRaw)
+            val n2 = mx * mx + my * my + mz * mz
+            val inv = invSqrt(n2)
+            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) * inv
+            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
+            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw)
             if (!useMag) magRejections++
         }
         when {
@@ -207,9 +217,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             out[offset] = 1.0; out[offset + 1] = 0.0; out[offset + 2] = 0.0; out[offset + 3] = 0.0
             return
         }
-        EarthFrames.fromNwu(settings.outputFrame, q1, q2, q3, q4, out, offset)
+        // q_out = c ⊗ q̂ (Hamilton product with the fixed frame change c).
+        out[offset] = c1 * q1 - c2 * q2 - c3 * q3 - c4 * q4
+        out[offset + 1] = c1 * q2 + c2 * q1 + c3 * q4 - c4 * q3
+        out[offset + 2] = c1 * q3 - c2 * q4 + c3 * q1 + c4 * q2
+        out[offset + 3] = c1 * q4 + c2 * q3 - c3 * q2 + c4 * q1
     }
 
+    /** A copy of the current flags, bias estimate and counters (allocates; not for every sample). */
     public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
         initialised = initialised,
         gyroBias = Vector3(wbx, wby, wbz),
@@ -265,6 +280,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]
     }
 
+    // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
+    private fun upX() = 2.0 * (q2 * q4 - q1 * q3)
+    private fun upY() = 2.0 * (q1 * q2 + q3 * q4)
+    private fun upZ() = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
+
     private fun flags(): Long =
         (if (hasAcc) 1L else 0L) or (if (hasMag) 2L else 0L) or (if (initialised) 4L else 0L) or (if (waitingForMag) 8L else 0L)
 
@@ -303,11 +323,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
                     return
                 }
             }
-            EarthFrames.initial(ax, ay, az, magOk, mx, my, mz, scratch)
-            q1 = scratch[0]; q2 = scratch[1]; q3 = scratch[2]; q4 = scratch[3]
+            val q = InitialOrientation.nwu(ax, ay, az, magOk, mx, my, mz)
+            q1 = q.w; q2 = q.x; q3 = q.y; q4 = q.z
             if (magOk) {
-                val n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
-                updateFluxReference(mx * n, my * n, mz * n)
+                val n = invSqrt(mx * mx + my * my + mz * mz)
+                updateFluxReference(q1, q2, q3, q4, mx * n, my * n, mz * n, 1.0)
             }
         }
         initialised = true
@@ -324,13 +344,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         var f2 = 0.0
         var f3 = 0.0
         if (withAcc) {
-            val n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
+            val n = invSqrt(ax * ax + ay * ay + az * az)
             // Objective function, accelerometer part (eq. 25).
             f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
             f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
             f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - az * n
         }
-        val n = 1.0 / sqrt(mx * mx + my * my + mz * mz)
+        val n = invSqrt(mx * mx + my * my + mz * mz)
         val m1 = mx * n
         val m2 = my * n
         val m3 = mz * n
@@ -349,13 +369,12 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             (-2.0 * twoBx * q3 - twoBz * q1) * f4 + (twoBx * q2 + twoBz * q4) * f5 + (twoBx * q1 - 2.0 * twoBz * q3) * f6
         val d4 = 2.0 * q2 * f1 + 2.0 * q3 * f2 +
             (-2.0 * twoBx * q4 + twoBz * q2) * f4 + (-twoBx * q1 + twoBz * q3) * f5 + twoBx * q2 * f6
-        correct(dt, gx, gy, gz, d1, d2, d3, d4, zeta)
-        updateFluxReference(m1, m2, m3)
+        correct(dt, gx, gy, gz, d1, d2, d3, d4, zeta, true, m1, m2, m3)
     }
 
     /** The report's IMU update (eqs. 25–26, 34, 44, 12, 42–43); the report has no ζ here. */
     private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double) {
-        val n = 1.0 / sqrt(ax * ax + ay * ay + az * az)
+        val n = invSqrt(ax * ax + ay * ay + az * az)
         val f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
         val f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
         val f3 = 2.0 * (0.5 - q2 * q2 - q3 * q3) - az * n
@@ -365,66 +384,92 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             2.0 * q4 * f1 + 2.0 * q1 * f2 - 4.0 * q2 * f3,
             -2.0 * q1 * f1 + 2.0 * q4 * f2 - 4.0 * q3 * f3,
             2.0 * q2 * f1 + 2.0 * q3 * f2,
-            0.0,
+            0.0, false, 0.0, 0.0, 0.0,
         )
     }
 
     /** Gyroscope integration only (no usable accelerometer): eq. 12 with the bias removed. */
     private fun gyroStep(dt: Double, gx: Double, gy: Double, gz: Double) {
-        correct(dt, gx, gy, gz, 0.0, 0.0, 0.0, 0.0, 0.0)
+        correct(dt, gx, gy, gz, 0.0, 0.0, 0.0, 0.0, 0.0, false, 0.0, 0.0, 0.0)
     }
 
     /**
      * Normalises the gradient (d1..d4) (eq. 44), updates the bias with gain [z] (eqs. 47–48),
-     * removes it (eq. 49) and integrates (eqs. 12, 42–43). A zero gradient (exact agreement)
+     * removes it (eq. 49) and integrates (eqs. 12, 42–43); with [flux], updates b from the
+     * normalised magnetometer reading (m1, m2, m3) (eqs. 45–46). A zero gradient (exact agreement)
      * contributes no correction. A step whose result is not finite is dropped.
      */
-    private fun correct(dt: Double, gx: Double, gy: Double, gz: Double, d1: Double, d2: Double, d3: Double, d4: Double, z: Double) {
+    private fun correct(
+        dt: Double, gx: Double, gy: Double, gz: Double,
+        d1: Double, d2: Double, d3: Double, d4: Double, z: Double,
+        flux: Boolean, m1: Double, m2: Double, m3: Double,
+    ) {
+        // The gyroscope term with the previous bias does not depend on the gradient: computed first,
+        // it overlaps with the gradient's normalisation.
+        val h = 0.5 * dt
+        val wx = gx - wbx // (eq. 49)
+        val wy = gy - wby
+        val wz = gz - wbz
+        val p1 = q1 + h * (-q2 * wx - q3 * wy - q4 * wz)
+        val p2 = q2 + h * (q1 * wx + q3 * wz - q4 * wy)
+        val p3 = q3 + h * (q1 * wy - q2 * wz + q4 * wx)
+        val p4 = q4 + h * (q1 * wz + q2 * wy - q3 * wx)
         val dn2 = d1 * d1 + d2 * d2 + d3 * d3 + d4 * d4
-        val s = if (dn2 > 0.0) 1.0 / sqrt(dn2) else 0.0
+        val s = if (dn2 > 0.0) invSqrt(dn2) else 0.0
         val e1 = d1 * s
         val e2 = d2 * s
         val e3 = d3 * s
         val e4 = d4 * s
-        var bxNew = wbx
-        var byNew = wby
-        var bzNew = wbz
+        // q̂ += (½ q̂ ⊗ [0, ω − ω_b] − β q̇_ε) Δt (eqs. 12, 42–43).
+        var c1 = beta * dt
+        var c2 = 0.0
         if (z != 0.0) {
-            // ω_ε = 2 q̂* ⊗ q̇_ε (eq. 47); ω_b += ζ ω_ε Δt (eq. 48).
-            val k = 2.0 * z * dt
-            bxNew += k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
-            byNew += k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
-            bzNew += k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
+            // ω_ε = 2 q̂* ⊗ q̇_ε (eq. 47); ω_b += ζ ω_ε Δt (eq. 48). The bias change Δω_b = ζΔt ω_ε enters
+            // the rate as ½ q̂ ⊗ [0, −Δω_b] = −ζΔt (q̇_ε − (q̂·q̇_ε) q̂), because q̂ ⊗ (q̂* ⊗ q̇_ε) = q̇_ε.
+            val k = z * dt
+            wbx += 2.0 * k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
+            wby += 2.0 * k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
+            wbz += 2.0 * k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
+            val kdt = k * dt
+            c1 += kdt
+            c2 = kdt * (q1 * e1 + q2 * e2 + q3 * e3 + q4 * e4)
         }
-        val wx = gx - bxNew // (eq. 49)
-        val wy = gy - byNew
-        val wz = gz - bzNew
-        // q̂ += (½ q̂ ⊗ [0, ω] − β q̇_ε) Δt (eqs. 12, 42–43), then normalise.
-        val h = 0.5 * dt
-        val b = beta * dt
-        val n1 = q1 + h * (-q2 * wx - q3 * wy - q4 * wz) - b * e1
-        val n2 = q2 + h * (q1 * wx + q3 * wz - q4 * wy) - b * e2
-        val n3 = q3 + h * (q1 * wy - q2 * wz + q4 * wx) - b * e3
-        val n4 = q4 + h * (q1 * wz + q2 * wy - q3 * wx) - b * e4
-        val inv = 1.0 / sqrt(n1 * n1 + n2 * n2 + n3 * n3 + n4 * n4)
+        val n1 = p1 - c1 * e1 + c2 * q1
+        val n2 = p2 - c1 * e2 + c2 * q2
+        val n3 = p3 - c1 * e3 + c2 * q3
+        val n4 = p4 - c1 * e4 + c2 * q4
+        val n = n1 * n1 + n2 * n2 + n3 * n3 + n4 * n4
+        val inv = invSqrt(n)
         if (!(inv > 0.0 && inv.isFinite())) {
             skippedNonFinite++
             return
         }
         q1 = n1 * inv; q2 = n2 * inv; q3 = n3 * inv; q4 = n4 * inv
-        wbx = bxNew; wby = byNew; wbz = bzNew
+        // b from the new estimate: computed from the unnormalised n, scaled by 1/|n|², so that it
+        // does not wait for the normalisation.
+        if (flux) updateFluxReference(n1, n2, n3, n4, m1, m2, m3, 1.0 / n)
     }
 
-    /** Magnetic distortion compensation (eqs. 45–46): h = q̂ ⊗ [0, m] ⊗ q̂*, b = [0, √(hx² + hy²), 0, hz]. */
-    private fun updateFluxReference(m1: Double, m2: Double, m3: Double) {
-        val hx = 2.0 * (m1 * (0.5 - q3 * q3 - q4 * q4) + m2 * (q2 * q3 - q1 * q4) + m3 * (q2 * q4 + q1 * q3))
-        val hy = 2.0 * (m1 * (q2 * q3 + q1 * q4) + m2 * (0.5 - q2 * q2 - q4 * q4) + m3 * (q3 * q4 - q1 * q2))
-        val hz = 2.0 * (m1 * (q2 * q4 - q1 * q3) + m2 * (q3 * q4 + q1 * q2) + m3 * (0.5 - q2 * q2 - q3 * q3))
-        bx = sqrt(hx * hx + hy * hy)
-        bz = hz
+    /**
+     * Magnetic distortion compensation (eqs. 45–46): h = q̂ ⊗ [0, m] ⊗ q̂*, b = [0, √(hx² + hy²), 0, hz],
+     * with q̂ = p/|p| given as p = (p1..p4) and [s] = 1/|p|² (h is quadratic in q̂).
+     */
+    private fun updateFluxReference(p1: Double, p2: Double, p3: Double, p4: Double, m1: Double, m2: Double, m3: Double, s: Double) {
+        val w2 = p1 * p1
+        val x2 = p2 * p2
+        val y2 = p3 * p3
+        val z2 = p4 * p4
+        val hx = m1 * (w2 + x2 - y2 - z2) + 2.0 * (m2 * (p2 * p3 - p1 * p4) + m3 * (p2 * p4 + p1 * p3))
+        val hy = m2 * (w2 - x2 + y2 - z2) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
+        val hz = m3 * (w2 - x2 - y2 + z2) + 2.0 * (m1 * (p2 * p4 - p1 * p3) + m2 * (p3 * p4 + p1 * p2))
+        bx = sqrt(hx * hx + hy * hy) * s
+        bz = hz * s
     }
 
     private companion object {
         const val DOUBLES = 15
+
+        /** 1/√x as √x · (1/x): the square root and the division run in parallel (shorter latency than 1/√x). */
+        fun invSqrt(x: Double): Double = sqrt(x) * (1.0 / x)
     }
 }

@@ -18,7 +18,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val normTolerance = settings.magNormTolerance
     private val cosDipTolerance = cos(settings.magDipTolerance)
     private val maxRejectionTime = settings.magMaxRejectionTime
-    private val referenceTime = settings.magReferenceTime
+    private val referenceRate = 1.0 / settings.magReferenceTime
 
     private var hasReference = false
     private var refNorm = 0.0
@@ -28,6 +28,9 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     var disturbed = false
         private set
 
+    /** True when the next reading will become the reference (so its raw dip is needed). */
+    val needsReference: Boolean get() = !hasReference || disturbedTime > maxRejectionTime
+
     /**
      * Classifies one magnetometer reading of magnitude [norm] whose dip has sine [sinDip] (the
      * component of the unit field along the estimated down direction), or [sinDipRaw] measured
@@ -36,7 +39,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
      * undisturbed field slowly updates it.
      */
     fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double): Boolean {
-        if (!hasReference || disturbedTime > maxRejectionTime) {
+        if (needsReference) {
             refNorm = norm
             refSinDip = sinDipRaw
             hasReference = true
@@ -45,13 +48,13 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             return true
         }
         // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
-        val cosDiff = sqrt(1.0 - sinDip * sinDip) * sqrt(1.0 - refSinDip * refSinDip) + sinDip * refSinDip
+        val cosDiff = sqrt((1.0 - sinDip * sinDip) * (1.0 - refSinDip * refSinDip)) + sinDip * refSinDip
         disturbed = kotlin.math.abs(norm - refNorm) > normTolerance * refNorm || cosDiff < cosDipTolerance
         if (disturbed) {
             disturbedTime += dt
         } else {
             disturbedTime = 0.0
-            val k = dt / (referenceTime + dt)
+            val k = minOf(1.0, dt * referenceRate)
             refNorm += k * (norm - refNorm)
             refSinDip += k * (sinDip - refSinDip)
         }

@@ -43,7 +43,7 @@ internal class RestDetector(settings: FilterSettings) {
             ax = sx; ay = sy; az = sz
             started = true
         } else {
-            val k = dt / (LOW_PASS_TIME + dt)
+            val k = minOf(1.0, dt * (1.0 / LOW_PASS_TIME)) // first-order low-pass, time constant LOW_PASS_TIME
             gx += k * (wx - gx); gy += k * (wy - gy); gz += k * (wz - gz)
             ax += k * (sx - ax); ay += k * (sy - ay); az += k * (sz - az)
         }

@@ -11,12 +11,12 @@ package dev.motionfusion.core.io
 
 import kotlin.math.abs
 
-internal object AsciiNumbers {
+public object AsciiNumbers {
     /** Longest output of [float]: sign, 9 digits, point, up to 7 leading zeros, exponent. */
-    const val MAX_FLOAT_CHARS = 24
+    public const val MAX_FLOAT_CHARS = 24
 
     /** Longest output of [long]. */
-    const val MAX_LONG_CHARS = 20
+    public const val MAX_LONG_CHARS = 20
 
     private val POW10 = DoubleArray(23) { i -> "1e$i".toDouble() }
     private val LONG_POW10 = LongArray(19).also { p -> p[0] = 1L; for (i in 1 until 19) p[i] = p[i - 1] * 10L }
@@ -24,7 +24,7 @@ internal object AsciiNumbers {
     private val INF = "Infinity".toByteArray(Charsets.US_ASCII)
 
     /** Writes [v] at buf[pos]; returns the position after it. */
-    fun long(buf: ByteArray, pos: Int, v: Long): Int {
+    public fun long(buf: ByteArray, pos: Int, v: Long): Int {
         var p = pos
         if (v == Long.MIN_VALUE) {
             for (c in "-9223372036854775808") buf[p++] = c.code.toByte()
@@ -55,7 +55,7 @@ internal object AsciiNumbers {
      * Writes the shortest decimal (≤ 9 significant digits) that parses back to exactly [f]; plain
      * notation for magnitudes in [1e-7, 1e9), scientific ("1.5E-12") outside. Returns the new position.
      */
-    fun float(buf: ByteArray, pos: Int, f: Float): Int {
+    public fun float(buf: ByteArray, pos: Int, f: Float): Int {
         var p = pos
         if (f.isNaN()) return copy(NAN, buf, p)
         if (f.isInfinite()) {
@@ -161,29 +161,47 @@ internal object AsciiNumbers {
      * Writes [v] rounded to [decimals] places (0..9), e.g. "-12.345000" for decimals 6; trailing
      * zeros are removed ("-12.345"). Values beyond ±9e9 and non-finite ones use Double.toString.
      */
-    fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
+    public fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
         var p = pos
         if (!(abs(v) < 9e9)) return copyString(if (v.isNaN()) "NaN" else v.toString(), buf, p)
-        val scale = LONG_POW10[decimals]
-        var m = Math.round(abs(v) * scale)
+        var m = Math.round(abs(v) * LONG_POW10[decimals])
         if (m == 0L) {
             buf[p++] = '0'.code.toByte()
             return p
         }
         if (v < 0) buf[p++] = '-'.code.toByte()
-        var n = decimals
-        while (n > 0 && m % 10L == 0L) {
-            m /= 10L
-            n--
+        // Digits right to left: at least decimals + 1 of them, two at a time.
+        val digits = maxOf(digitCount(m), decimals + 1)
+        val hasPoint = decimals > 0
+        val end = p + digits + (if (hasPoint) 1 else 0)
+        var i = end
+        var written = 0
+        while (written < digits) {
+            if (hasPoint && written == decimals) buf[--i] = '.'.code.toByte()
+            if (written + 1 < digits && !(hasPoint && written + 1 == decimals)) {
+                val q = m / 100L
+                val r = (m - q * 100L).toInt()
+                buf[--i] = DIGIT_ONES[r]
+                buf[--i] = DIGIT_TENS[r]
+                m = q
+                written += 2
+            } else {
+                val q = m / 10L
+                buf[--i] = ('0'.code + (m - q * 10L).toInt()).toByte()
+                m = q
+                written++
+            }
         }
-        val div = LONG_POW10[n]
-        p = long(buf, p, m / div)
-        if (n > 0) {
-            buf[p++] = '.'.code.toByte()
-            p = writeDigits(buf, p, m % div, n)
+        var e = end
+        if (hasPoint) {
+            while (buf[e - 1] == '0'.code.toByte()) e--
+            if (buf[e - 1] == '.'.code.toByte()) e--
         }
-        return p
+        return e
     }
+
+    private val DIGIT_TENS = ByteArray(100) { ('0'.code + it / 10).toByte() }
+    private val DIGIT_ONES = ByteArray(100) { ('0'.code + it % 10).toByte() }
 
     private fun copy(src: ByteArray, buf: ByteArray, pos: Int): Int {
         src.copyInto(buf, pos)
@@ -197,13 +215,13 @@ internal object AsciiNumbers {
     }
 
     /** The output of [float] as a String (tests, headers). */
-    fun floatToString(f: Float): String {
+    public fun floatToString(f: Float): String {
         val b = ByteArray(MAX_FLOAT_CHARS + 8)
         return String(b, 0, float(b, 0, f), Charsets.US_ASCII)
     }
 
     /** The output of [fixed] as a String. */
-    fun fixedToString(v: Double, decimals: Int): String {
+    public fun fixedToString(v: Double, decimals: Int): String {
         val b = ByteArray(48)
         return String(b, 0, fixed(b, 0, v, decimals), Charsets.US_ASCII)
     }

@@ -5,10 +5,10 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
-import dev.motionfusion.core.filter.OutputFrame
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
 
@@ -30,6 +30,7 @@ internal object MetadataJson {
         "start_anchor" to m.startAnchor?.let(::anchor),
         "anchors" to m.anchors.map(::anchor),
         "end_elapsed_realtime_ns" to m.endElapsedRealtimeNs,
+        "end_reason" to m.endReason,
         "complete" to m.complete,
         "recovered" to m.recovered,
         "pauses" to m.pauses.map { linkedMapOf("start_elapsed_realtime_ns" to it.startElapsedRealtimeNs, "end_elapsed_realtime_ns" to it.endElapsedRealtimeNs) },
@@ -40,6 +41,7 @@ internal object MetadataJson {
                 "vendor" to s.vendor,
                 "version" to s.version,
                 "type" to s.type,
+                "string_type" to s.stringType,
                 "maximum_range" to s.maximumRange,
                 "resolution" to s.resolution,
                 "power_ma" to s.powerMa,
@@ -114,7 +116,7 @@ internal object MetadataJson {
                 SensorInfo(
                     stream = stream,
                     name = s.string("name"), vendor = s.string("vendor"), version = s.int("version", 0),
-                    type = s.int("type", stream.androidType),
+                    type = s.int("type", stream.androidType), stringType = s.string("string_type"),
                     maximumRange = s.double("maximum_range"), resolution = s.double("resolution"), powerMa = s.double("power_ma"),
                     minDelayUs = s.int("min_delay_us", 0), maxDelayUs = s.int("max_delay_us", 0),
                     fifoReservedEventCount = s.int("fifo_reserved_event_count", 0), fifoMaxEventCount = s.int("fifo_max_event_count", 0),
@@ -127,6 +129,7 @@ internal object MetadataJson {
             complete = r.bool("complete", false),
             recovered = r.bool("recovered", false),
             endElapsedRealtimeNs = r.longOrNull("end_elapsed_realtime_ns"),
+            endReason = r.string("end_reason"),
             streams = r.objOrNull("streams")?.let { o ->
                 o.keys().mapNotNull { k ->
                     val stream = SessionStream.ofKey(k) ?: return@mapNotNull null
@@ -164,7 +167,7 @@ internal object MetadataJson {
                 accNormTolerance = o.double("acc_norm_tolerance_m_s2", d.accNormTolerance),
                 accAngleTolerance = o.double("acc_angle_tolerance_rad", d.accAngleTolerance),
                 accMaxRejectionTime = o.double("acc_max_rejection_time_s", d.accMaxRejectionTime),
-                outputFrame = o.enum("output_frame", d.outputFrame) { OutputFrame.valueOf(it) },
+                outputFrame = o.enum("output_frame", d.outputFrame) { WorldFrame.valueOf(it) },
                 maxGap = o.double("max_gap_s", d.maxGap),
             )
         } catch (e: IllegalArgumentException) {

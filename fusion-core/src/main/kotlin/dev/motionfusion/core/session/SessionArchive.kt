@@ -20,17 +20,20 @@ public object SessionArchive {
 
     /**
      * Writes the session folder [dir] as a zip to [zipFile] (deflate), files inside a folder
-     * named like [dir]. Only meta.json and the stream files are included.
+     * named like [dir]. Only meta.json and the stream files are included. Entries carry the
+     * files' modification times, or [entryTimeMs] when given (reproducible archives).
      */
     @JvmStatic
-    public fun zip(dir: Path, zipFile: Path) {
+    @JvmOverloads
+    public fun zip(dir: Path, zipFile: Path, entryTimeMs: Long? = null) {
         require(Files.isRegularFile(dir.resolve(SessionMetadata.FILE_NAME))) { "$dir is not a session folder (no meta.json)" }
-        Files.newOutputStream(zipFile).use { zip(dir, it) }
+        Files.newOutputStream(zipFile).use { zip(dir, it, entryTimeMs) }
     }
 
     /** As [zip], to a stream (e.g. a content:// URI's output stream on Android); does not close [out]. */
     @JvmStatic
-    public fun zip(dir: Path, out: OutputStream) {
+    @JvmOverloads
+    public fun zip(dir: Path, out: OutputStream, entryTimeMs: Long? = null) {
         val folder = dir.toAbsolutePath().normalize().fileName?.toString() ?: "session"
         val z = ZipOutputStream(BufferedOutputStream(out, 1 shl 16))
         val names = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }
@@ -38,7 +41,7 @@ public object SessionArchive {
             val f = dir.resolve(name)
             if (!Files.isRegularFile(f)) continue
             val e = ZipEntry("$folder/$name")
-            e.time = Files.getLastModifiedTime(f).toMillis()
+            e.time = entryTimeMs ?: Files.getLastModifiedTime(f).toMillis()
             z.putNextEntry(e)
             Files.copy(f, z)
             z.closeEntry()

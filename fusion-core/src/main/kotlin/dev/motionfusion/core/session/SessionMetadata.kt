@@ -38,6 +38,8 @@ public data class SensorInfo(
     val version: Int = 0,
     /** Sensor.getType(). */
     val type: Int = stream.androidType,
+    /** Sensor.getStringType(), e.g. "android.sensor.accelerometer". */
+    val stringType: String = "",
     val maximumRange: Double = Double.NaN,
     val resolution: Double = Double.NaN,
     val powerMa: Double = Double.NaN,
@@ -91,6 +93,8 @@ public data class StreamStats(
  * @property complete true once the writer closed the session normally.
  * @property recovered true when the session was repaired after its process was killed.
  * @property endElapsedRealtimeNs when recording stopped (sensor clock), null if unknown.
+ * @property endReason why recording stopped: "stopped" (by the user), or a failure such as
+ *   "queue_overflow", "storage_low", "write_failed: <message>"; empty when unknown.
  * @property streams per-stream counts and achieved rates, filled on close or recovery.
  * @property source who made the session, e.g. "Motion Fusion 0.1.0" or "fusion simulate --seed 1".
  */
@@ -107,6 +111,7 @@ public data class SessionMetadata(
     val complete: Boolean = false,
     val recovered: Boolean = false,
     val endElapsedRealtimeNs: Long? = null,
+    val endReason: String = "",
     val streams: Map<SessionStream, StreamStats> = emptyMap(),
 ) {
     public companion object {

@@ -65,7 +65,13 @@ public class SessionReader private constructor(
                 if (!files.exists(SessionMetadata.FILE_NAME)) {
                     throw DataFormatException(files.displayName(SessionMetadata.FILE_NAME), 0, 0, "missing: not a session (no meta.json)")
                 }
-                val text = files.open(SessionMetadata.FILE_NAME).use { String(it.readBytes(), StandardCharsets.UTF_8) }
+                val text = try {
+                    files.open(SessionMetadata.FILE_NAME).use { String(it.readBytes(), StandardCharsets.UTF_8) }
+                } catch (e: ZipException) {
+                    throw DataFormatException(files.displayName(SessionMetadata.FILE_NAME), 0, 0, "corrupt compressed data: ${e.message}", e)
+                } catch (e: java.io.EOFException) {
+                    throw DataFormatException(files.displayName(SessionMetadata.FILE_NAME), 0, 0, "compressed data ends early: ${e.message}", e)
+                }
                 return SessionReader(files, MetadataJson.parse(text, files.displayName(SessionMetadata.FILE_NAME)))
             } catch (e: Throwable) {
                 files.close()

@@ -18,6 +18,20 @@ public data class RecoveryReport(val truncatedBytes: Map<SessionStream, Long>, v
 
 public object SessionRecovery {
     /**
+     * True when [dir] holds a session that was never finished (meta.json says "complete": false):
+     * its process was killed or its writer abandoned after a failure. False for a complete
+     * session, and for a folder whose meta.json is missing or unreadable (not a session).
+     */
+    @JvmStatic
+    public fun isInterrupted(dir: Path): Boolean = try {
+        SessionReader.open(dir).use { !it.metadata.complete }
+    } catch (e: dev.motionfusion.core.io.DataFormatException) {
+        false
+    } catch (e: java.io.IOException) {
+        false
+    }
+
+    /**
      * Repairs the session folder [dir] in place: cuts each CSV after its last complete line (a
      * file cut inside its header gets the header back), recomputes the per-stream statistics,
      * closes an open pause at the end, and rewrites meta.json with "recovered": true and
@@ -48,7 +62,8 @@ public object SessionRecovery {
         }
         val endNs = if (end == Long.MIN_VALUE) null else end
         val pauses = meta.pauses.map { if (it.endElapsedRealtimeNs == null) it.copy(endElapsedRealtimeNs = endNs ?: it.startElapsedRealtimeNs) else it }
-        val repaired = meta.copy(complete = true, recovered = true, endElapsedRealtimeNs = endNs, streams = stats, pauses = pauses)
+        val reason = meta.endReason.ifEmpty { "interrupted" }
+        val repaired = meta.copy(complete = true, recovered = true, endElapsedRealtimeNs = endNs, endReason = reason, streams = stats, pauses = pauses)
         Files.write(metaFile, MetadataJson.write(repaired).toByteArray(StandardCharsets.UTF_8))
         return RecoveryReport(truncated, repaired)
     }

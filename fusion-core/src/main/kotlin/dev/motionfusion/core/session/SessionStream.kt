@@ -12,8 +12,9 @@ package dev.motionfusion.core.session
 /**
  * One stream of a session: its file, its value columns (after `timestamp_ns`) and whether it
  * ends with an `accuracy` column. Declaration order is the replay order of events with equal
- * timestamps: accelerometer and magnetometer come before the gyroscope so that a gyroscope
- * step uses the readings taken at its instant.
+ * timestamps: the filter inputs accelerometer and magnetometer, and the references (rotation
+ * vectors, truth), come before the gyroscope, so that a gyroscope step, and what it is compared
+ * with, use the readings taken at its instant; the live filter's own outputs come last.
  */
 public enum class SessionStream(
     /** File name inside the session folder. */
@@ -43,9 +44,6 @@ public enum class SessionStream(
         listOf("x_rad_s", "y_rad_s", "z_rad_s", "bias_x_rad_s", "bias_y_rad_s", "bias_z_rad_s"), true, 16,
     ),
 
-    /** TYPE_GYROSCOPE: calibrated angular rate. */
-    GYROSCOPE("gyroscope.csv", listOf("x_rad_s", "y_rad_s", "z_rad_s"), true, 4),
-
     /**
      * TYPE_ROTATION_VECTOR, values as Android gives them: x·sin(θ/2), y·sin(θ/2), z·sin(θ/2),
      * cos(θ/2) (device → ENU), then the estimated heading accuracy in rad (−1 or empty if unknown).
@@ -55,6 +53,12 @@ public enum class SessionStream(
     /** TYPE_GAME_ROTATION_VECTOR: like the rotation vector without magnetometer; its yaw is arbitrary and drifts. */
     GAME_ROTATION_VECTOR("game_rotation_vector.csv", listOf("qx", "qy", "qz", "qw"), true, 15),
 
+    /** Ground truth (simulations, optical capture): sensor → ENU quaternion. Not written by the app. */
+    TRUTH("truth.csv", listOf("qw", "qx", "qy", "qz"), false, 0),
+
+    /** TYPE_GYROSCOPE: calibrated angular rate. */
+    GYROSCOPE("gyroscope.csv", listOf("x_rad_s", "y_rad_s", "z_rad_s"), true, 4),
+
     /** The live Madgwick orientation, sensor → ENU, Hamilton, scalar first, one row per filter step logged. */
     ORIENTATION("orientation.csv", listOf("qw", "qx", "qy", "qz"), false, 0),
 
@@ -63,10 +67,7 @@ public enum class SessionStream(
         "filter_diagnostics.csv",
         listOf("bias_x_rad_s", "bias_y_rad_s", "bias_z_rad_s", "at_rest", "magnetic_disturbance", "accelerometer_rejected"),
         false, 0,
-    ),
-
-    /** Ground truth (simulations, optical capture): sensor → ENU quaternion. Not written by the app. */
-    TRUTH("truth.csv", listOf("qw", "qx", "qy", "qz"), false, 0);
+    );
 
     /** Number of value columns. */
     public val valueCount: Int get() = valueColumns.size

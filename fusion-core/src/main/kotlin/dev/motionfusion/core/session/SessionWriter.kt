@@ -119,10 +119,21 @@ public class SessionWriter private constructor(
      * [values] (missing trailing values, e.g. a rotation vector without heading accuracy, are
      * written as empty fields); [accuracy] ignored by streams without an accuracy column.
      */
-    public fun write(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
+    public fun write(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int): Unit =
+        write(stream, timestampNs, values, 0, values.size, accuracy)
+
+    /**
+     * As [write], from values[offset until offset + count] (e.g. a slot of a ring buffer); NaN
+     * values are written as empty fields only for the rotation vector's heading accuracy.
+     */
+    public fun write(stream: SessionStream, timestampNs: Long, values: FloatArray, offset: Int, count: Int, accuracy: Int) {
+        require(offset >= 0 && count >= 0 && offset + count <= values.size) { "bad range $offset+$count of ${values.size}" }
         val o = begin(stream, timestampNs)
         val n = stream.valueCount
-        for (i in 0 until n) if (i < values.size) o.float(values[i]) else o.empty()
+        for (i in 0 until n) {
+            val v = if (i < count) values[offset + i] else Float.NaN
+            if (i < count && !(v.isNaN() && stream == SessionStream.ROTATION_VECTOR && i == 4)) o.float(v) else o.empty()
+        }
         o.end(if (stream.hasAccuracy) accuracy else NO_ACCURACY)
     }
 
@@ -176,9 +187,11 @@ public class SessionWriter private constructor(
 
     /**
      * Flushes and closes every stream and writes the final meta.json (complete, per-stream
-     * statistics, [endElapsedRealtimeNs]). A second close does nothing.
+     * statistics, [endElapsedRealtimeNs], [endReason] such as "stopped" or "storage_low").
+     * A second close does nothing.
      */
-    public fun close(endElapsedRealtimeNs: Long?) {
+    @JvmOverloads
+    public fun close(endElapsedRealtimeNs: Long?, endReason: String = "stopped") {
         if (closed) return
         var failure: IOException? = null
         for (o in outs) {
@@ -190,9 +203,26 @@ public class SessionWriter private constructor(
         }
         closed = true
         val stats = SessionStream.entries.mapNotNull { s -> outs[s.ordinal]?.let { s to it.stats() } }.toMap()
-        meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, streams = stats)
+        meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, endReason = endReason, streams = stats)
         writeMetadata()
         if (failure != null) throw failure
+    }
+
+    /**
+     * After a failure (e.g. the disk is full): hands what it can to the OS and closes the files
+     * without completing the session; never throws. meta.json keeps "complete": false, so the
+     * session is recovered later like a killed one (SessionRecovery).
+     */
+    public fun abandon() {
+        if (closed) return
+        closed = true
+        for (o in outs) {
+            try {
+                o?.close()
+            } catch (e: IOException) {
+                // The storage failed; recovery keeps what reached it.
+            }
+        }
     }
 
     private fun row3(stream: SessionStream, t: Long, x: Float, y: Float, z: Float, accuracy: Int) {

@@ -2,6 +2,7 @@ package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
@@ -34,10 +35,10 @@ class FilterApiTest {
         val enu = flatNorth(FilterSettings()).orientation()
         assertTrue(enu.angleTo(Quaternion.IDENTITY) < 1e-9, "ENU: $enu")
         // Device y points north, device x east, device z up, in each frame's own coordinates.
-        val nwu = flatNorth(FilterSettings(outputFrame = OutputFrame.NWU)).orientation()
+        val nwu = flatNorth(FilterSettings(outputFrame = WorldFrame.NWU)).orientation()
         assertVector(Vector3(1.0, 0.0, 0.0), nwu.rotate(Vector3.UNIT_Y))
         assertVector(Vector3(0.0, -1.0, 0.0), nwu.rotate(Vector3.UNIT_X))
-        val ned = flatNorth(FilterSettings(outputFrame = OutputFrame.NED)).orientation()
+        val ned = flatNorth(FilterSettings(outputFrame = WorldFrame.NED)).orientation()
         assertVector(Vector3(1.0, 0.0, 0.0), ned.rotate(Vector3.UNIT_Y))
         assertVector(Vector3(0.0, 1.0, 0.0), ned.rotate(Vector3.UNIT_X))
         assertVector(Vector3(0.0, 0.0, -1.0), ned.rotate(Vector3.UNIT_Z))

@@ -1,13 +1,19 @@
 package dev.motionfusion.core.filter
 
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.WorldFrame
+import dev.motionfusion.core.eval.Trial
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
-import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.sim.TimeWindow
 import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Assumptions.assumeTrue
 import org.junit.jupiter.api.Test
+import java.io.File
 import kotlin.math.abs
+import kotlin.math.roundToLong
 import kotlin.math.sqrt
 
 /**
@@ -91,10 +97,10 @@ class ReportReferenceTest {
         ),
     ).run()
 
-    /** Largest |component difference| between filter and reference over the run (sign of q aligned). */
+    /** Largest |component difference| between filter and reference over the run. */
     private fun maxDifference(settings: FilterSettings, data: List<SimulatedSample>): Double {
         val marg = settings.mode == FilterMode.MARG
-        val filter = MadgwickFilter(settings.copy(outputFrame = OutputFrame.NWU))
+        val filter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.NWU))
         val ref = Reference(settings.beta, settings.zeta, marg)
         val out = DoubleArray(4)
         var worst = 0.0
@@ -119,7 +125,23 @@ class ReportReferenceTest {
 
     @Test
     fun `IMU update matches the report's equations step by step`() {
-        val d = maxDifference(FilterSettings.report().copy(mode = FilterMode.IMU, beta = 0.1), samples(4))
+        val d = maxDifference(FilterSettings.report(FilterMode.IMU), samples(4))
+        assertTrue(d < 1e-7, "max difference $d")
+    }
+
+    @Test
+    fun `MARG update with zeta matches the report's equations on a real recording given by the broad-trial property`() {
+        // Opt-in: the recordings are not part of the repository. Example:
+        // mvn -pl fusion-core test -Dtest=ReportReferenceTest -Dbroad-trial=/work/shared/data/broad-subset/06_undisturbed_fast_rotation_A
+        val dir = System.getProperty("broad-trial")
+        assumeTrue(dir != null, "no -Dbroad-trial given")
+        val trial = Trial.load(File(dir!!))
+        val data = (0 until trial.size).map { i ->
+            val r = trial.imu[i]
+            SimulatedSample((trial.timeS[i] * 1e9).roundToLong(), Vector3(r[0], r[1], r[2]), Vector3(r[3], r[4], r[5]), Vector3(r[6], r[7], r[8]), Quaternion.IDENTITY)
+        }
+        val d = maxDifference(FilterSettings.report(), data)
+        println("${trial.name}: ${trial.size} steps, max difference $d")
         assertTrue(d < 1e-7, "max difference $d")
     }
 
@@ -127,7 +149,7 @@ class ReportReferenceTest {
     fun `the comparison detects a different gain`() {
         // Guards the two tests above against passing vacuously.
         val data = samples(5)
-        val filter = MadgwickFilter(FilterSettings.report().copy(beta = 0.05, outputFrame = OutputFrame.NWU))
+        val filter = MadgwickFilter(FilterSettings.report().copy(beta = 0.05, outputFrame = WorldFrame.NWU))
         val ref = Reference(0.06, FilterSettings.report().zeta, marg = true)
         for ((i, s) in data.withIndex()) {
             filter.update(s.timestampNs, s.gyro, s.acc, s.mag)

@@ -178,6 +178,33 @@ class SessionWriterReaderTest {
     }
 
     @Test
+    fun `slices, end reasons, abandon and interruption`() {
+        val dir = tmp.resolve("slices")
+        val ring = floatArrayOf(9f, 9f, 0.1f, 0.2f, 0.3f, 0.9f, Float.NaN, 9f)
+        SessionWriter.create(dir, meta.copy(sensors = meta.sensors.map { it.copy(stringType = "android.sensor.x") })).use { w ->
+            w.write(SessionStream.ROTATION_VECTOR, 5L, ring, 2, 5, 3)
+            w.write(SessionStream.GAME_ROTATION_VECTOR, 6L, ring, 2, 3, 1) // one value short
+            w.close(7L, "storage_low")
+        }
+        assertEquals("timestamp_ns,qx,qy,qz,qw,heading_accuracy_rad,accuracy\n5,0.1,0.2,0.3,0.9,,3\n", Files.readString(dir.resolve("rotation_vector.csv")))
+        assertEquals("timestamp_ns,qx,qy,qz,qw,accuracy\n6,0.1,0.2,0.3,,1\n", Files.readString(dir.resolve("game_rotation_vector.csv")))
+        val m = SessionReader.open(dir).use { it.metadata }
+        assertEquals("storage_low", m.endReason)
+        assertEquals("android.sensor.x", m.sensors[0].stringType)
+        assertFalse(SessionRecovery.isInterrupted(dir))
+
+        val failed = tmp.resolve("failed")
+        val w = SessionWriter.create(failed, meta)
+        w.gyroscope(1L, 0f, 0f, 0f, 3)
+        w.abandon()
+        assertThrows(IllegalStateException::class.java) { w.gyroscope(2L, 0f, 0f, 0f, 3) }
+        assertTrue(SessionRecovery.isInterrupted(failed))
+        assertFalse(SessionRecovery.isInterrupted(tmp.resolve("not-a-session")))
+        assertEquals("interrupted", SessionRecovery.recover(failed).metadata.endReason)
+        assertEquals("1,0,0,0,3", Files.readAllLines(failed.resolve("gyroscope.csv"))[1])
+    }
+
+    @Test
     fun `zip export and import, and reading the zip directly`() {
         val dir = tmp.resolve("zipme")
         SessionWriter.create(dir, meta).use { w -> for (k in 0 until 10) w.gyroscope(k.toLong(), k.toFloat(), 0f, 0f, 3) }

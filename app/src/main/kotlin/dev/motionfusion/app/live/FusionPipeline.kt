@@ -1,0 +1,201 @@
+package dev.motionfusion.app.live
+
+import dev.motionfusion.app.sensor.RateMeter
+import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.sensor.SensorSample
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.RotationArrays
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.sensormanager.SensorManagerMath
+import java.util.EnumMap
+import kotlin.math.sqrt
+
+/**
+ * The fusion of one stream of samples, free of Android threading (tested on the JVM).
+ *
+ * Every sample is folded in, none skipped: per-sensor rate and jitter are measured, and the
+ * orientation is computed in the [EffectiveMode] for the sensors in [available]:
+ * - MARG/IMU: fusion-core's Madgwick filter with its pairing rule: accelerometer and
+ *   magnetometer samples are held, each gyroscope sample steps the filter with them;
+ * - ACC_MAG: getRotationMatrix on the latest accelerometer and magnetometer readings;
+ * - TILT_ONLY: the smallest rotation taking the measured up to the world's up.
+ * Rotation vector samples are kept as references. [onSample] allocates nothing; [snapshot]
+ * allocates the published state. Not thread-safe: one thread calls everything.
+ */
+class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSettings) {
+    var settings: LiveSettings = settings
+        private set
+    var mode: EffectiveMode = effectiveMode(available, settings.mode)
+        private set
+
+    /** The filter in use; rebuilt by [reconfigure] when its settings change. */
+    var filter: MadgwickFilter = newFilter()
+        private set
+
+    private val kinds = SensorKind.entries
+    private val meters = Array(kinds.size) { RateMeter() }
+    private val accuracy = IntArray(kinds.size) { Int.MIN_VALUE }
+    private val values = Array(kinds.size) { FloatArray(4) }
+    private val seen = BooleanArray(kinds.size)
+
+    private val q = DoubleArray(4)
+    private var hasOrientation = false
+    private val rv = DoubleArray(4)
+    private val grv = DoubleArray(4)
+    private val r = FloatArray(9)
+    private val acc = FloatArray(3)
+    private val mag = FloatArray(3)
+    private var lastT = 0L
+
+    /**
+     * Applies new settings. The filter is rebuilt (and restarts from the next samples) only when
+     * its own settings or the effective mode change; the convention and rate don't touch it.
+     */
+    fun reconfigure(newSettings: LiveSettings) {
+        val newMode = effectiveMode(available, newSettings.mode)
+        val filterChanged = newSettings.filterSettings() != settings.filterSettings() || newMode != mode
+        settings = newSettings
+        mode = newMode
+        if (filterChanged) {
+            filter = newFilter()
+            if (mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU) hasOrientation = false
+        }
+    }
+
+    /** Folds one sample in. */
+    fun onSample(s: SensorSample) {
+        val i = s.kind.ordinal
+        meters[i].add(s.timestampNs)
+        accuracy[i] = s.accuracy
+        val v = values[i]
+        v[0] = s.x; v[1] = s.y; v[2] = s.z; v[3] = s.w
+        seen[i] = true
+        lastT = s.timestampNs
+        when (mode.mode) {
+            FusionMode.MARG, FusionMode.IMU -> filterSample(s)
+            FusionMode.ACC_MAG -> if (s.kind == SensorKind.ACCELEROMETER || s.kind == SensorKind.MAGNETOMETER) accMag()
+            FusionMode.TILT_ONLY -> if (s.kind == SensorKind.ACCELEROMETER) tilt(s.x.toDouble(), s.y.toDouble(), s.z.toDouble())
+            FusionMode.NONE -> Unit
+        }
+        when (s.kind) {
+            SensorKind.ROTATION_VECTOR -> unitQuaternion(s, rv)
+            SensorKind.GAME_ROTATION_VECTOR -> unitQuaternion(s, grv)
+            else -> Unit
+        }
+    }
+
+    /** The current orientation (device → ENU) into out[0..3]; false (out untouched) when there is none yet. */
+    fun orientationInto(out: DoubleArray): Boolean {
+        if (!hasOrientation) return false
+        q.copyInto(out)
+        return true
+    }
+
+    /** Achieved rate of [kind], Hz (NaN before two samples). */
+    fun rateHz(kind: SensorKind): Double = meters[kind.ordinal].rateHz()
+
+    /** An immutable copy of everything the UI shows. */
+    fun snapshot(): FusionState {
+        val stats = EnumMap<SensorKind, SensorStats>(SensorKind::class.java)
+        for (k in kinds) {
+            val i = k.ordinal
+            if (!seen[i]) continue
+            val m = meters[i]
+            val v = values[i]
+            stats[k] = SensorStats(m.samples, m.rateHz(), m.jitterMs(), m.duplicates, m.backwards, accuracy[i], v[0], v[1], v[2], v[3])
+        }
+        val usesFilter = mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU
+        val d = if (usesFilter) filter.diagnostics() else null
+        val magV = values[SensorKind.MAGNETOMETER.ordinal]
+        return FusionState(
+            mode = mode,
+            settings = settings,
+            orientation = if (hasOrientation) Quaternion(q[0], q[1], q[2], q[3]) else null,
+            rotationVector = if (seen[SensorKind.ROTATION_VECTOR.ordinal]) Quaternion(rv[0], rv[1], rv[2], rv[3]) else null,
+            gameRotationVector = if (seen[SensorKind.GAME_ROTATION_VECTOR.ordinal]) Quaternion(grv[0], grv[1], grv[2], grv[3]) else null,
+            sensors = stats,
+            magneticFieldUt = if (seen[SensorKind.MAGNETOMETER.ordinal]) {
+                sqrt((magV[0] * magV[0] + magV[1] * magV[1] + magV[2] * magV[2]).toDouble())
+            } else {
+                null
+            },
+            atRest = d?.atRest ?: false,
+            magneticDisturbance = d?.magneticDisturbance ?: false,
+            accelerometerRejected = d?.accelerometerRejected ?: false,
+            gyroBiasRadS = d?.gyroBias?.let { doubleArrayOf(it.x, it.y, it.z) },
+            filterSteps = d?.gyroscopeSteps ?: 0L,
+            timestampNs = lastT,
+        )
+    }
+
+    private fun newFilter(): MadgwickFilter {
+        val fs = settings.filterSettings()
+        // 9D requested without a magnetometer: the filter runs 6D.
+        return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
+    }
+
+    private fun filterSample(s: SensorSample) {
+        val x = s.x.toDouble()
+        val y = s.y.toDouble()
+        val z = s.z.toDouble()
+        when (s.kind) {
+            SensorKind.ACCELEROMETER -> filter.updateAccelerometer(s.timestampNs, x, y, z)
+            SensorKind.MAGNETOMETER -> filter.updateMagnetometer(s.timestampNs, x, y, z)
+            SensorKind.GYROSCOPE -> {
+                filter.updateGyroscope(s.timestampNs, x, y, z)
+                if (filter.isInitialised) {
+                    filter.orientationInto(q)
+                    hasOrientation = true
+                }
+            }
+            else -> Unit
+        }
+    }
+
+    private fun accMag() {
+        val a = values[SensorKind.ACCELEROMETER.ordinal]
+        val m = values[SensorKind.MAGNETOMETER.ordinal]
+        if (!seen[SensorKind.ACCELEROMETER.ordinal] || !seen[SensorKind.MAGNETOMETER.ordinal]) return
+        acc[0] = a[0]; acc[1] = a[1]; acc[2] = a[2]
+        mag[0] = m[0]; mag[1] = m[1]; mag[2] = m[2]
+        // Free fall or field along gravity: keep the previous orientation.
+        if (!SensorManagerMath.getRotationMatrix(r, null, acc, mag)) return
+        RotationArrays.rotationMatrixToQuaternion(r, q)
+        hasOrientation = true
+    }
+
+    /** Tilt only: the shortest rotation taking the measured up u (device frame) onto the world's up, q = [1 + u·z, u × z] normalised (device → world). */
+    private fun tilt(ax: Double, ay: Double, az: Double) {
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        if (!(n > FREE_FALL_MS2)) return
+        val ux = ax / n
+        val uy = ay / n
+        val uz = az / n
+        val w = 1.0 + uz
+        if (w < 1e-9) {
+            // Upside down: 180° about the device's y axis.
+            q[0] = 0.0; q[1] = 0.0; q[2] = 1.0; q[3] = 0.0
+        } else {
+            // The rotation taking u to z (device → world), axis u × z = (uy, −ux, 0).
+            val k = 1.0 / sqrt(w * w + uy * uy + ux * ux)
+            q[0] = w * k; q[1] = uy * k; q[2] = -ux * k; q[3] = 0.0
+        }
+        hasOrientation = true
+    }
+
+    private fun unitQuaternion(s: SensorSample, out: DoubleArray) {
+        val x = s.x.toDouble()
+        val y = s.y.toDouble()
+        val z = s.z.toDouble()
+        val w = if (s.w.isNaN()) sqrt((1.0 - x * x - y * y - z * z).coerceAtLeast(0.0)) else s.w.toDouble()
+        val n = sqrt(w * w + x * x + y * y + z * z)
+        if (!(n > 0.0) || !n.isFinite()) return
+        out[0] = w / n; out[1] = x / n; out[2] = y / n; out[3] = z / n
+    }
+
+    private companion object {
+        /** Below this the accelerometer measures no usable gravity (10 % of g, as getRotationMatrix). */
+        const val FREE_FALL_MS2 = 0.981
+    }
+}

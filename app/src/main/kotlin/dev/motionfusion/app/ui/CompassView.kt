@@ -1,0 +1,96 @@
+package dev.motionfusion.app.ui
+
+import android.content.Context
+import android.graphics.Canvas
+import android.graphics.Color
+import android.graphics.Paint
+import android.graphics.Path
+import android.util.AttributeSet
+import android.view.View
+import kotlin.math.cos
+import kotlin.math.min
+import kotlin.math.sin
+
+/**
+ * A compass card: the dial turns so that N points to magnetic north, with the fixed lubber line
+ * at the top showing the heading of the screen's top edge. Greyed out when the heading is not
+ * magnetic (6D, tilt only) and amber when the magnetometer is unreliable.
+ */
+class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+    private var headingDeg = 0f
+    private var state = State.NONE
+
+    /** How far the heading can be trusted. */
+    enum class State { NONE, RELATIVE, WARNING, OK }
+
+    private val face = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x1B, 0x21, 0x28) }
+    private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x37, 0x47, 0x4F); strokeWidth = dp(3f); style = Paint.Style.STROKE }
+    private val tick = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x9A, 0xA7, 0xB0); strokeWidth = dp(1.5f) }
+    private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0xEC, 0xEF, 0xF1); textSize = dp(16f); textAlign = Paint.Align.CENTER }
+    private val north = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0xEF, 0x53, 0x50); textSize = dp(18f); textAlign = Paint.Align.CENTER; isFakeBoldText = true }
+    private val lubber = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x4F, 0xC3, 0xF7) }
+    private val marker = Path()
+
+    /** Shows [headingDeg] (0..360 from magnetic north, clockwise) in [state]. */
+    fun setHeading(headingDeg: Double, state: State) {
+        this.headingDeg = headingDeg.toFloat()
+        this.state = state
+        invalidate()
+    }
+
+    /** Square, as wide as given but at most [MAX_DIAL_DP] (so that landscape leaves room for the rest). */
+    override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
+        val w = MeasureSpec.getSize(widthMeasureSpec)
+        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
+    }
+
+    override fun onDraw(canvas: Canvas) {
+        val cx = width / 2f
+        val cy = height / 2f
+        val r = min(cx, cy) - dp(4f)
+        if (r <= 0f) return
+        canvas.drawCircle(cx, cy, r, face)
+        rim.color = when (state) {
+            State.WARNING -> Color.rgb(0xFF, 0xB7, 0x4D)
+            else -> Color.rgb(0x37, 0x47, 0x4F)
+        }
+        canvas.drawCircle(cx, cy, r, rim)
+        val alpha = if (state == State.NONE || state == State.RELATIVE) 0x70 else 0xFF
+        tick.alpha = alpha; text.alpha = alpha; north.alpha = alpha
+        canvas.save()
+        canvas.rotate(-headingDeg, cx, cy)
+        for (d in 0 until 360 step 10) {
+            val a = Math.toRadians(d.toDouble())
+            val inner = if (d % 30 == 0) r * 0.82f else r * 0.88f
+            val s = sin(a).toFloat()
+            val c = cos(a).toFloat()
+            canvas.drawLine(cx + s * inner, cy - c * inner, cx + s * r * 0.95f, cy - c * r * 0.95f, tick)
+        }
+        val labels = LABELS
+        for (i in 0 until 4) {
+            val a = Math.toRadians(i * 90.0)
+            val lr = r * 0.64f
+            val x = cx + sin(a).toFloat() * lr
+            val y = cy - cos(a).toFloat() * lr + dp(6f)
+            canvas.save()
+            canvas.rotate(i * 90f, x, y - dp(6f))
+            canvas.drawText(labels[i], x, y, if (i == 0) north else text)
+            canvas.restore()
+        }
+        canvas.restore()
+        // Lubber line: the direction the screen's top edge points.
+        marker.rewind()
+        marker.moveTo(cx, cy - r + dp(2f))
+        marker.lineTo(cx - dp(8f), cy - r + dp(18f))
+        marker.lineTo(cx + dp(8f), cy - r + dp(18f))
+        marker.close()
+        canvas.drawPath(marker, lubber)
+        canvas.drawCircle(cx, cy, dp(3f), lubber)
+    }
+
+    private fun dp(v: Float) = v * resources.displayMetrics.density
+
+    private companion object {
+        val LABELS = arrayOf("N", "E", "S", "W")
+    }
+}

@@ -1,0 +1,158 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.eval.BroadMetric
+import dev.motionfusion.core.eval.Evaluation
+import dev.motionfusion.core.eval.Trial
+import dev.motionfusion.core.eval.TrialResult
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.QuaternionTable
+import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.replay.Replayer
+import dev.motionfusion.core.session.SessionStream
+import java.io.File
+import java.io.PrintStream
+import java.nio.file.Files
+import java.nio.file.Path
+import kotlin.math.abs
+
+/** `fusion eval`: BROAD's metric, wrapping core eval (BroadMetric, Evaluation, Trial). */
+internal class EvalCommand(private val err: PrintStream) : Command {
+    override val name = "eval"
+    override val summary = "BROAD error metrics against ground truth, per trial and mean"
+    override val help = """
+        |Usage: fusion eval [filter settings] TRIAL_DIR|DATASET_DIR|SESSION ...
+        |       fusion eval [--6d] --truth TRUTH.csv[.gz] ORIENTATION.csv[.gz]
+        |
+        |BROAD's metric (Laidig et al. 2021): error e = q_est ⊗ q_truth*; total 2·acos|e_w|,
+        |heading 2·atan|e_z/e_w|, inclination 2·acos √(e_w² + e_z²); RMSE in degrees over the
+        |scored samples (truth column movement = 1; all rows without that column), samples
+        |without truth skipped. A 6D filter (--mode 6d) is scored with one constant heading
+        |offset per trial removed. Prints a Markdown table: one row per trial, then the mean.
+        |
+        |First form: runs the filter on each trial folder (input.csv[.gz] + truth.csv[.gz], the
+        |layout of the BROAD subset and of the public dataset converted to CSV), on each trial
+        |folder inside DATASET_DIR, and on sessions with a truth.csv stream (fusion simulate).
+        |The public BROAD dataset's HDF5/MAT files are not read directly: convert them to this
+        |layout first.
+        |
+        |Second form: scores an orientation CSV (e.g. fusion replay's output; columns
+        |t_s,qw,qx,qy,qz) against a truth CSV (t_s,qw,qx,qy,qz[,movement]); rows are matched by
+        |t_s (to 1 µs); truth rows without an orientation are skipped.
+        |  --truth FILE         the truth table
+        |  --6d                 remove one constant heading offset before scoring
+        |
+        |${FilterOptions.HELP}""".trimMargin()
+
+    override fun run(args: List<String>, out: PrintStream): Int {
+        val o = Options(args, setOf("--truth") + FilterOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
+        if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
+        val truthFile = o.value("--truth")
+        if (truthFile != null) {
+            val est = o.positional.singleOrNull() ?: throw UsageException("with --truth give exactly one ORIENTATION file")
+            val r = scoreTables(Path.of(est), Path.of(truthFile), o.has("--6d"))
+            out.print(Evaluation.table(listOf(r)))
+            return ExitCode.OK
+        }
+        val settings = FilterOptions.settings(o)
+        val results = ArrayList<TrialResult>()
+        for (p in o.positional) {
+            val path = Path.of(p)
+            if (!Files.exists(path)) throw java.nio.file.NoSuchFileException(p)
+            val isTrialSet = Files.isDirectory(path) &&
+                (!Files.exists(path.resolve("meta.json")) || Trial.isTrial(path.toFile()))
+            if (isTrialSet) {
+                val dirs = try {
+                    Evaluation.findTrials(listOf(path.toFile()))
+                } catch (e: IllegalArgumentException) {
+                    throw DataFormatException(p, 0, 0, "no trial folders (input.csv[.gz] + truth.csv[.gz]) and not a session")
+                }
+                for (d in dirs) {
+                    err.print(if (System.console() != null) "\reval ${d.name} …" else "")
+                    results += evaluateTrial(d, settings)
+                }
+                if (System.console() != null) err.print("\r" + " ".repeat(60) + "\r")
+            } else {
+                results += evaluateSession(path, settings)
+            }
+        }
+        out.println("Filter: ${describe(settings)}")
+        out.println()
+        out.print(Evaluation.table(results))
+        return ExitCode.OK
+    }
+
+    private fun evaluateTrial(d: File, settings: FilterSettings): TrialResult {
+        val trial = try {
+            Trial.load(d)
+        } catch (e: IllegalArgumentException) {
+            throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
+        } catch (e: NumberFormatException) {
+            throw DataFormatException(d.path, 0, 0, "malformed number: ${e.message}")
+        }
+        return Evaluation.evaluate(trial, settings)
+    }
+
+    /** Replays a session with a truth stream and scores every gyroscope step that has truth at its instant. */
+    private fun evaluateSession(path: Path, settings: FilterSettings): TrialResult {
+        Recording.open(path).use { rec ->
+            if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(path.toString(), 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
+            val est = ArrayList<DoubleArray>()
+            val truth = ArrayList<DoubleArray>()
+            val lastTruth = DoubleArray(4) { Double.NaN }
+            var lastTruthT = Long.MIN_VALUE
+            val listener = object : ReplayListener {
+                override fun step(step: ReplayStep) {
+                    if (lastTruthT != step.timestampNs) return
+                    est += step.orientation.copyOf()
+                    truth += lastTruth.copyOf()
+                }
+
+                override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {
+                    if (stream != SessionStream.TRUTH) return
+                    values.copyInto(lastTruth, 0, 0, 4)
+                    lastTruthT = timestampNs
+                }
+            }
+            rec.events().use { Replayer(settings).run(it, rec.originNs, listener) }
+            if (est.isEmpty()) throw DataFormatException(path.toString(), 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
+            val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
+            val e = BroadMetric.rmse(est.toTypedArray(), truth.toTypedArray(), BooleanArray(est.size) { true }, removeHeadingOffset = sixD)
+            return TrialResult(rec.name, e)
+        }
+    }
+
+    private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean): TrialResult {
+        val est = QuaternionTable.read(estimate)
+        val truth = QuaternionTable.read(truthPath)
+        val e = ArrayList<DoubleArray>()
+        val t = ArrayList<DoubleArray>()
+        val scored = ArrayList<Boolean>()
+        var j = 0
+        for (i in 0 until truth.size) {
+            val ti = truth.timeS[i]
+            while (j < est.size && est.timeS[j] < ti - 1e-6) j++
+            if (j < est.size && abs(est.timeS[j] - ti) <= 1e-6) {
+                e += est.q[j]
+                t += truth.q[i]
+                scored += truth.scored[i]
+            }
+        }
+        if (e.isEmpty()) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
+        val r = BroadMetric.rmse(e.toTypedArray(), t.toTypedArray(), scored.toBooleanArray(), removeHeadingOffset = sixD)
+        if (r.samples == 0) throw DataFormatException(truthPath.toString(), 0, 0, "no scored sample with both orientations known")
+        return TrialResult(estimate.fileName.toString(), r)
+    }
+
+    private fun describe(s: FilterSettings): String {
+        val d = FilterSettings()
+        if (s == d) return "defaults (FilterSettings())"
+        if (s == FilterSettings.report()) return "the report's settings"
+        fun fields(x: FilterSettings) = x.toString().substringAfter('(').removeSuffix(")").split(", ")
+        val changed = fields(s) - fields(d).toSet()
+        return "defaults with " + changed.joinToString(", ")
+    }
+}

@@ -1,0 +1,60 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.eval.SettingsOverride
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.Initialisation
+
+/** The filter settings options shared by replay, eval, compare and plot. */
+internal object FilterOptions {
+    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set")
+    val FLAGS = setOf("--report", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
+
+    val HELP = """
+        |Filter settings (defaults: FilterSettings(), the values tuned on BROAD):
+        |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d)
+        |  --beta B             gradient step gain β, 1/s (default 0.02)
+        |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default 0)
+        |  --init identity|first-sample   start at the identity or from the first readings
+        |  --no-rest-bias       do not estimate the gyroscope bias at rest
+        |  --no-mag-rejection   use the magnetometer even when it looks disturbed
+        |  --acc-rejection      skip the accelerometer during strong linear acceleration
+        |  --max-gap S          longest accepted gap between samples, s (default 0.5)
+        |  --report             start from the Madgwick report's own settings instead
+        |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
+        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3)
+        |""".trimMargin()
+
+    fun settings(o: Options): FilterSettings {
+        var s = if (o.has("--report")) FilterSettings.report() else FilterSettings()
+        try {
+            o.value("--mode")?.let {
+                s = s.copy(mode = when (it.lowercase()) {
+                    "6d", "imu" -> FilterMode.IMU
+                    "9d", "marg" -> FilterMode.MARG
+                    else -> throw UsageException("--mode expects 6d or 9d, got '$it'")
+                })
+            }
+            o.double("--beta")?.let { s = s.copy(beta = it) }
+            o.double("--zeta")?.let { s = s.copy(zeta = it) }
+            o.double("--max-gap")?.let { s = s.copy(maxGap = it) }
+            o.value("--init")?.let {
+                s = s.copy(initialisation = when (it.lowercase()) {
+                    "identity" -> Initialisation.IDENTITY
+                    "first-sample" -> Initialisation.FIRST_SAMPLE
+                    else -> throw UsageException("--init expects identity or first-sample, got '$it'")
+                })
+            }
+            if (o.has("--no-rest-bias")) s = s.copy(restBiasEstimation = false)
+            if (o.has("--no-mag-rejection")) s = s.copy(magDisturbanceRejection = false)
+            if (o.has("--acc-rejection")) s = s.copy(accRejection = true)
+            o.value("--set")?.split(',')?.filter { it.isNotBlank() }?.forEach { a ->
+                if ('=' !in a) throw UsageException("--set expects NAME=VALUE, got '$a'")
+                s = SettingsOverride.apply(s, a.trim())
+            }
+        } catch (e: IllegalArgumentException) {
+            throw UsageException(e.message ?: "invalid filter setting")
+        }
+        return s
+    }
+}

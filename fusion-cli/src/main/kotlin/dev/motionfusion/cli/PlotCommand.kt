@@ -1,0 +1,121 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.io.QuaternionTable
+import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.recording.RecordingFormat
+import dev.motionfusion.core.replay.OrientationComparison
+import dev.motionfusion.core.replay.ReplayCsvWriter
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.replay.Replayer
+import dev.motionfusion.core.session.SessionStream
+import java.io.PrintStream
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.Locale
+import kotlin.math.roundToLong
+
+/** `fusion plot INPUT -o FIGURE.svg`. */
+internal class PlotCommand(private val err: PrintStream) : Command {
+    override val name = "plot"
+    override val summary = "SVG figure of the replayed Euler angles, and the error vs truth or rotation vector"
+    override val help = """
+        |Usage: fusion plot INPUT -o FIGURE.svg [--angles android|aerospace] [--truth TRUTH.csv[.gz]] [filter settings]
+        |
+        |Replays INPUT (any input of fusion replay) and draws an SVG figure: the Euler angles
+        |over time (degrees), and below them the angle error (total, heading, inclination, as
+        |BROAD's metric) against, in this order of preference:
+        |  the truth: a session's truth.csv, --truth FILE (t_s,qw,qx,qy,qz; t_s on the replay's
+        |  time axis), or truth.csv[.gz] beside input.csv[.gz] of a trial folder;
+        |  the phone's rotation vector recorded in the session.
+        |Long recordings are reduced to per-pixel minimum/maximum, so spikes stay visible.
+        |
+        |Options:
+        |  -o, --output FILE    the SVG to write (required)
+        |  --angles KIND        android: azimuth, pitch, roll (default); aerospace: yaw, pitch, roll
+        |  --truth FILE         the truth table to draw the error against
+        |
+        |${FilterOptions.HELP}""".trimMargin()
+
+    override fun run(args: List<String>, out: PrintStream): Int {
+        val o = Options(args, setOf("-o", "--output", "--angles", "--truth") + FilterOptions.VALUED, FilterOptions.FLAGS)
+        val input = o.positional.singleOrNull() ?: throw UsageException("plot needs one INPUT")
+        val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("plot needs -o FIGURE.svg")
+        val aerospace = when (o.value("--angles")?.lowercase() ?: "android") {
+            "android" -> false
+            "aerospace" -> true
+            else -> throw UsageException("--angles expects android or aerospace")
+        }
+        val settings = FilterOptions.settings(o)
+        val inputPath = Path.of(input)
+        Recording.open(inputPath).use { rec ->
+            val besideTable = rec.format == RecordingFormat.IMU_TABLE && Files.isDirectory(inputPath)
+            val truthPath = o.value("--truth")?.let { Path.of(it) }
+                ?: if (besideTable) listOf("truth.csv.gz", "truth.csv").map { inputPath.resolve(it) }.firstOrNull { Files.isRegularFile(it) } else null
+            val truthTable = truthPath?.let { QuaternionTable.read(it) }
+            val reference: SessionStream? = when {
+                truthTable != null -> null
+                SessionStream.TRUTH in rec.streams -> SessionStream.TRUTH
+                SessionStream.ROTATION_VECTOR in rec.streams -> SessionStream.ROTATION_VECTOR
+                else -> null
+            }
+            val refLabel = when {
+                truthTable != null -> "truth (${truthPath!!.fileName})"
+                reference == SessionStream.TRUTH -> "truth"
+                reference == SessionStream.ROTATION_VECTOR -> "the phone's rotation vector"
+                else -> null
+            }
+            val angles = Array(3) { Envelope() }
+            val errors = Array(3) { Envelope() }
+            var origin = rec.originNs
+            val comparison = OrientationComparison { t, total, heading, incl ->
+                val ts = (t - (origin ?: 0L)) * 1e-9
+                errors[0].add(ts, total); errors[1].add(ts, heading); errors[2].add(ts, incl)
+            }
+            val derived = DoubleArray(9)
+            var truthIndex = 0
+            val listener = object : ReplayListener {
+                override fun step(step: ReplayStep) {
+                    if (origin == null) origin = step.timestampNs - (step.timeS * 1e9).roundToLong()
+                    if (truthTable != null) {
+                        while (truthIndex < truthTable.size && truthTable.timeS[truthIndex] <= step.timeS + 1e-7) {
+                            val q = truthTable.q[truthIndex]
+                            comparison.reference(origin!! + (truthTable.timeS[truthIndex] * 1e9).roundToLong(), q[0], q[1], q[2], q[3])
+                            truthIndex++
+                        }
+                    }
+                    if (!step.initialised) return
+                    comparison.estimate(step.timestampNs, step.orientation)
+                    ReplayCsvWriter.derived(step.orientation, step.specificForce, derived)
+                    val base = if (aerospace) 3 else 0
+                    for (k in 0 until 3) angles[k].add(step.timeS, derived[base + k])
+                }
+
+                override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {
+                    if (stream != reference) return
+                    if (stream == SessionStream.TRUTH) comparison.reference(timestampNs, values[0], values[1], values[2], values[3])
+                    else comparison.reference(timestampNs, values[3], values[0], values[1], values[2])
+                }
+            }
+            val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
+            rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update) }
+            progress.finish()
+            if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
+            val tMax = angles.maxOf { it.lastT }
+            val fig = SvgFigure("fusion replay of ${rec.name}", 0.0, tMax)
+            val names = if (aerospace) listOf("yaw", "pitch", "roll") else listOf("azimuth", "pitch", "roll")
+            val colors = listOf("#1f77b4", "#d62728", "#2ca02c")
+            fig.panel(SvgFigure.Panel("${if (aerospace) "aerospace" else "Android"} angles (°)",
+                names.indices.map { SvgFigure.Line(names[it], colors[it], angles[it], wraps = it != 1) }, -180.0, 180.0, 90.0))
+            if (refLabel != null && !errors[0].isEmpty) {
+                val labels = listOf("total", "heading", "inclination")
+                val c2 = listOf("#000000", "#ff7f0e", "#9467bd")
+                fig.panel(SvgFigure.Panel("error vs $refLabel (°)", labels.indices.map { SvgFigure.Line(labels[it], c2[it], errors[it], wraps = false) }, 0.0, null, null))
+            }
+            Files.writeString(Path.of(output), fig.render())
+            val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""
+            out.println("$output: ${names.joinToString("/")} over ${String.format(Locale.ROOT, "%.1f", tMax)} s$stats")
+        }
+        return ExitCode.OK
+    }
+}

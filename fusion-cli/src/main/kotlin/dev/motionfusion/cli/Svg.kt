@@ -1,0 +1,168 @@
+package dev.motionfusion.cli
+
+import java.util.Locale
+import kotlin.math.abs
+import kotlin.math.ceil
+import kotlin.math.floor
+import kotlin.math.log10
+import kotlin.math.pow
+
+/**
+ * A time series reduced to at most [CAP] buckets of equal width, each keeping its minimum and
+ * maximum in the order they occurred: constant memory for any length, and the envelope of the
+ * curve is kept (no spike disappears), as a plot at ~1000 pixels needs.
+ */
+internal class Envelope {
+    private var t0 = Double.NaN
+    private var width = 0.01
+    private val lo = DoubleArray(CAP) { Double.NaN }
+    private val hi = DoubleArray(CAP) { Double.NaN }
+    private val loFirst = BooleanArray(CAP)
+    var lastT = Double.NaN
+        private set
+
+    fun add(t: Double, v: Double) {
+        if (!t.isFinite() || !v.isFinite()) return
+        if (t0.isNaN()) t0 = t
+        lastT = t
+        var i = floor((t - t0) / width).toInt()
+        if (i < 0) return
+        while (i >= CAP) {
+            merge()
+            i = floor((t - t0) / width).toInt()
+        }
+        if (lo[i].isNaN()) {
+            lo[i] = v; hi[i] = v; loFirst[i] = true
+        } else {
+            if (v < lo[i]) { lo[i] = v; loFirst[i] = false }
+            if (v > hi[i]) { hi[i] = v; loFirst[i] = true }
+        }
+    }
+
+    private fun merge() {
+        for (k in 0 until CAP / 2) {
+            val a = 2 * k
+            val b = a + 1
+            val l = minOf2(lo[a], lo[b])
+            val h = maxOf2(hi[a], hi[b])
+            val lf = when {
+                lo[a].isNaN() -> loFirst[b]
+                lo[b].isNaN() -> loFirst[a]
+                else -> l == lo[a] // the minimum came from the earlier half
+            }
+            lo[k] = l; hi[k] = h; loFirst[k] = lf
+        }
+        for (k in CAP / 2 until CAP) { lo[k] = Double.NaN; hi[k] = Double.NaN }
+        width *= 2
+    }
+
+    private fun minOf2(a: Double, b: Double) = if (a.isNaN()) b else if (b.isNaN()) a else minOf(a, b)
+    private fun maxOf2(a: Double, b: Double) = if (a.isNaN()) b else if (b.isNaN()) a else maxOf(a, b)
+
+    /** The points (t, v) in time order: per bucket min and max (one point when equal). */
+    fun points(): List<Pair<Double, Double>> {
+        val out = ArrayList<Pair<Double, Double>>()
+        for (i in 0 until CAP) {
+            if (lo[i].isNaN()) continue
+            val ta = t0 + (i + 0.25) * width
+            val tb = t0 + (i + 0.75) * width
+            if (lo[i] == hi[i]) out += (t0 + (i + 0.5) * width) to lo[i]
+            else if (loFirst[i]) { out += ta to lo[i]; out += tb to hi[i] } else { out += ta to hi[i]; out += tb to lo[i] }
+        }
+        return out
+    }
+
+    val isEmpty: Boolean get() = t0.isNaN()
+
+    companion object {
+        const val CAP = 1024
+    }
+}
+
+/** A hand-written SVG figure of stacked panels sharing the time axis. */
+internal class SvgFigure(private val title: String, private val tMin: Double, private val tMax: Double) {
+    class Line(val label: String, val color: String, val data: Envelope, val wraps: Boolean)
+    class Panel(val yLabel: String, val lines: List<Line>, val yMin: Double?, val yMax: Double?, val yStep: Double?)
+
+    private val panels = ArrayList<Panel>()
+
+    fun panel(p: Panel) { panels += p }
+
+    fun render(): String {
+        val w = 1000.0
+        val ph = 260.0
+        val left = 70.0
+        val right = 150.0
+        val top = 40.0
+        val gap = 50.0
+        val h = top + panels.size * ph + (panels.size - 1) * gap + 50.0
+        val sb = StringBuilder()
+        sb.append("""<svg xmlns="http://www.w3.org/2000/svg" width="${n(w)}" height="${n(h)}" viewBox="0 0 ${n(w)} ${n(h)}" font-family="sans-serif" font-size="12">""").append('\n')
+        sb.append("""<rect width="100%" height="100%" fill="white"/>""").append('\n')
+        sb.append("""<text x="${n(left)}" y="22" font-size="15" font-weight="bold">${esc(title)}</text>""").append('\n')
+        val plotW = w - left - right
+        val span = if (tMax > tMin) tMax - tMin else 1.0
+        fun x(t: Double) = left + (t - tMin) / span * plotW
+        for ((pi, p) in panels.withIndex()) {
+            val y0 = top + pi * (ph + gap)
+            val all = p.lines.flatMap { l -> l.data.points().map { it.second } }
+            var yMin = p.yMin ?: (all.minOrNull() ?: 0.0)
+            var yMax = p.yMax ?: (all.maxOrNull() ?: 1.0)
+            if (yMax <= yMin) yMax = yMin + 1.0
+            val yStep = p.yStep ?: niceStep((yMax - yMin) / 5)
+            if (p.yMin == null) yMin = floor(yMin / yStep) * yStep
+            if (p.yMax == null) yMax = ceil(yMax / yStep) * yStep
+            fun y(v: Double) = y0 + ph - (v - yMin) / (yMax - yMin) * ph
+            sb.append("""<g>""").append('\n')
+            sb.append("""<rect x="${n(left)}" y="${n(y0)}" width="${n(plotW)}" height="${n(ph)}" fill="none" stroke="#444"/>""").append('\n')
+            var v = yMin
+            while (v <= yMax + 1e-9) {
+                sb.append("""<line x1="${n(left)}" x2="${n(left + plotW)}" y1="${n(y(v))}" y2="${n(y(v))}" stroke="#ddd"/>""")
+                sb.append("""<text x="${n(left - 6)}" y="${n(y(v) + 4)}" text-anchor="end">${num(v)}</text>""").append('\n')
+                v += yStep
+            }
+            val tStep = niceStep(span / 8)
+            var t = ceil(tMin / tStep) * tStep
+            while (t <= tMax + 1e-9) {
+                sb.append("""<line x1="${n(x(t))}" x2="${n(x(t))}" y1="${n(y0)}" y2="${n(y0 + ph)}" stroke="#eee"/>""")
+                sb.append("""<text x="${n(x(t))}" y="${n(y0 + ph + 16)}" text-anchor="middle">${num(t)}</text>""").append('\n')
+                t += tStep
+            }
+            sb.append("""<text transform="translate(18 ${n(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${esc(p.yLabel)}</text>""").append('\n')
+            for ((li, l) in p.lines.withIndex()) {
+                val pts = l.data.points()
+                val path = StringBuilder()
+                var prev = Double.NaN
+                for ((tt, vv) in pts) {
+                    val cmd = if (prev.isNaN() || (l.wraps && abs(vv - prev) > 180.0)) "M" else "L"
+                    path.append(cmd).append(n(x(tt))).append(',').append(n(y(vv.coerceIn(yMin, yMax)))).append(' ')
+                    prev = vv
+                }
+                sb.append("""<path d="${path.toString().trim()}" fill="none" stroke="${l.color}" stroke-width="1.2"/>""").append('\n')
+                val ly = y0 + 16 + li * 18
+                sb.append("""<line x1="${n(left + plotW + 12)}" x2="${n(left + plotW + 32)}" y1="${n(ly - 4)}" y2="${n(ly - 4)}" stroke="${l.color}" stroke-width="2"/>""")
+                sb.append("""<text x="${n(left + plotW + 38)}" y="${n(ly)}">${esc(l.label)}</text>""").append('\n')
+            }
+            sb.append("</g>\n")
+        }
+        sb.append("""<text x="${n(left + plotW / 2)}" y="${n(h - 10)}" text-anchor="middle">time (s)</text>""").append('\n')
+        sb.append("</svg>\n")
+        return sb.toString()
+    }
+
+    private fun niceStep(raw: Double): Double {
+        if (!(raw > 0)) return 1.0
+        val e = 10.0.pow(floor(log10(raw)))
+        val m = raw / e
+        return e * when {
+            m <= 1.0 -> 1.0
+            m <= 2.0 -> 2.0
+            m <= 5.0 -> 5.0
+            else -> 10.0
+        }
+    }
+
+    private fun n(v: Double) = String.format(Locale.ROOT, "%.1f", v)
+    private fun num(v: Double): String = if (abs(v - Math.rint(v)) < 1e-9) String.format(Locale.ROOT, "%d", Math.rint(v).toLong()) else String.format(Locale.ROOT, "%.2f", v).trimEnd('0')
+    private fun esc(s: String) = s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+}

@@ -1,0 +1,317 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.sim.MotionSimulator
+import dev.motionfusion.core.sim.SimulatedSample
+import dev.motionfusion.core.sim.SimulationSettings
+import dev.motionfusion.core.sim.TimeWindow
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.io.TempDir
+import java.io.ByteArrayOutputStream
+import java.io.PrintStream
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.Locale
+import java.util.zip.GZIPOutputStream
+import java.util.zip.ZipEntry
+import java.util.zip.ZipOutputStream
+import kotlin.math.abs
+import kotlin.math.sqrt
+
+/** The replay, eval, compare, plot, simulate and recover commands on files written in every input format. */
+class ReplayCommandsTest {
+    @TempDir
+    lateinit var dir: Path
+
+    private class Result(val code: Int, val out: String, val err: String)
+
+    private fun fusion(vararg args: String): Result {
+        val out = ByteArrayOutputStream()
+        val err = ByteArrayOutputStream()
+        val code = Cli(PrintStream(out, true, "UTF-8"), PrintStream(err, true, "UTF-8")).run(args.toList())
+        return Result(code, out.toString("UTF-8"), err.toString("UTF-8"))
+    }
+
+    private fun p(name: String) = dir.resolve(name).toString()
+
+    private val samples: List<SimulatedSample> by lazy {
+        MotionSimulator(SimulationSettings(seed = 3, rateHz = 100.0, durationS = 12.0, restWindows = listOf(TimeWindow(0.0, 2.0)))).run()
+    }
+
+    private fun f(v: Double) = v.toFloat().toString()
+
+    /** The simulated samples as a plain IMU table (times in s, values as floats). */
+    private fun tableText(): String = buildString {
+        append("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
+        for (s in samples) {
+            append(String.format(Locale.ROOT, "%.9f", s.timestampNs * 1e-9))
+            for (v in listOf(s.gyro, s.acc, s.mag)) append(',').append(f(v.x)).append(',').append(f(v.y)).append(',').append(f(v.z))
+            append('\n')
+        }
+    }
+
+    private fun readRows(csv: String): List<DoubleArray> =
+        csv.trim().lines().drop(1).map { line -> line.split(',').map { it.toDouble() }.toDoubleArray() }
+
+    private fun assertSameReplay(a: String, b: String, tolerance: Double) {
+        val ra = readRows(a)
+        val rb = readRows(b)
+        assertEquals(ra.size, rb.size)
+        for (i in ra.indices) for (k in 0 until 5) assertEquals(ra[i][k], rb[i][k], tolerance, "row $i column $k")
+    }
+
+    private fun zip(target: Path, files: Map<String, String>) {
+        ZipOutputStream(Files.newOutputStream(target)).use { z ->
+            for ((n, c) in files) {
+                z.putNextEntry(ZipEntry(n))
+                z.write(c.toByteArray())
+                z.closeEntry()
+            }
+        }
+    }
+
+    @Test
+    fun `every subcommand has help and the list names them`() {
+        val list = fusion("--help").out
+        for (c in listOf("replay", "eval", "compare", "plot", "simulate", "recover", "summary")) {
+            assertTrue(list.contains(c), c)
+            val r = fusion(c, "--help")
+            assertEquals(ExitCode.OK, r.code, c)
+            assertTrue(r.out.startsWith("Usage: fusion $c"), r.out)
+        }
+    }
+
+    @Test
+    fun `replay of a plain table gives one unit quaternion row per gyroscope sample, on stdout or to a file`() {
+        val table = dir.resolve("t.csv.gz")
+        GZIPOutputStream(Files.newOutputStream(table)).use { it.write(tableText().toByteArray()) }
+        val r = fusion("replay", table.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val rows = readRows(r.out)
+        assertEquals(samples.size, rows.size)
+        assertEquals(14, rows[0].size)
+        for (row in rows) assertEquals(1.0, sqrt(row[1] * row[1] + row[2] * row[2] + row[3] * row[3] + row[4] * row[4]), 1e-8)
+        assertEquals(0.0, rows[0][0])
+        assertEquals(samples.last().timestampNs * 1e-9, rows.last()[0], 1e-9)
+        // At the initial rest the linear acceleration is only noise.
+        for (row in rows.take(150)) for (k in 11..13) assertTrue(abs(row[k]) < 0.3, "lin acc ${row[k]}")
+        val toFile = fusion("replay", table.toString(), "-o", p("o.csv"), "--quiet")
+        assertEquals(ExitCode.OK, toFile.code)
+        assertEquals(r.out, Files.readString(dir.resolve("o.csv")))
+        assertEquals("", toFile.err)
+        // Settings change the result.
+        val beta = fusion("replay", table.toString(), "--beta", "0.5").out
+        assertTrue(beta != r.out)
+        assertEquals(beta, fusion("replay", table.toString(), "--set", "beta=0.5").out)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "nope=1").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--set", "beta=abc").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--beta", "-1").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", table.toString(), "--mode", "7d").code)
+    }
+
+    @Test
+    fun `phyphox exports in two dialects and Sensor Logger exports replay like the table`() {
+        Files.writeString(dir.resolve("t.csv"), tableText())
+        val reference = fusion("replay", p("t.csv")).out
+
+        fun phyphox(sep: String, decimalComma: Boolean, quantity: String, unit: String, pick: (SimulatedSample) -> dev.motionfusion.core.Vector3): String = buildString {
+            append(listOf("Time (s)", "$quantity x ($unit)", "$quantity y ($unit)", "$quantity z ($unit)").joinToString(sep) { "\"$it\"" }).append('\n')
+            for (s in samples) {
+                val v = pick(s)
+                val fields = listOf(String.format(Locale.ROOT, "%.9E", s.timestampNs * 1e-9), f(v.x), f(v.y), f(v.z))
+                append(fields.joinToString(sep) { if (decimalComma) it.replace('.', ',') else it }).append('\n')
+            }
+        }
+        zip(dir.resolve("phyphox.zip"), mapOf(
+            "Accelerometer.csv" to phyphox(",", false, "Acceleration", "m/s^2") { it.acc },
+            "Gyroscope.csv" to phyphox(",", false, "Gyroscope", "rad/s") { it.gyro },
+            "Magnetometer.csv" to phyphox(",", false, "Magnetic field", "µT") { it.mag },
+            "Linear Acceleration.csv" to "\"Time (s)\",\"Linear Acceleration x (m/s^2)\"\n0,1\n",
+            "meta/device.csv" to "\"property\",\"value\"\n\"model\",\"test\"\n",
+        ))
+        val z = fusion("replay", p("phyphox.zip"))
+        assertEquals(ExitCode.OK, z.code, z.err)
+        assertTrue(z.err.contains("phyphox export"), z.err)
+        assertSameReplay(reference, z.out, 1e-9)
+
+        val folder = Files.createDirectories(dir.resolve("phyphox-semicolon"))
+        Files.writeString(folder.resolve("Accelerometer.csv"), phyphox(";", true, "Acceleration", "m/s^2") { it.acc })
+        Files.writeString(folder.resolve("Gyroscope.csv"), phyphox(";", true, "Gyroscope", "rad/s") { it.gyro })
+        Files.writeString(folder.resolve("Magnetometer.csv"), phyphox(";", true, "Magnetic field", "µT") { it.mag })
+        assertSameReplay(reference, fusion("replay", folder.toString()).out, 1e-9)
+        val tabs = Files.createDirectories(dir.resolve("phyphox-tab"))
+        Files.writeString(tabs.resolve("Accelerometer.csv"), phyphox("\t", false, "Acceleration", "m/s^2") { it.acc })
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "rad/s") { it.gyro })
+        Files.writeString(tabs.resolve("Magnetometer.csv"), phyphox("\t", false, "Magnetic field", "µT") { it.mag })
+        assertSameReplay(reference, fusion("replay", tabs.toString()).out, 1e-9)
+        // A unit phyphox does not use is refused, naming the column.
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "deg/s") { it.gyro })
+        val unit = fusion("replay", tabs.toString())
+        assertEquals(ExitCode.DATA_ERROR, unit.code)
+        assertTrue(unit.err.contains("deg/s"), unit.err)
+
+        fun logger(pick: (SimulatedSample) -> dev.motionfusion.core.Vector3): String = buildString {
+            append("time,seconds_elapsed,z,y,x\n")
+            val epoch = 1_764_000_000_000_000_000L
+            for (s in samples) {
+                val v = pick(s)
+                append(epoch + s.timestampNs).append(',').append(s.timestampNs * 1e-9).append(',')
+                append(f(v.z)).append(',').append(f(v.y)).append(',').append(f(v.x)).append('\n')
+            }
+        }
+        zip(dir.resolve("logger.zip"), mapOf(
+            "Recording/TotalAcceleration.csv" to logger { it.acc },
+            "Recording/Accelerometer.csv" to "time,seconds_elapsed,z,y,x\n",
+            "Recording/Gyroscope.csv" to logger { it.gyro },
+            "Recording/Magnetometer.csv" to logger { it.mag },
+            "Recording/Metadata.csv" to "version,device name\n1,test\n",
+            "Recording/Orientation.csv" to buildString {
+                append("time,seconds_elapsed,qz,qy,qx,qw,roll,pitch,yaw\n")
+                for (s in samples) append("${1_764_000_000_000_000_000L + s.timestampNs},0,${s.truth.z},${s.truth.y},${s.truth.x},${s.truth.w},0,0,0\n")
+            },
+        ))
+        val l = fusion("replay", p("logger.zip"))
+        assertEquals(ExitCode.OK, l.code, l.err)
+        assertTrue(l.err.contains("Sensor Logger export"), l.err)
+        assertSameReplay(reference, l.out, 1e-9)
+        // Orientation.csv is the phone's rotation vector: compare works on the export.
+        val cmp = fusion("compare", p("logger.zip"))
+        assertEquals(ExitCode.OK, cmp.code, cmp.err)
+        assertTrue(cmp.out.contains("${samples.size} samples"), cmp.out)
+
+        // iOS-style export (standardised frames): Accelerometer.csv without gravity plus Gravity.csv.
+        val gravityOf = { s: SimulatedSample -> s.truth.inverseRotate(dev.motionfusion.core.Vector3(0.0, 0.0, 9.80665)) }
+        zip(dir.resolve("logger-ios.zip"), mapOf(
+            "Accelerometer.csv" to logger { it.acc - gravityOf(it) },
+            "Gravity.csv" to logger { gravityOf(it) },
+            "Gyroscope.csv" to logger { it.gyro },
+            "Magnetometer.csv" to logger { it.mag },
+        ))
+        val ios = fusion("replay", p("logger-ios.zip"))
+        assertEquals(ExitCode.OK, ios.code, ios.err)
+        assertSameReplay(reference, ios.out, 2e-5) // float rounding of the two parts differs from that of the sum
+
+        // Without TotalAcceleration.csv or Gravity.csv the export cannot be replayed, and says why.
+        zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))
+        val bad = fusion("replay", p("logger-linear.zip"))
+        assertEquals(ExitCode.DATA_ERROR, bad.code)
+        assertTrue(bad.err.contains("TotalAcceleration.csv"), bad.err)
+    }
+
+    @Test
+    fun `simulated session replays from folder and zip alike, and eval, compare and plot work on it`() {
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", p("s"), "--duration", "12").code)
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", p("s.zip"), "--duration", "12").code)
+        val a = fusion("replay", p("s"))
+        assertEquals(ExitCode.OK, a.code, a.err)
+        assertEquals(a.out, fusion("replay", p("s.zip")).out)
+        assertEquals(1200, readRows(a.out).size)
+
+        val e = fusion("eval", p("s"))
+        assertEquals(ExitCode.OK, e.code, e.err)
+        val row = e.out.lines().first { it.startsWith("| s |") }.split('|').map { it.trim() }
+        val total = row[2].toDouble()
+        assertTrue(total > 0.0 && total < 3.0, e.out)
+
+        val c = fusion("compare", p("s"), "-o", p("diff.csv"))
+        assertEquals(ExitCode.OK, c.code, c.err)
+        val diff = readRows(Files.readString(dir.resolve("diff.csv")))
+        assertEquals(300, diff.size) // the rotation vector runs at a quarter of the rate
+        val meanHeading = diff.map { it[2] }.average()
+        assertTrue(meanHeading > 0.5 && meanHeading < 4.0, "the simulated rotation vector is 2° off in heading: $meanHeading")
+        assertTrue(c.out.contains("| total |"), c.out)
+        assertEquals(ExitCode.DATA_ERROR, fusion("compare", p("s"), "--game").code)
+
+        val plot = fusion("plot", p("s"), "-o", p("s.svg"))
+        assertEquals(ExitCode.OK, plot.code, plot.err)
+        val svg = Files.readString(dir.resolve("s.svg"))
+        assertTrue(svg.startsWith("<svg") && svg.contains("error vs truth") && svg.trim().endsWith("</svg>"))
+        assertTrue(svg.length < 400_000)
+    }
+
+    @Test
+    fun `compare --live scores the orientation the app recorded`() {
+        val d = dir.resolve("live")
+        dev.motionfusion.core.session.SessionWriter.create(d, dev.motionfusion.core.session.SessionMetadata()).use { w ->
+            for (s in samples) {
+                w.accelerometer(s.timestampNs, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat(), 3)
+                w.gyroscope(s.timestampNs, s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat(), 3)
+                // The app's live filter is 1° off about north; the phone's rotation vector is exact.
+                val live = dev.motionfusion.core.Quaternion.fromAxisAngle(dev.motionfusion.core.Vector3.UNIT_Y, Math.toRadians(1.0)) * s.truth
+                w.orientation(s.timestampNs + 2_000_000L, live.w, live.x, live.y, live.z)
+                w.rotationVector(s.timestampNs, s.truth.x.toFloat(), s.truth.y.toFloat(), s.truth.z.toFloat(), s.truth.w.toFloat(), -1f, 3)
+            }
+        }
+        val c = fusion("compare", d.toString(), "--live")
+        assertEquals(ExitCode.OK, c.code, c.err)
+        val total = c.out.lines().first { it.startsWith("| total |") }.split('|').map { it.trim() }
+        assertEquals(1.0, total[3].toDouble(), 0.05, c.out) // RMS: the 1° error, whatever the 2 ms offset between the streams
+        assertEquals(ExitCode.DATA_ERROR, fusion("compare", p("live"), "--game").code)
+    }
+
+    @Test
+    fun `eval on a trial folder equals eval of its replay output against its truth`() {
+        val trial = Files.createDirectories(dir.resolve("trials/01_sim"))
+        GZIPOutputStream(Files.newOutputStream(trial.resolve("input.csv.gz"))).use { it.write(tableText().toByteArray()) }
+        val truth = buildString {
+            append("t_s,qw,qx,qy,qz,movement\n")
+            for ((i, s) in samples.withIndex()) {
+                append(String.format(Locale.ROOT, "%.9f", s.timestampNs * 1e-9))
+                if (i % 50 == 7) append(",,,,,0\n") // occluded
+                else append(",${s.truth.w},${s.truth.x},${s.truth.y},${s.truth.z},${if (s.timestampNs >= 2_000_000_000L) 1 else 0}\n")
+            }
+        }
+        GZIPOutputStream(Files.newOutputStream(trial.resolve("truth.csv.gz"))).use { it.write(truth.toByteArray()) }
+        val byTrial = fusion("eval", dir.resolve("trials").toString())
+        assertEquals(ExitCode.OK, byTrial.code, byTrial.err)
+        assertTrue(byTrial.out.contains("| 01_sim |"), byTrial.out)
+        assertTrue(fusion("replay", trial.toString(), "-o", p("est.csv")).code == ExitCode.OK)
+        val byTables = fusion("eval", "--truth", trial.resolve("truth.csv.gz").toString(), p("est.csv"))
+        assertEquals(ExitCode.OK, byTables.code, byTables.err)
+        fun numbers(s: String) = s.lines().first { it.startsWith("| ") && !it.startsWith("| trial") && !it.startsWith("| **") }.split('|').drop(2).take(3).map { it.trim().toDouble() }
+        val x = numbers(byTrial.out)
+        val y = numbers(byTables.out)
+        for (k in 0 until 3) assertEquals(x[k], y[k], 0.011, "metric $k: ${byTrial.out} vs ${byTables.out}")
+        assertTrue(x[0] < 3.0, byTrial.out)
+        val six = fusion("eval", "--mode", "6d", trial.toString())
+        assertEquals(ExitCode.OK, six.code, six.err)
+        val plot = fusion("plot", trial.toString(), "-o", p("trial.svg"))
+        assertEquals(ExitCode.OK, plot.code, plot.err)
+        assertTrue(Files.readString(dir.resolve("trial.svg")).contains("error vs truth"))
+    }
+
+    @Test
+    fun `errors name file line and column and map to exit codes`() {
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", p("s"), "--duration", "6").code)
+        val gyro = dir.resolve("s/gyroscope.csv")
+        val lines = Files.readAllLines(gyro).toMutableList()
+        lines[5] = lines[5].replaceAfterLast(',', "high")
+        Files.write(gyro, lines)
+        val r = fusion("replay", p("s"))
+        assertEquals(ExitCode.DATA_ERROR, r.code)
+        assertTrue(r.err.contains("gyroscope.csv:6:"), r.err)
+        assertTrue(r.err.contains("accuracy"), r.err)
+        assertEquals(ExitCode.IO_ERROR, fusion("replay", p("missing.csv")).code)
+        assertEquals(ExitCode.USAGE, fusion("replay").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", p("s"), "--frobnicate").code)
+        Files.writeString(dir.resolve("junk.csv"), "hello,world\n1,2\n")
+        val junk = fusion("replay", p("junk.csv"))
+        assertEquals(ExitCode.DATA_ERROR, junk.code)
+        assertTrue(junk.err.contains("not a recognised input"), junk.err)
+    }
+
+    @Test
+    fun `recover repairs a session cut off mid-row`() {
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", p("s"), "--duration", "6").code)
+        val meta = dir.resolve("s/meta.json")
+        Files.writeString(meta, Files.readString(meta).replace("\"complete\": true", "\"complete\": false"))
+        Files.write(dir.resolve("s/accelerometer.csv"), "1000006000000,0.1,0.".toByteArray(), java.nio.file.StandardOpenOption.APPEND)
+        val r = fusion("recover", p("s"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(Regex("""accelerometer\.csv\s+20 bytes cut""").containsMatchIn(r.out), r.out)
+        assertTrue(Files.readString(meta).contains("\"recovered\": true"))
+        assertEquals(ExitCode.OK, fusion("replay", p("s")).code)
+        assertTrue(fusion("recover", p("s")).out.contains("nothing to do"))
+    }
+}

@@ -1,0 +1,108 @@
+/*
+ * Replay: runs the Madgwick filter over recorded events in time order, as the app would have
+ * live. Accelerometer and magnetometer samples are held; each gyroscope sample is one filter
+ * step and one output step (MadgwickFilter's pairing rule). Orientation sensor → ENU,
+ * quaternions [w, x, y, z] Hamilton; timestamps ns, times s relative to the recording's origin.
+ */
+package dev.motionfusion.core.replay
+
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.WorldFrame
+import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.session.SessionStream
+
+/** The state after one gyroscope step. Reused from step to step: copy what you keep. */
+public class ReplayStep internal constructor() {
+    /** Timestamp of the gyroscope sample, ns. */
+    public var timestampNs: Long = 0L
+        internal set
+
+    /** Seconds since the recording's origin. */
+    public var timeS: Double = 0.0
+        internal set
+
+    /** True once the filter has an orientation; before that [orientation] is NaN. */
+    public var initialised: Boolean = false
+        internal set
+
+    /** Orientation [w, x, y, z], sensor → ENU. */
+    public val orientation: DoubleArray = DoubleArray(4)
+
+    /** The latest accelerometer reading (specific force, m/s², device frame); NaN before the first. */
+    public val specificForce: DoubleArray = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
+}
+
+/** Receives replay results. */
+public interface ReplayListener {
+    /** After each gyroscope sample. */
+    public fun step(step: ReplayStep)
+
+    /** For each event of a reference stream (rotation vectors, truth, the live orientation), before the gyroscope step of the same instant. */
+    public fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {}
+}
+
+/** Counts of what a replay read. */
+public data class ReplayCounts(val events: Long, val gyroscope: Long, val accelerometer: Long, val magnetometer: Long, val firstTimestampNs: Long, val lastTimestampNs: Long)
+
+/**
+ * Runs a [MadgwickFilter] with [settings] (output frame forced to ENU) over events. Reusable for
+ * one run only.
+ */
+public class Replayer(settings: FilterSettings = FilterSettings()) {
+    /** The filter being run (for diagnostics after the run). */
+    public val filter: MadgwickFilter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.ENU))
+
+    /**
+     * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.
+     * [progress], if given, is called with the number of events read every 65,536 events.
+     */
+    public fun run(events: SessionEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null): ReplayCounts {
+        val step = ReplayStep()
+        var origin = originNs
+        var n = 0L
+        var gyro = 0L
+        var acc = 0L
+        var mag = 0L
+        var first = 0L
+        var last = 0L
+        val f = filter
+        while (events.next()) {
+            val t = events.timestampNs
+            val v = events.values
+            if (origin == null) origin = t
+            if (n == 0L) first = t
+            last = t
+            n++
+            if (progress != null && (n and 0xFFFF) == 0L) progress(n)
+            when (events.stream) {
+                SessionStream.GYROSCOPE -> {
+                    gyro++
+                    f.updateGyroscope(t, v[0], v[1], v[2])
+                    step.timestampNs = t
+                    step.timeS = (t - origin) * 1e-9
+                    step.initialised = f.isInitialised
+                    if (step.initialised) {
+                        f.orientationInto(step.orientation)
+                    } else {
+                        step.orientation.fill(Double.NaN)
+                    }
+                    listener.step(step)
+                }
+                SessionStream.ACCELEROMETER -> {
+                    acc++
+                    f.updateAccelerometer(t, v[0], v[1], v[2])
+                    step.specificForce[0] = v[0]; step.specificForce[1] = v[1]; step.specificForce[2] = v[2]
+                }
+                SessionStream.MAGNETOMETER -> {
+                    mag++
+                    f.updateMagnetometer(t, v[0], v[1], v[2])
+                }
+                SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR, SessionStream.TRUTH, SessionStream.ORIENTATION ->
+                    listener.reference(events.stream, t, v)
+                else -> Unit // uncalibrated streams and diagnostics are not filter inputs
+            }
+        }
+        return ReplayCounts(n, gyro, acc, mag, first, last)
+    }
+}

@@ -1,0 +1,158 @@
+package dev.motionfusion.core.recording
+
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.QuaternionTable
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.SessionArchive
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionWriter
+import dev.motionfusion.core.filter.FilterSettings
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Assertions.fail
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.io.TempDir
+import java.io.ByteArrayOutputStream
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.Random
+import java.util.zip.GZIPOutputStream
+import java.util.zip.ZipEntry
+import java.util.zip.ZipOutputStream
+
+/**
+ * Seeded random mutation of valid files of every input format: the readers must finish quickly
+ * and either succeed or throw DataFormatException with a source and a reason; nothing else.
+ */
+class InputFuzzTest {
+    @TempDir
+    lateinit var tmp: Path
+
+    private val random = Random(20261126)
+
+    private val tokens = listOf(",", "\n", "\r\n", "\"", ";", "NaN", "-", "e", "E999", "1e-400", ".", "9".repeat(40), "\u0000", "\uFEFF", "µ", "-9223372036854775809", " ", "{", "}", "[", "null", "\t")
+
+    private fun mutate(input: ByteArray): ByteArray {
+        val b = input.toMutableList()
+        repeat(1 + random.nextInt(2)) {
+            if (b.isEmpty()) { b.add('x'.code.toByte()); return@repeat }
+            val at = random.nextInt(b.size)
+            when (random.nextInt(7)) {
+                0 -> b[at] = random.nextInt(256).toByte()
+                1 -> b[at] = (b[at].toInt() xor (1 shl random.nextInt(8))).toByte()
+                2 -> b.add(at, random.nextInt(256).toByte())
+                3 -> repeat(minOf(b.size - at, 1 + random.nextInt(20))) { b.removeAt(at) }
+                4 -> { val n = minOf(b.size - at, 1 + random.nextInt(40)); b.addAll(at, b.subList(at, at + n).toList()) }
+                5 -> while (b.size > at) b.removeAt(b.size - 1)
+                else -> b.addAll(at, tokens[random.nextInt(tokens.size)].toByteArray().toList())
+            }
+        }
+        return b.toByteArray()
+    }
+
+    private fun gzip(bytes: ByteArray): ByteArray = ByteArrayOutputStream().also { o -> GZIPOutputStream(o).use { it.write(bytes) } }.toByteArray()
+
+    private fun zip(entries: Map<String, ByteArray>): ByteArray = ByteArrayOutputStream().also { o ->
+        ZipOutputStream(o).use { z -> for ((n, c) in entries) { z.putNextEntry(ZipEntry(n)); z.write(c); z.closeEntry() } }
+    }.toByteArray()
+
+    private fun row3(t: Int) = "${0.01 * t},${0.1 * (t % 7)},${-0.2},${9.8 - 0.01 * t}"
+
+    private val table = ("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},0.01,-0.02,0.03,0.1,0.2,9.8,20,0,-40\n" }).toByteArray()
+    private val phyphoxGyro = ("\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" + (0 until 40).joinToString("") { row3(it) + "\n" }).toByteArray()
+    private val phyphoxAcc = ("\"Time (s)\";\"Acceleration x (m/s^2)\";\"Acceleration y (m/s^2)\";\"Acceleration z (m/s^2)\"\n" +
+        (0 until 40).joinToString("") { row3(it).replace(',', ';').replace('.', ',') + "\n" }).toByteArray()
+    private fun logger(order: String) = ("time,seconds_elapsed,$order\n" + (0 until 40).joinToString("") { t -> "${1_700_000_000_000_000_000L + t * 10_000_000L},${0.01 * t},0.1,-0.2,9.8\n" }).toByteArray()
+    private val truth = ("t_s,qw,qx,qy,qz,movement\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},1,0,0,0,${t % 2}\n" }).toByteArray()
+
+    private fun sessionFiles(): Map<String, ByteArray> {
+        val dir = tmp.resolve("seed-session")
+        SessionWriter.create(dir, SessionMetadata(appVersion = "1", startAnchor = ClockAnchor(1L, 0L), filterSettings = FilterSettings())).use { w ->
+            for (k in 0 until 30) {
+                w.accelerometer(k * 10_000_000L, 0.1f, 0.2f, 9.8f, 3)
+                w.magnetometer(k * 10_000_000L + 1, 20f, 0f, -40f, 2)
+                w.gyroscope(k * 10_000_000L + 2, 0.01f, -0.02f, 0.03f, 3)
+                if (k % 3 == 0) w.rotationVector(k * 10_000_000L, 0f, 0f, 0.1f, 0.99498f, -1f, 3)
+            }
+        }
+        return Files.list(dir).use { s -> s.toList() }.associate { it.fileName.toString() to Files.readAllBytes(it) }
+    }
+
+    private var case = 0
+    private val outcomes = HashMap<String, IntArray>() // [read fine, DataFormatException]
+
+    /** Runs [read] on the mutated input; only DataFormatException may escape. */
+    private fun check(format: String, read: () -> Unit) {
+        case++
+        val t0 = System.nanoTime()
+        val o = outcomes.getOrPut(format) { IntArray(2) }
+        try {
+            read()
+            o[0]++
+        } catch (e: DataFormatException) {
+            o[1]++
+            assertTrue(e.source.isNotEmpty() && e.reason.isNotEmpty(), "$format case $case: empty source or reason: ${e.message}")
+        } catch (e: Throwable) {
+            fail<Unit>("$format case $case: ${e::class.java.name}: ${e.message}", e)
+        }
+        val ms = (System.nanoTime() - t0) / 1e6
+        assertTrue(ms < 5000, "$format case $case took $ms ms")
+    }
+
+    private fun drain(p: Path) {
+        Recording.open(p).use { r -> r.events().use { e -> var n = 0L; while (e.next()) { n++; e.timestampNs; e.values } } }
+    }
+
+    private fun write(name: String, bytes: ByteArray): Path {
+        val p = tmp.resolve("case$case-$name")
+        Files.write(p, bytes)
+        return p
+    }
+
+    @Test
+    fun `mutated inputs of every format never crash or hang`() {
+        val session = sessionFiles()
+        val rounds = 250
+        repeat(rounds) {
+            check("table") { drain(write("t.csv", mutate(table))) }
+            check("table.gz") { drain(write("t.csv.gz", if (random.nextBoolean()) mutate(gzip(table)) else gzip(mutate(table)))) }
+            check("truth") { QuaternionTable.read(write("truth.csv", mutate(truth))) }
+            check("phyphox csv") { drain(write("Gyroscope.csv", mutate(phyphoxGyro))) }
+            check("phyphox zip") {
+                val entries = if (random.nextBoolean()) mapOf("Gyroscope.csv" to mutate(phyphoxGyro), "Accelerometer.csv" to phyphoxAcc)
+                else mapOf("Gyroscope.csv" to phyphoxGyro, "Accelerometer.csv" to mutate(phyphoxAcc))
+                drain(write("phyphox.zip", if (random.nextInt(4) == 0) mutate(zip(entries)) else zip(entries)))
+            }
+            check("sensor logger zip") {
+                val acc = if (random.nextBoolean()) mapOf("TotalAcceleration.csv" to logger("z,y,x"))
+                else mapOf("Accelerometer.csv" to logger("z,y,x"), "Gravity.csv" to logger("z,y,x"))
+                val files = acc + mapOf("Gyroscope.csv" to logger("z,y,x"),
+                    "Orientation.csv" to String(logger("qz,qy,qx")).replace("\n", ",1\n").replaceFirst("qx,1", "qx,qw").toByteArray())
+                val victim = files.keys.toList()[random.nextInt(files.size)]
+                val entries = files.mapValues { (n, c) -> if (n == victim) mutate(c) else c }
+                drain(write("logger.zip", if (random.nextInt(4) == 0) mutate(zip(entries)) else zip(entries)))
+            }
+            check("session folder") {
+                val dir = Files.createDirectories(tmp.resolve("case$case-session"))
+                val victim = session.keys.toList()[random.nextInt(session.size)]
+                for ((n, c) in session) Files.write(dir.resolve(n), if (n == victim) mutate(c) else c)
+                drain(dir)
+            }
+            check("session zip") {
+                val dir = tmp.resolve("case$case-s")
+                val victim = session.keys.toList()[random.nextInt(session.size)]
+                val entries = session.mapKeys { "s/${it.key}" }.mapValues { (n, c) -> if (n == "s/$victim") mutate(c) else c }
+                val bytes = if (random.nextInt(3) == 0) mutate(zip(entries)) else zip(entries)
+                val z = write("session.zip", bytes)
+                drain(z)
+                try {
+                    SessionArchive.unzip(z, dir)
+                } catch (e: DataFormatException) {
+                    throw e
+                }
+            }
+        }
+        println("fuzz: $case cases; per format [read fine, DataFormatException]: " + outcomes.entries.joinToString { "${it.key} ${it.value.toList()}" })
+        // The mutations must exercise both outcomes of every reader, or the test proves little.
+        for ((f, o) in outcomes) assertTrue(o[0] > 0 && o[1] > 0, "$f: ${o.toList()}")
+    }
+}
