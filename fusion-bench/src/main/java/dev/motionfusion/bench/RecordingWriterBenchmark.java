@@ -71,7 +71,7 @@ public class RecordingWriterBenchmark {
         ring = new EventRing(1 << 16);
         sink = CoreSessionFormat.INSTANCE.create(dir.toFile(), new SessionMetadata());
         recorder = new Recorder(ring, sink, new MadgwickFilter(new FilterSettings()), r -> Unit.INSTANCE,
-            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, System::nanoTime, 2_000_000L, 100_000_000L);
+            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, System::nanoTime, 2_000_000L, 100_000_000L, null, 60_000_000_000L);
     }
 
     @TearDown(Level.Iteration)

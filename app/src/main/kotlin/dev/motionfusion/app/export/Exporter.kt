@@ -10,6 +10,7 @@ import android.os.Environment
 import android.provider.MediaStore
 import dev.motionfusion.app.R
 import dev.motionfusion.core.session.SessionArchive
+import dev.motionfusion.core.session.SessionReader
 import java.io.File
 import java.io.IOException
 
@@ -23,9 +24,21 @@ import java.io.IOException
 internal object Exporter {
     fun zipName(dir: File): String = "${dir.name}.zip"
 
+    /** Only a finished (or repaired) session leaves the app: never one being written. */
+    @Throws(IOException::class)
+    fun checkExportable(dir: File) {
+        val complete = try {
+            SessionReader.open(dir.toPath()).use { it.metadata.complete }
+        } catch (e: Exception) {
+            throw IOException("${dir.name} is not a readable session: ${e.message}", e)
+        }
+        if (!complete) throw IOException("${dir.name} is still being recorded")
+    }
+
     /** Writes the zip to [target] through a temporary file, so a failed export leaves no partial zip. */
     @Throws(IOException::class)
     fun writeZip(dir: File, target: File) {
+        checkExportable(dir)
         target.parentFile?.mkdirs()
         val tmp = File(target.parentFile, target.name + ".part")
         try {
@@ -44,6 +57,7 @@ internal object Exporter {
     @Throws(IOException::class)
     fun toDownloads(context: Context, dir: File): String {
         check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
+        checkExportable(dir)
         val resolver = context.contentResolver
         val name = zipName(dir)
         val values = ContentValues().apply {
@@ -74,6 +88,7 @@ internal object Exporter {
     /** Writes the zip into the document the user created. */
     @Throws(IOException::class)
     fun toDocument(context: Context, dir: File, document: Uri) {
+        checkExportable(dir)
         context.contentResolver.openOutputStream(document, "wt")?.use { SessionArchive.zip(dir.toPath(), it) }
             ?: throw IOException("cannot open the document")
     }

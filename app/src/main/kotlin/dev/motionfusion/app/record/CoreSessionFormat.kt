@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionRecovery
@@ -57,6 +58,11 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
     ) = writer.filterDiagnostics(timestampNs, biasX, biasY, biasZ, atRest, magneticDisturbance, accelerometerRejected)
 
     override fun flush() = writer.flush()
+
+    override fun checkpoint(anchor: ClockAnchor) {
+        writer.anchor(anchor)
+        writer.sync()
+    }
 
     override fun finish(end: RecordingEnd) = writer.close()
 

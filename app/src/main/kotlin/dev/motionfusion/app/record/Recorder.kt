@@ -2,6 +2,7 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.session.ClockAnchor
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicLongArray
@@ -11,8 +12,8 @@ import java.util.concurrent.locks.LockSupport
  * The writer side of a recording: one thread drains the [EventRing] into a [SessionSink],
  * runs the Madgwick [filter] on the accelerometer, magnetometer and gyroscope rows in the
  * order they are written (one fused row after each gyroscope row once the filter is
- * initialised, its diagnostics every [diagnosticsIntervalNs]) and flushes at least every
- * [flushIntervalNs].
+ * initialised, its diagnostics every [diagnosticsIntervalNs]), flushes at least every
+ * [flushIntervalNs] and, every [checkpointIntervalNs], adds a wall-clock anchor and fsyncs.
  *
  * The recording ends, and [onEnd] is called once from the writer thread, when
  * - [stop] was called: the queue is closed, drained to the last event, the session finished;
@@ -35,6 +36,9 @@ internal class Recorder(
     private val idleParkNs: Long = 2_000_000L,
     /** Filter diagnostics are written at most this often (sensor time): they change slowly. */
     private val diagnosticsIntervalNs: Long = 100_000_000L,
+    /** Wall-clock anchors and fsync every [checkpointIntervalNs] when given. */
+    private val anchorNow: (() -> ClockAnchor)? = null,
+    private val checkpointIntervalNs: Long = 60_000_000_000L,
 ) {
     private var lastDiagnosticsNs = Long.MIN_VALUE / 2
     private val rows = AtomicLongArray(SessionStream.entries.size)
@@ -134,6 +138,7 @@ internal class Recorder(
 
     private fun loop(): RecordingEnd {
         var lastFlush = nanoTime()
+        var lastCheckpoint = lastFlush
         var lastSpaceCheck = 0L
         var spaceChecked = false
         while (true) {
@@ -142,6 +147,10 @@ internal class Recorder(
             if (now - lastFlush >= flushIntervalNs) {
                 sink.flush()
                 lastFlush = now
+            }
+            if (anchorNow != null && now - lastCheckpoint >= checkpointIntervalNs) {
+                sink.checkpoint(anchorNow.invoke())
+                lastCheckpoint = now
             }
             if (minFreeBytes > 0 && (!spaceChecked || now - lastSpaceCheck >= spaceCheckIntervalNs)) {
                 spaceChecked = true

@@ -95,6 +95,7 @@ class RecordingService : Service() {
             onEnd = { result -> onWriterEnded(dir, result) },
             freeBytes = { dir.usableSpace },
             minFreeBytes = minFree,
+            anchorNow = RecordingMetadata::anchorNow,
         )
         this.capture = capture
         this.recorder = recorder

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionStream
 import java.io.IOException
 
@@ -29,6 +30,13 @@ internal interface SessionSink {
     /** Hands every row so far to the operating system, so a killed process loses none of them. */
     @Throws(IOException::class)
     fun flush()
+
+    /**
+     * Once a minute or so: adds a wall-clock [anchor] (wall-clock adjustments show up between
+     * anchors) and forces every row to the storage device (fsync: survives power loss).
+     */
+    @Throws(IOException::class)
+    fun checkpoint(anchor: ClockAnchor)
 
     /** Completes the session (summary, end reason) and closes it. */
     @Throws(IOException::class)

@@ -276,4 +276,80 @@ class CoreRecordingTest {
         recorder.stop()
         recorder.awaitEnd(5_000)
     }
+    @Test
+    fun `storage failing after N bytes stops the recording cleanly and keeps every row that reached it`() {
+        // A stream that fails after N bytes, on the real writer: gyroscope.csv is a named pipe
+        // whose reader keeps the first N bytes (what "storage" got) and then goes away, so the
+        // writer's next write fails with an IOException as on a full or removed disk.
+        val dir = File(tmp, "session_failing").apply { mkdirs() }
+        val gyro = File(dir, SessionStream.GYROSCOPE.fileName)
+        org.junit.jupiter.api.Assumptions.assumeTrue(
+            runCatching { ProcessBuilder("mkfifo", gyro.path).start().waitFor() == 0 }.getOrDefault(false), "needs mkfifo",
+        )
+        val limit = 50_000
+        val stored = java.io.ByteArrayOutputStream()
+        val storage = Thread {
+            java.io.FileInputStream(gyro).use { input ->
+                val buf = ByteArray(4096)
+                var left = limit
+                while (left > 0) {
+                    val n = input.read(buf, 0, minOf(buf.size, left))
+                    if (n < 0) break
+                    stored.write(buf, 0, n)
+                    left -= n
+                }
+            }
+        }.apply { start() }
+        val ring = EventRing(1 shl 16)
+        val ended = AtomicReference<RecorderResult>()
+        val recorder = Recorder(ring, CoreSessionFormat.create(dir, metadata), MadgwickFilter(), onEnd = { ended.set(it) }, flushIntervalNs = 20_000_000L)
+        recorder.start()
+        val v = floatArrayOf(0f, 0f, 9.81f)
+        var offered = 0
+        val t0 = 5_000_000_000L
+        while (ended.get() == null && offered < 200_000) {
+            val t = t0 + offered * 1_000_000L
+            val s = if (offered % 2 == 0) SessionStream.ACCELEROMETER else SessionStream.GYROSCOPE
+            v[0] = offered.toFloat()
+            if (!ring.offer(s, t, 3, v, 3)) break
+            offered++
+            if (offered % 500 == 0) Thread.sleep(2)
+        }
+        assertTrue(recorder.awaitEnd(10_000))
+        storage.join(5_000)
+        val end = ended.get().end
+        assertTrue(end is RecordingEnd.WriteFailed, "$end")
+        println("storage failure: ${(end as RecordingEnd.WriteFailed).message} after $limit bytes of gyroscope.csv; ${ended.get().rows} rows handed to the writer")
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, Long.MAX_VALUE, 3, v, 3), "the sensors are refused after the failure")
+
+        // What the storage holds replaces the pipe; the next start finds the session interrupted and repairs it.
+        gyro.delete()
+        gyro.writeBytes(stored.toByteArray())
+        assertTrue(CoreSessionFormat.isInterrupted(dir))
+        CoreSessionFormat.recover(dir)
+        SessionReader.open(dir.toPath()).use { r ->
+            assertTrue(r.metadata.recovered)
+            // Every complete gyroscope row that reached storage is there, in order, from the first.
+            var k = 0L
+            r.stream(SessionStream.GYROSCOPE).use { e ->
+                while (e.next()) {
+                    assertEquals(t0 + (2 * k + 1) * 1_000_000L, e.timestampNs)
+                    assertEquals((2 * k + 1).toDouble(), e.values[0])
+                    k++
+                }
+            }
+            val completeLines = stored.toByteArray().count { it == '\n'.code.toByte() } - 1 // minus the header
+            assertEquals(completeLines.toLong(), k)
+            assertTrue(k > 1000, "$k gyroscope rows")
+            // The accelerometer, flushed every 20 ms, holds a gap-free prefix too.
+            var a = 0L
+            r.stream(SessionStream.ACCELEROMETER).use { e ->
+                while (e.next()) {
+                    assertEquals(t0 + 2 * a * 1_000_000L, e.timestampNs)
+                    a++
+                }
+            }
+            println("storage failure: recovered $k gyroscope rows (all that reached storage) and $a accelerometer rows")
+        }
+    }
 }

@@ -33,6 +33,12 @@ internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : Se
         fusedW += q[offset]
     }
 
+    val checkpoints = CopyOnWriteArrayList<dev.motionfusion.core.session.ClockAnchor>()
+
+    override fun checkpoint(anchor: dev.motionfusion.core.session.ClockAnchor) {
+        checkpoints += anchor
+    }
+
     override fun flush() {
         flushes += System.nanoTime()
     }

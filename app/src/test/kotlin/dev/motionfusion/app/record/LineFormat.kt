@@ -81,6 +81,8 @@ internal class LineSink(private val dir: File, failAfterBytes: Long) : SessionSi
         out.write("FUSED,$timestampNs,${q[offset]},${q[offset + 1]},${q[offset + 2]},${q[offset + 3]}\n".toByteArray())
     }
 
+    override fun checkpoint(anchor: dev.motionfusion.core.session.ClockAnchor) = out.flush()
+
     override fun flush() = out.flush()
 
     override fun finish(end: RecordingEnd) {

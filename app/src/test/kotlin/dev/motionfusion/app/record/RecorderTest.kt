@@ -56,6 +56,21 @@ class RecorderTest {
     }
 
     @Test
+    fun `adds a wall-clock anchor and syncs every checkpoint interval`() {
+        val ring = EventRing(1 shl 10)
+        val sink = MemorySink()
+        var k = 0L
+        val r = Recorder(ring, sink, null, onEnd = { ends += it }, anchorNow = { k++; dev.motionfusion.core.session.ClockAnchor(1_000L * k, k) },
+            checkpointIntervalNs = 50_000_000L)
+        r.start()
+        Thread.sleep(400)
+        r.stop()
+        assertTrue(r.awaitEnd(5_000))
+        assertTrue(sink.checkpoints.size in 4..9, "${sink.checkpoints.size} checkpoints")
+        assertEquals(sink.checkpoints.map { it.elapsedRealtimeNs }.sorted(), sink.checkpoints.map { it.elapsedRealtimeNs })
+    }
+
+    @Test
     fun `a write failure stops cleanly with everything before it and a message`() {
         val ring = EventRing(1 shl 10)
         val sink = MemorySink(failAfterRows = 123)

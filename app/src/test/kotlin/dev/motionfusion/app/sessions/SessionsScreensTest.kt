@@ -1,0 +1,276 @@
+package dev.motionfusion.app.sessions
+
+import android.app.Activity
+import android.app.AlertDialog
+import android.content.Intent
+import android.hardware.Sensor
+import android.hardware.SensorManager
+import android.net.Uri
+import android.os.Looper
+import android.view.View
+import android.widget.Button
+import android.widget.ListView
+import android.widget.TextView
+import dev.motionfusion.app.MainActivity
+import dev.motionfusion.app.R
+import dev.motionfusion.app.Screenshots
+import dev.motionfusion.app.export.ExportProvider
+import dev.motionfusion.app.record.CoreSessionFormat
+import dev.motionfusion.app.record.EventRing
+import dev.motionfusion.app.record.Recorder
+import dev.motionfusion.app.record.RecordingDeps
+import dev.motionfusion.app.record.RecordingService
+import dev.motionfusion.app.record.RecordingStatus
+import dev.motionfusion.app.record.SensorStreams
+import dev.motionfusion.app.record.SessionFolders
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionReader
+import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.sim.MotionSimulator
+import dev.motionfusion.core.sim.SimulationSettings
+import kotlinx.coroutines.Dispatchers
+import org.junit.After
+import org.junit.Assert.assertEquals
+import org.junit.Assert.assertFalse
+import org.junit.Assert.assertNotNull
+import org.junit.Assert.assertTrue
+import org.junit.Before
+import org.junit.Test
+import org.junit.runner.RunWith
+import org.robolectric.Robolectric
+import org.robolectric.RobolectricTestRunner
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+import org.robolectric.annotation.Config
+import org.robolectric.annotation.GraphicsMode
+import org.robolectric.shadows.SensorBuilder
+import org.robolectric.shadows.SensorEventBuilder
+import org.robolectric.shadows.ShadowDialog
+import java.io.File
+
+/** The sessions list, a session's detail with rename, delete and export, and the main screen while recording. */
+@RunWith(RobolectricTestRunner::class)
+@GraphicsMode(GraphicsMode.Mode.NATIVE)
+@Config(sdk = [34])
+class SessionsScreensTest {
+    private val app = RuntimeEnvironment.getApplication()
+
+    @Before
+    fun setUp() {
+        SessionsDeps.io = Dispatchers.Unconfined
+        RecordingStatus.state = RecordingStatus.State.Idle
+    }
+
+    @After
+    fun tearDown() {
+        SessionsDeps.reset()
+        RecordingDeps.reset()
+        RecordingStatus.state = RecordingStatus.State.Idle
+    }
+
+    private fun idle() = shadowOf(Looper.getMainLooper()).idle()
+
+    /** A real session of [seconds] of simulated motion at 200 Hz, recorded through the recorder; left unfinished if [kill]. */
+    private fun record(name: String, seconds: Double, wallMs: Long, seed: Long, kill: Boolean = false): File {
+        val dir = File(SessionFolders.root(app), name)
+        val meta = SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(wallMs, 1_000_000_000L), filterSettings = FilterSettings())
+        val ring = EventRing(1 shl 16)
+        val recorder = Recorder(ring, CoreSessionFormat.create(dir, meta), MadgwickFilter(), onEnd = {}, flushIntervalNs = 50_000_000L)
+        recorder.start()
+        val v = FloatArray(6)
+        for (s in MotionSimulator(SimulationSettings(seed = seed, rateHz = 200.0, durationS = seconds)).run()) {
+            fun put(stream: SessionStream, dt: Long, vararg x: Double) {
+                for (k in x.indices) v[k] = x[k].toFloat()
+                check(ring.offer(stream, s.timestampNs + dt, 3, v, x.size))
+            }
+            put(SessionStream.ACCELEROMETER, 0, s.acc.x, s.acc.y, s.acc.z)
+            put(SessionStream.MAGNETOMETER, 1_000, s.mag.x, s.mag.y, s.mag.z)
+            put(SessionStream.GYROSCOPE, 2_000, s.gyro.x, s.gyro.y, s.gyro.z)
+            put(SessionStream.GAME_ROTATION_VECTOR, 3_000, s.truth.x, s.truth.y, s.truth.z, s.truth.w)
+            while (ring.size > ring.capacity / 2) Thread.sleep(1)
+        }
+        if (kill) {
+            while (ring.size > 0) Thread.sleep(1)
+            Thread.sleep(200) // flushed, then abandoned without closing
+        } else {
+            recorder.stop()
+            assertTrue(recorder.awaitEnd(10_000))
+        }
+        return dir
+    }
+
+    private fun sessions(): Activity {
+        val a = Robolectric.buildActivity(SessionsActivity::class.java).setup().get()
+        idle()
+        return a
+    }
+
+    @Test
+    fun `the list shows date, duration, size, samples and rates, and repairs an interrupted session`() {
+        record("session_2026-11-26_09-15-00", 30.0, 1_795_684_500_000L, 1)
+        record("walk to the station", 12.0, 1_795_688_100_000L, 2)
+        val killed = record("session_2026-11-26_13-05-00", 8.0, 1_795_698_300_000L, 3, kill = true)
+        assertTrue(CoreSessionFormat.isInterrupted(killed))
+        val a = sessions() as SessionsActivity
+        assertFalse("recovered when the list opens", CoreSessionFormat.isInterrupted(killed))
+        val list = a.findViewById<ListView>(R.id.sessions_list)
+        assertEquals(3, list.adapter.count)
+        val items = a.items
+        assertEquals(listOf("walk to the station", "session_2026-11-26_13-05-00", "session_2026-11-26_09-15-00"), items.map { it.dir.name })
+        val first = items.single { it.dir.name == "session_2026-11-26_09-15-00" }.summary!!
+        assertEquals(6000L, first.streams.single { it.name == "accelerometer" }.rows)
+        assertEquals(200.0, first.streams.single { it.name == "gyroscope" }.rateHz, 0.5)
+        assertEquals(29.995, first.durationNs / 1e9, 0.01)
+        assertTrue(items.single { it.dir == killed }.summary!!.recovered)
+        val row = list.adapter.getView(1, null, list)
+        val line1 = row.findViewById<TextView>(R.id.session_line1).text.toString()
+        assertTrue(line1, line1.contains("00:07") && line1.contains("recovered") && line1.contains("samples"))
+        assertTrue(row.findViewById<TextView>(R.id.session_line2).text.contains("gyr 200 Hz"))
+        Screenshots.capture(a, "sessions-list")
+    }
+
+    @Test
+    fun `an empty list says how to record`() {
+        val a = sessions()
+        assertEquals(View.VISIBLE, a.findViewById<View>(R.id.sessions_empty).visibility)
+        Screenshots.capture(a, "sessions-empty")
+    }
+
+    private fun detail(dir: File): SessionDetailActivity {
+        val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, dir.name)
+        val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
+        idle()
+        return a
+    }
+
+    @Test
+    fun `the detail shows the summary and the angle plot`() {
+        val dir = record("walk to the station", 30.0, 1_795_688_100_000L, 4)
+        val a = detail(dir)
+        val streams = a.findViewById<TextView>(R.id.detail_streams).text.toString()
+        assertTrue(streams, streams.contains("accelerometer · 6,000 · 200.0 Hz"))
+        assertTrue(streams, streams.contains("game_rotation_vector · 6,000"))
+        assertTrue(streams, streams.contains("Fused orientation · 6,000 rows"))
+        val plot = a.findViewById<AnglePlotView>(R.id.detail_plot)
+        assertEquals(a.getString(R.string.session_plot_title), plot.contentDescription)
+        Screenshots.capture(a, "session-detail")
+    }
+
+    @Test
+    fun `rename checks the name and renames the folder`() {
+        val dir = record("session_2026-11-26_09-15-00", 2.0, 1_795_684_500_000L, 5)
+        val a = detail(dir)
+        a.findViewById<Button>(R.id.detail_rename).performClick()
+        assertNotNull(a.dialog)
+        a.rename("../escape")
+        assertEquals(a.getString(R.string.session_rename_invalid), a.findViewById<TextView>(R.id.detail_message).text.toString())
+        assertTrue(dir.exists())
+        a.rename("Morning walk")
+        idle()
+        assertFalse(dir.exists())
+        assertTrue(File(dir.parentFile, "Morning walk/meta.json").exists())
+        assertEquals("Morning walk", a.findViewById<TextView>(R.id.detail_name).text.toString())
+    }
+
+    @Test
+    fun `delete asks first and then removes the session`() {
+        val dir = record("to delete", 2.0, 1_795_684_500_000L, 6)
+        val a = detail(dir)
+        a.findViewById<Button>(R.id.detail_delete).performClick()
+        val dialog = ShadowDialog.getLatestDialog() as AlertDialog
+        assertTrue(shadowOf(dialog).message.toString().contains("to delete"))
+        dialog.getButton(AlertDialog.BUTTON_NEGATIVE).performClick()
+        idle()
+        assertTrue("cancel keeps it", dir.exists())
+        a.findViewById<Button>(R.id.detail_delete).performClick()
+        (ShadowDialog.getLatestDialog() as AlertDialog).getButton(AlertDialog.BUTTON_POSITIVE).performClick()
+        idle()
+        assertFalse(dir.exists())
+        assertTrue(a.isFinishing)
+    }
+
+    @Test
+    fun `share sends a content URI with a read grant that opens the session zip`() {
+        val dir = record("walk", 3.0, 1_795_684_500_000L, 7)
+        Robolectric.setupContentProvider(ExportProvider::class.java, ExportProvider.authority(app))
+        val a = detail(dir)
+        a.findViewById<Button>(R.id.detail_share).performClick()
+        idle()
+        val chooser = shadowOf(a).nextStartedActivity
+        assertEquals(Intent.ACTION_CHOOSER, chooser.action)
+        @Suppress("DEPRECATION")
+        val send = chooser.getParcelableExtra<Intent>(Intent.EXTRA_INTENT)!!
+        assertEquals(Intent.ACTION_SEND, send.action)
+        assertEquals("application/zip", send.type)
+        assertTrue(send.flags and Intent.FLAG_GRANT_READ_URI_PERMISSION != 0)
+        @Suppress("DEPRECATION")
+        val uri = send.getParcelableExtra<Uri>(Intent.EXTRA_STREAM)!!
+        assertEquals("content", uri.scheme)
+        assertEquals(ExportProvider.authority(app), uri.authority)
+        val copy = File(app.cacheDir, "received.zip")
+        app.contentResolver.openInputStream(uri)!!.use { input -> copy.outputStream().use { input.copyTo(it) } }
+        SessionReader.open(copy.toPath()).use { r ->
+            assertEquals(600L, r.metadata.streams.getValue(SessionStream.GYROSCOPE).samples)
+            assertTrue(SessionStream.ORIENTATION in r.streams)
+        }
+        // Read-only, and nothing outside the export folder.
+        assertTrue(runCatching { app.contentResolver.openOutputStream(uri) }.isFailure)
+        val outside = Uri.parse("content://${ExportProvider.authority(app)}/..%2Ffiles%2Fsessions%2Fwalk%2Fmeta.json")
+        assertTrue(runCatching { app.contentResolver.openInputStream(outside) }.isFailure)
+    }
+
+    @Test
+    fun `save as writes the zip into the document the user picked`() {
+        val dir = record("walk", 3.0, 1_795_684_500_000L, 8)
+        val a = detail(dir)
+        a.findViewById<Button>(R.id.detail_save_as).performClick()
+        val create = shadowOf(a).nextStartedActivityForResult
+        assertEquals(Intent.ACTION_CREATE_DOCUMENT, create.intent.action)
+        assertEquals("application/zip", create.intent.type)
+        assertEquals("walk.zip", create.intent.getStringExtra(Intent.EXTRA_TITLE))
+        val picked = File(app.cacheDir, "picked/walk.zip").apply { parentFile!!.mkdirs(); createNewFile() }
+        shadowOf(a).receiveResult(create.intent, Activity.RESULT_OK, Intent().setData(Uri.fromFile(picked)))
+        idle()
+        assertEquals(a.getString(R.string.export_done_document), a.findViewById<TextView>(R.id.detail_message).text.toString())
+        SessionReader.open(picked.toPath()).use { r -> assertEquals(600L, r.metadata.streams.getValue(SessionStream.ACCELEROMETER).samples) }
+    }
+
+    @Test
+    fun `the main screen while recording`() {
+        val sm = shadowOf(app.getSystemService(SensorManager::class.java))
+        val sensors = SensorStreams.all.associateWith { s ->
+            SensorBuilder.newBuilder().setType(s.androidType).setName("Test ${s.key}").build().also(sm::addSensor)
+        }
+        val service = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction("dev.motionfusion.app.record.START"))
+            .create().startCommand(0, 1)
+        val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        for (i in 0 until 500) {
+            val t = 1_000_000_000L + i * 5_000_000L
+            fun send(s: SessionStream, vararg v: Float) = sm.sendSensorEventToListeners(
+                SensorEventBuilder.newBuilder().setSensor(sensors.getValue(s)).setValues(v).setTimestamp(t).setAccuracy(3).build(),
+            )
+            send(SessionStream.ACCELEROMETER, 0f, 0f, 9.81f)
+            send(SessionStream.GYROSCOPE, 0f, 0f, 0f)
+            send(SessionStream.MAGNETOMETER, 0f, 22f, -40f)
+        }
+        val active = RecordingStatus.state as RecordingStatus.State.Active
+        val deadline = System.currentTimeMillis() + 10_000
+        while (active.rows() < 1500 && System.currentTimeMillis() < deadline) Thread.sleep(5)
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
+        val toggle = main.findViewById<Button>(R.id.record_toggle)
+        assertEquals(main.getString(R.string.record_stop), toggle.text.toString())
+        val status = main.findViewById<TextView>(R.id.record_status).text.toString()
+        assertTrue(status, status.contains("1,500 samples"))
+        Screenshots.capture(main, "main-recording")
+        service.get().onStartCommand(Intent(app, RecordingService::class.java).setAction("dev.motionfusion.app.record.STOP"), 0, 2)
+        while (RecordingStatus.state !is RecordingStatus.State.Ended && System.currentTimeMillis() < deadline) {
+            idle(); Thread.sleep(5)
+        }
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
+        assertEquals(main.getString(R.string.record_start), toggle.text.toString())
+        Screenshots.capture(main, "main-recording-saved")
+    }
+}
