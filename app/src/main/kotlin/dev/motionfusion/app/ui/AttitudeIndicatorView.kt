@@ -6,7 +6,6 @@ import android.graphics.Color
 import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
-import android.view.View
 import kotlin.math.min
 
 /**
@@ -15,7 +14,7 @@ import kotlin.math.min
  * the bank ([rollDeg] > 0: right edge down). A fixed symbol marks the phone; a ladder marks
  * every 10° of pitch. Draws nothing per frame that allocates.
  */
-class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : DialView(context, attrs) {
     private var pitchDeg = 0f
     private var rollDeg = 0f
     private var valid = false
@@ -39,11 +38,6 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
         invalidate()
     }
 
-    /** Square, as wide as given but at most [MAX_DIAL_DP] (so that landscape leaves room for the rest). */
-    override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
-        val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
-    }
 
     override fun onDraw(canvas: Canvas) {
         val cx = width / 2f
@@ -85,9 +79,4 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
         canvas.drawLine(cx, cy + r * 0.1f, cx + r * 0.18f, cy, symbol)
         canvas.drawCircle(cx, cy, r, rim)
     }
-
-    private fun dp(v: Float) = v * resources.displayMetrics.density
 }
-
-/** The largest diameter of the attitude indicator and the compass, dp. */
-internal const val MAX_DIAL_DP = 260f

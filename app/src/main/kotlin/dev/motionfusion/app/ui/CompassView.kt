@@ -6,7 +6,6 @@ import android.graphics.Color
 import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
-import android.view.View
 import kotlin.math.cos
 import kotlin.math.min
 import kotlin.math.sin
@@ -18,7 +17,7 @@ import kotlin.math.sin
  * with tilt only (no heading) it is dimmed; its rim turns amber when the magnetometer is
  * unreliable.
  */
-class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : DialView(context, attrs) {
     private var headingDeg = 0f
     private var state = State.NONE
 
@@ -40,11 +39,6 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
         invalidate()
     }
 
-    /** Square, as wide as given but at most [MAX_DIAL_DP] (so that landscape leaves room for the rest). */
-    override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
-        val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
-    }
 
     override fun onDraw(canvas: Canvas) {
         val cx = width / 2f
@@ -91,7 +85,6 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
         canvas.drawCircle(cx, cy, dp(3f), lubber)
     }
 
-    private fun dp(v: Float) = v * resources.displayMetrics.density
 
     private companion object {
         val LABELS = arrayOf("N", "E", "S", "W")

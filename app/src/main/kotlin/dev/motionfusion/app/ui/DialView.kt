@@ -1,0 +1,21 @@
+package dev.motionfusion.app.ui
+
+import android.content.Context
+import android.util.AttributeSet
+import android.view.View
+import kotlin.math.min
+
+/** Largest side of a round instrument, so that landscape leaves room for the rest of the screen. */
+internal const val MAX_DIAL_DP = 260f
+
+/** A round instrument: square, as wide as it is given but at most [MAX_DIAL_DP]. */
+abstract class DialView(context: Context, attrs: AttributeSet?) : View(context, attrs) {
+
+    final override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
+        val w = MeasureSpec.getSize(widthMeasureSpec)
+        setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
+    }
+
+    /** [v] density-independent pixels in pixels. */
+    protected fun dp(v: Float): Float = v * resources.displayMetrics.density
+}
