@@ -239,6 +239,22 @@ class CoreRecordingTest {
                     .format(worst, worstMeta, worstDouble),
             )
             assertTrue(worstMeta < 1e-4, "with the settings in meta.json: $worstMeta°")
+            // The replay engine of `fusion replay` on the zip itself.
+            val cli = ArrayList<DoubleArray>()
+            dev.motionfusion.core.recording.Recording.open(zip.toPath()).use { rec ->
+                assertEquals(dev.motionfusion.core.recording.RecordingFormat.SESSION, rec.format)
+                rec.events().use { e ->
+                    dev.motionfusion.core.replay.Replayer().run(e, rec.originNs, object : dev.motionfusion.core.replay.ReplayListener {
+                        override fun step(step: dev.motionfusion.core.replay.ReplayStep) {
+                            if (step.initialised) cli += step.orientation.copyOf()
+                        }
+                    })
+                }
+            }
+            assertEquals(live.size, cli.size)
+            val worstCli = live.indices.maxOf { angleDeg(live[it].second, cli[it]) }
+            println("export: fusion replay's engine on the zip vs live: worst %.2e°".format(worstCli))
+            assertTrue(worstCli < 1e-4, "fusion replay: $worstCli°")
             assertTrue(worstDouble < 1e-4, "read as doubles: $worstDouble°")
             // The live output is stored as float: agreement to float precision, not a coarse tolerance.
             assertTrue(worst < 1e-4, "worst difference $worst°")
