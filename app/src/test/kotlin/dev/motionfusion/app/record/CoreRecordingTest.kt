@@ -85,6 +85,7 @@ class CoreRecordingTest {
         val result = ended.get()
         assertEquals(RecordingEnd.Stopped, result.end)
         assertEquals(total.toLong(), result.rows)
+        SessionReader.open(dir.toPath()).use { assertEquals("stopped", it.metadata.endReason) }
         assertEquals(0L, result.refused)
 
         // Every row on disk, per stream in order, with its value.
@@ -345,6 +346,7 @@ class CoreRecordingTest {
         CoreSessionFormat.recover(dir)
         SessionReader.open(dir.toPath()).use { r ->
             assertTrue(r.metadata.recovered)
+            assertEquals("write_failed: Broken pipe", r.metadata.endReason)
             // Every complete gyroscope row that reached storage is there, in order, from the first.
             var k = 0L
             r.stream(SessionStream.GYROSCOPE).use { e ->
@@ -357,7 +359,7 @@ class CoreRecordingTest {
             val completeLines = stored.toByteArray().count { it == '\n'.code.toByte() } - 1 // minus the header
             assertEquals(completeLines.toLong(), k)
             assertTrue(k > 1000, "$k gyroscope rows")
-            // The accelerometer, flushed every 20 ms, holds a gap-free prefix too.
+            // The accelerometer, drained when the writer was abandoned, holds every row handed to the writer.
             var a = 0L
             r.stream(SessionStream.ACCELEROMETER).use { e ->
                 while (e.next()) {
@@ -366,6 +368,7 @@ class CoreRecordingTest {
                 }
             }
             println("storage failure: recovered $k gyroscope rows (all that reached storage) and $a accelerometer rows")
+            assertEquals(ended.get().rowsPerStream[SessionStream.ACCELEROMETER.ordinal], a)
         }
     }
 }
