@@ -11,6 +11,7 @@ import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterMode
@@ -155,6 +156,7 @@ class MainActivityTest {
         assertEquals(View.GONE, a.findViewById<View>(R.id.mag_warning).visibility)
         assertTrue(a.text(R.id.mag_status), a.text(R.id.mag_status).contains("45.7 µT"))
         assertTrue(a.text(R.id.rv_difference), a.text(R.id.rv_difference).contains("0.0° apart"))
+        assertTrue(a.text(R.id.rv_angles), a.text(R.id.rv_angles).endsWith("heading accuracy ±5.7°"))
         Screenshots.capture(a, "live-flat")
     }
 
@@ -266,8 +268,9 @@ class MainActivityTest {
         val c = start(acc, gyro)
         holdStill(floatArrayOf(0f, 0f, 9.81f), null)
         val a = c.get()
-        a.assertAngles(null, 0.0, 0.0)
+        a.assertAngles(0.0, 0.0, 0.0) // the relative heading starts at 0
         assertEquals(a.getString(R.string.mode_imu_no_mag), a.text(R.id.mode_explanation))
+        assertEquals(a.getString(R.string.compass_relative_description, "0.0°"), a.findViewById<View>(R.id.compass).contentDescription)
         assertTrue(a.text(R.id.convention_note).contains(a.getString(R.string.convention_relative_heading)))
         assertEquals(FilterMode.IMU, engine().filterSettingsInUse().mode)
         Screenshots.capture(a, "live-no-magnetometer")
@@ -297,6 +300,23 @@ class MainActivityTest {
         val stats = engine().state.value.sensors
         for (k in listOf(SensorKind.ACCELEROMETER, SensorKind.GYROSCOPE, SensorKind.MAGNETOMETER)) assertEquals(30L, stats.getValue(k).samples)
         assertEquals(29L, engine().state.value.filterSteps)
+    }
+
+    @Test
+    fun `a new requested rate re-registers the listeners and samples keep flowing`() {
+        val c = start(acc, gyro, mag)
+        holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
+        val before = sensors.listeners.single()
+        engine().updateSettings(LiveSettings(rate = SamplingRate.Delay.GAME))
+        frame()
+        val after = sensors.listeners.single()
+        assertFalse("registered anew", before === after)
+        listOf(acc, gyro, mag).forEach { assertTrue(sensors.hasListener(after, it)) }
+        holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
+        assertEquals(60L, engine().state.value.sensors.getValue(SensorKind.GYROSCOPE).samples)
+        // The filter was not rebuilt by a rate change: it kept stepping (29 steps, then 30 more).
+        assertEquals(59L, engine().state.value.filterSteps)
+        c.get().assertAngles(0.0, 0.0, 0.0)
     }
 
     @Test

@@ -43,10 +43,16 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     private var hasOrientation = false
     private val rv = DoubleArray(4)
     private val grv = DoubleArray(4)
+    private var rvHeadingAccuracy = Float.NaN
     private val r = FloatArray(9)
     private val acc = FloatArray(3)
     private val mag = FloatArray(3)
     private var lastT = 0L
+
+    // 6D: rotation about up applied to the filter's output so that the relative heading starts at 0.
+    private var hasYawOffset = false
+    private var yawOffsetW = 1.0
+    private var yawOffsetZ = 0.0
 
     /**
      * Applies new settings. The filter is rebuilt (and restarts from the next samples) only when
@@ -59,6 +65,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
         mode = newMode
         if (filterChanged) {
             filter = newFilter()
+            hasYawOffset = false
             if (mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU) hasOrientation = false
         }
     }
@@ -79,7 +86,10 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
             FusionMode.NONE -> Unit
         }
         when (s.kind) {
-            SensorKind.ROTATION_VECTOR -> unitQuaternion(s, rv)
+            SensorKind.ROTATION_VECTOR -> {
+                unitQuaternion(s, rv)
+                rvHeadingAccuracy = s.headingAccuracyRad
+            }
             SensorKind.GAME_ROTATION_VECTOR -> unitQuaternion(s, grv)
             else -> Unit
         }
@@ -113,6 +123,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
             settings = settings,
             orientation = if (hasOrientation) Quaternion(q[0], q[1], q[2], q[3]) else null,
             rotationVector = if (seen[SensorKind.ROTATION_VECTOR.ordinal]) Quaternion(rv[0], rv[1], rv[2], rv[3]) else null,
+            rotationVectorHeadingAccuracyRad = rvHeadingAccuracy.takeIf { it.isFinite() && it >= 0f }?.toDouble(),
             gameRotationVector = if (seen[SensorKind.GAME_ROTATION_VECTOR.ordinal]) Quaternion(grv[0], grv[1], grv[2], grv[3]) else null,
             sensors = stats,
             magneticFieldUt = if (seen[SensorKind.MAGNETOMETER.ordinal]) {
@@ -146,11 +157,38 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
                 filter.updateGyroscope(s.timestampNs, x, y, z)
                 if (filter.isInitialised) {
                     filter.orientationInto(q)
+                    if (mode.mode == FusionMode.IMU) relativeHeading()
                     hasOrientation = true
                 }
             }
             else -> Unit
         }
+    }
+
+    /**
+     * 6D has no north: the filter starts with the device's x axis towards its x ("north"), so the
+     * first heading would be an arbitrary number. Turn the output about up by the first azimuth
+     * ψ (q ← [cos ψ/2, 0, 0, sin ψ/2] ⊗ q) so that the relative heading starts at 0; tilt is
+     * unchanged.
+     */
+    private fun relativeHeading() {
+        if (!hasYawOffset) {
+            // Azimuth of the device's y axis: atan2(R01, R11) of q's matrix.
+            val r01 = 2.0 * (q[1] * q[2] - q[0] * q[3])
+            val r11 = 1.0 - 2.0 * (q[1] * q[1] + q[3] * q[3])
+            val psi = kotlin.math.atan2(r01, r11)
+            yawOffsetW = kotlin.math.cos(psi / 2)
+            yawOffsetZ = kotlin.math.sin(psi / 2)
+            hasYawOffset = true
+        }
+        val w = q[0]
+        val x = q[1]
+        val y = q[2]
+        val z = q[3]
+        q[0] = yawOffsetW * w - yawOffsetZ * z
+        q[1] = yawOffsetW * x - yawOffsetZ * y
+        q[2] = yawOffsetW * y + yawOffsetZ * x
+        q[3] = yawOffsetW * z + yawOffsetZ * w
     }
 
     private fun accMag() {

@@ -30,6 +30,8 @@ data class SensorStats(
  * @property mode how [orientation] is computed and why.
  * @property orientation the Madgwick (or fallback) estimate.
  * @property rotationVector the phone's own TYPE_ROTATION_VECTOR.
+ * @property rotationVectorHeadingAccuracyRad the rotation vector's own heading accuracy
+ *   estimate (values[4]), rad; null when the phone gives none.
  * @property gameRotationVector the phone's own TYPE_GAME_ROTATION_VECTOR (heading arbitrary).
  * @property magneticFieldUt strength of the last magnetometer reading, µT.
  * @property atRest, [magneticDisturbance], [accelerometerRejected]: the filter's flags.
@@ -42,6 +44,7 @@ data class FusionState(
     val settings: LiveSettings,
     val orientation: Quaternion?,
     val rotationVector: Quaternion?,
+    val rotationVectorHeadingAccuracyRad: Double?,
     val gameRotationVector: Quaternion?,
     val sensors: Map<SensorKind, SensorStats>,
     val magneticFieldUt: Double?,

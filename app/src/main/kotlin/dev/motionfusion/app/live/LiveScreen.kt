@@ -104,7 +104,8 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         rvAngles.text = when {
             SensorKind.ROTATION_VECTOR !in sensorInfo -> activity.getString(R.string.rv_missing)
             rva == null -> activity.getString(R.string.rv_waiting)
-            else -> activity.getString(R.string.rv_angles, yawName, heading(rva.yaw), deg(rva.pitch), deg(rva.roll))
+            else -> activity.getString(R.string.rv_angles, yawName, heading(rva.yaw), deg(rva.pitch), deg(rva.roll)) +
+                (s.rotationVectorHeadingAccuracyRad?.let { activity.getString(R.string.rv_heading_accuracy, Math.toDegrees(it)) } ?: "")
         }
         val lines = ArrayList<String>(2)
         val d = ui.differenceDeg

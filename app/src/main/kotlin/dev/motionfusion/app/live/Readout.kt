@@ -64,9 +64,10 @@ object Readout {
         return Math.toDegrees(acos((ua dot ub).coerceIn(-1.0, 1.0)))
     }
 
-    /** [deg] in [0, 360). */
+    /** [deg] in [0, 360): a tiny negative angle becomes 0, not a 360 rounded up from 360 − 1e-14. */
     fun wrap360(deg: Double): Double {
         val w = deg % 360.0
-        return if (w < 0.0) w + 360.0 else w + 0.0
+        val r = if (w < 0.0) w + 360.0 else w + 0.0
+        return if (r >= 360.0) 0.0 else r
     }
 }

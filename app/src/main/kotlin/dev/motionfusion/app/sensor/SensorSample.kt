@@ -6,7 +6,8 @@ package dev.motionfusion.app.sensor
  * `SensorEvent.timestamp` (elapsedRealtimeNanos time base); [accuracy] is
  * `SensorEvent.accuracy` read on every event (SensorManager.SENSOR_STATUS_*).
  * For the rotation vectors, x, y, z are values[0..2] and [w] is values[3] (cos(θ/2));
- * for the other kinds [w] is NaN.
+ * for the other kinds [w] is NaN. [headingAccuracyRad] is values[4] of ROTATION_VECTOR (the
+ * estimated heading accuracy, rad, −1 when unknown), NaN otherwise.
  */
 data class SensorSample(
     val kind: SensorKind,
@@ -16,4 +17,5 @@ data class SensorSample(
     val z: Float,
     val accuracy: Int,
     val w: Float = Float.NaN,
+    val headingAccuracyRad: Float = Float.NaN,
 )

@@ -70,7 +70,8 @@ class SensorSource(private val sensorManager: SensorManager) {
                 val kind = SensorKind.of(event.sensor.type) ?: return
                 val v = event.values
                 val w = if (kind.isRotationVector && v.size >= 4) v[3] else Float.NaN
-                trySend(SensorSample(kind, event.timestamp, v[0], v[1], v[2], event.accuracy, w))
+                val headingAccuracy = if (kind == SensorKind.ROTATION_VECTOR && v.size >= 5) v[4] else Float.NaN
+                trySend(SensorSample(kind, event.timestamp, v[0], v[1], v[2], event.accuracy, w, headingAccuracy))
             }
 
             override fun onAccuracyChanged(sensor: Sensor, accuracy: Int) = Unit // read per event instead

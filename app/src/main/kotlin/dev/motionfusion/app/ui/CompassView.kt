@@ -14,7 +14,9 @@ import kotlin.math.sin
 /**
  * A compass card: the dial turns so that N points to magnetic north, with the fixed lubber line
  * at the top showing the heading of the screen's top edge. Greyed out when the heading is not
- * magnetic (6D, tilt only) and amber when the magnetometer is unreliable.
+ * magnetic: in 6D (relative) the card shows degrees from the start instead of cardinal points,
+ * with tilt only (no heading) it is dimmed; its rim turns amber when the magnetometer is
+ * unreliable.
  */
 class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
     private var headingDeg = 0f
@@ -66,7 +68,8 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
             val c = cos(a).toFloat()
             canvas.drawLine(cx + s * inner, cy - c * inner, cx + s * r * 0.95f, cy - c * r * 0.95f, tick)
         }
-        val labels = LABELS
+        // A relative heading has no north: degrees instead of cardinal points.
+        val labels = if (state == State.RELATIVE) RELATIVE_LABELS else LABELS
         for (i in 0 until 4) {
             val a = Math.toRadians(i * 90.0)
             val lr = r * 0.64f
@@ -74,7 +77,7 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
             val y = cy - cos(a).toFloat() * lr + dp(6f)
             canvas.save()
             canvas.rotate(i * 90f, x, y - dp(6f))
-            canvas.drawText(labels[i], x, y, if (i == 0) north else text)
+            canvas.drawText(labels[i], x, y, if (i == 0 && state != State.RELATIVE) north else text)
             canvas.restore()
         }
         canvas.restore()
@@ -92,5 +95,6 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
 
     private companion object {
         val LABELS = arrayOf("N", "E", "S", "W")
+        val RELATIVE_LABELS = arrayOf("0", "90", "180", "270")
     }
 }

@@ -65,12 +65,13 @@ class FusionPipelineTest {
         assertEquals(FusionMode.IMU, p.mode.mode)
         p.onSample(acc(0, 0f, 0f, 9.81f))
         p.onSample(gyro(0))
-        val start = angles(p).yaw // 6D: the start heading is arbitrary
+        val start = angles(p).yaw
         // 0.5 rad/s counter-clockwise (seen from above) about up for 1 s at 100 Hz: azimuth −28.65°.
         for (i in 1..100) {
             p.onSample(acc(i * 10 * ms, 0f, 0f, 9.81f))
             p.onSample(gyro(i * 10 * ms, z = 0.5f))
         }
+        assertEquals(0.0, start, 1e-9, "6D: the relative heading starts at 0")
         assertEquals(-Math.toDegrees(0.5), wrapped(angles(p).yaw - start), 0.05)
         assertEquals(100L, p.snapshot().filterSteps)
     }
@@ -106,13 +107,16 @@ class FusionPipelineTest {
     fun `rotation vectors are kept normalised, per kind`() {
         val p = FusionPipeline(all, LiveSettings())
         val h = Math.sqrt(0.5).toFloat()
-        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 0, 0f, 0f, 2 * h, 3, 2 * h))
+        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 0, 0f, 0f, 2 * h, 3, 2 * h, headingAccuracyRad = 0.05f))
         p.onSample(SensorSample(SensorKind.GAME_ROTATION_VECTOR, 0, 0f, 0f, 0f, 3, 1f))
         val st = p.snapshot()
         val rv = st.rotationVector!!
         assertEquals(1.0, rv.norm(), 1e-6)
         assertEquals(0.0, Readout.angleBetweenDeg(rv, Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.PI / 2)), 1e-4)
         assertEquals(Quaternion(1.0, 0.0, 0.0, 0.0), st.gameRotationVector)
+        assertEquals(0.05, st.rotationVectorHeadingAccuracyRad!!, 1e-7)
+        p.onSample(SensorSample(SensorKind.ROTATION_VECTOR, 1, 0f, 0f, 0f, 3, 1f, headingAccuracyRad = -1f))
+        assertNull(p.snapshot().rotationVectorHeadingAccuracyRad, "−1: unknown")
     }
 
     @Test

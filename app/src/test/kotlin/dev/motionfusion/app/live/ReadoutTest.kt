@@ -104,6 +104,7 @@ class ReadoutTest {
     fun `headings wrap into 0 to 360 and round without 360`() {
         assertEquals(350.0, Readout.wrap360(-10.0), 1e-12)
         assertEquals(0.0, Readout.wrap360(720.0), 1e-12)
+        assertEquals(0.0, Readout.wrap360(-1e-14), 0.0)
         assertEquals(0.0, displayHeading(359.96))
         assertEquals(0.0, displayDegrees(-0.04))
         assertEquals(1.0, abs(displayDegrees(-1.0)))

@@ -28,7 +28,7 @@ import kotlin.math.sqrt
  * Android's orientation angles (as getOrientation), radians, of a device → ENU rotation R:
  * [azimuth] about −z, from magnetic north to the device's y axis projected on the ground,
  * positive toward east, in [−π, π]; [pitch] about x, positive when the top edge tilts down,
- * in [−π/2, π/2]; [roll] about y, positive when the left edge tilts down, in [−π, π].
+ * in [−π/2, π/2]; [roll] about y, positive when the right edge tilts down, in [−π, π].
  * R = Rz(−azimuth) · Rx(−pitch) · Ry(roll), i.e. intrinsic Z-X-Y angles (−azimuth, −pitch, roll).
  * When pitch is ±π/2 azimuth and roll are not separable; like getOrientation, both are still
  * computed from atan2 and are then only as meaningful as the matrix's rounding.

@@ -132,7 +132,7 @@ class ReportReferenceTest {
     @Test
     fun `MARG update with zeta matches the report's equations on a real recording given by the broad-trial property`() {
         // Opt-in: the recordings are not part of the repository. Example:
-        // mvn -pl fusion-core test -Dtest=ReportReferenceTest -Dbroad-trial=/work/shared/data/broad-subset/06_undisturbed_fast_rotation_A
+        // mvn -pl fusion-core test -Dtest=ReportReferenceTest -Dbroad-trial=TRIAL_DIR (a BROAD trial folder with input.csv.gz)
         val dir = System.getProperty("broad-trial")
         assumeTrue(dir != null, "no -Dbroad-trial given")
         val trial = Trial.load(File(dir!!))
