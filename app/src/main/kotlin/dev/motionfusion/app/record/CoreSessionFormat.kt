@@ -27,14 +27,18 @@ internal object CoreSessionFormat : SessionFormat {
 
 /**
  * [SessionSink] on a [SessionWriter]: each raw row through the writer's typed, allocation-free
- * methods. After a failure the writer is not closed (that would write "complete": true over
- * files whose last rows never reached the disk): the session stays interrupted and
- * [SessionRecovery] repairs it from what is on disk.
+ * methods. After a failure the writer is abandoned, not closed (closing would write
+ * "complete": true over files whose last rows never reached the disk): every stream that still
+ * works is drained, the session stays interrupted and [SessionRecovery] repairs it from what is
+ * on disk.
  */
 internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink {
+    private var lastTimestampNs = Long.MIN_VALUE
+
     override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
         val v = values
         val o = offset
+        if (timestampNs > lastTimestampNs) lastTimestampNs = timestampNs
         when (stream) {
             SessionStream.ACCELEROMETER -> writer.accelerometer(timestampNs, v[o], v[o + 1], v[o + 2], accuracy)
             SessionStream.GYROSCOPE -> writer.gyroscope(timestampNs, v[o], v[o + 1], v[o + 2], accuracy)
@@ -64,7 +68,15 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
         writer.sync()
     }
 
-    override fun finish(end: RecordingEnd) = writer.close()
+    override fun finish(end: RecordingEnd) =
+        writer.close(if (lastTimestampNs == Long.MIN_VALUE) null else lastTimestampNs, end.reason)
 
-    override fun abandon() = Unit
+    override fun abandon(end: RecordingEnd) {
+        try {
+            writer.updateMetadata { it.copy(endReason = end.reason) }
+        } catch (_: Exception) {
+            // The disk may not take even meta.json; recovery then says "interrupted".
+        }
+        writer.abandon()
+    }
 }

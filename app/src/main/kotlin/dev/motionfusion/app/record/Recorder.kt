@@ -124,8 +124,9 @@ internal class Recorder(
             loop()
         } catch (e: Exception) {
             ring.close()
-            sink.abandon()
-            RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName)
+            val failed = RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName)
+            sink.abandon(failed)
+            failed
         }
         val r = RecorderResult(end, LongArray(rows.length()) { rows.get(it) }, fusedRows, ring.refused)
         result = r

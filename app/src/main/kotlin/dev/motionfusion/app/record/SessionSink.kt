@@ -42,8 +42,11 @@ internal interface SessionSink {
     @Throws(IOException::class)
     fun finish(end: RecordingEnd)
 
-    /** Closes files without completing the session, after a failure; never throws. */
-    fun abandon()
+    /**
+     * After a failure: hands what it can to the storage, records why ([end]) if it still can,
+     * and closes the files without completing the session (it is repaired by recovery); never throws.
+     */
+    fun abandon(end: RecordingEnd)
 }
 
 /** Why a recording ended. */
@@ -61,4 +64,13 @@ internal sealed interface RecordingEnd {
     data class WriteFailed(val message: String) : RecordingEnd
 
     val isFailure: Boolean get() = this !is Stopped
+
+    /** The `end_reason` of meta.json (docs/SESSION_FORMAT.md). */
+    val reason: String
+        get() = when (this) {
+            Stopped -> "stopped"
+            is QueueOverflow -> "queue_overflow"
+            is StorageLow -> "storage_low"
+            is WriteFailed -> "write_failed: $message"
+        }
 }

@@ -85,6 +85,7 @@ class CoreRecordingTest {
         val result = ended.get()
         assertEquals(RecordingEnd.Stopped, result.end)
         assertEquals(total.toLong(), result.rows)
+        SessionReader.open(dir.toPath()).use { assertEquals("stopped", it.metadata.endReason) }
         assertEquals(0L, result.refused)
 
         // Every row on disk, per stream in order, with its value.
@@ -239,6 +240,22 @@ class CoreRecordingTest {
                     .format(worst, worstMeta, worstDouble),
             )
             assertTrue(worstMeta < 1e-4, "with the settings in meta.json: $worstMeta°")
+            // The replay engine of `fusion replay` on the zip itself.
+            val cli = ArrayList<DoubleArray>()
+            dev.motionfusion.core.recording.Recording.open(zip.toPath()).use { rec ->
+                assertEquals(dev.motionfusion.core.recording.RecordingFormat.SESSION, rec.format)
+                rec.events().use { e ->
+                    dev.motionfusion.core.replay.Replayer().run(e, rec.originNs, object : dev.motionfusion.core.replay.ReplayListener {
+                        override fun step(step: dev.motionfusion.core.replay.ReplayStep) {
+                            if (step.initialised) cli += step.orientation.copyOf()
+                        }
+                    })
+                }
+            }
+            assertEquals(live.size, cli.size)
+            val worstCli = live.indices.maxOf { angleDeg(live[it].second, cli[it]) }
+            println("export: fusion replay's engine on the zip vs live: worst %.2e°".format(worstCli))
+            assertTrue(worstCli < 1e-4, "fusion replay: $worstCli°")
             assertTrue(worstDouble < 1e-4, "read as doubles: $worstDouble°")
             // The live output is stored as float: agreement to float precision, not a coarse tolerance.
             assertTrue(worst < 1e-4, "worst difference $worst°")
@@ -329,6 +346,7 @@ class CoreRecordingTest {
         CoreSessionFormat.recover(dir)
         SessionReader.open(dir.toPath()).use { r ->
             assertTrue(r.metadata.recovered)
+            assertEquals("write_failed: Broken pipe", r.metadata.endReason)
             // Every complete gyroscope row that reached storage is there, in order, from the first.
             var k = 0L
             r.stream(SessionStream.GYROSCOPE).use { e ->
@@ -341,7 +359,7 @@ class CoreRecordingTest {
             val completeLines = stored.toByteArray().count { it == '\n'.code.toByte() } - 1 // minus the header
             assertEquals(completeLines.toLong(), k)
             assertTrue(k > 1000, "$k gyroscope rows")
-            // The accelerometer, flushed every 20 ms, holds a gap-free prefix too.
+            // The accelerometer, drained when the writer was abandoned, holds every row handed to the writer.
             var a = 0L
             r.stream(SessionStream.ACCELEROMETER).use { e ->
                 while (e.next()) {
@@ -350,6 +368,7 @@ class CoreRecordingTest {
                 }
             }
             println("storage failure: recovered $k gyroscope rows (all that reached storage) and $a accelerometer rows")
+            assertEquals(ended.get().rowsPerStream[SessionStream.ACCELEROMETER.ordinal], a)
         }
     }
 }

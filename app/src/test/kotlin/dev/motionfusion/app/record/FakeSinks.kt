@@ -47,7 +47,7 @@ internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : Se
         finished = end
     }
 
-    override fun abandon() {
+    override fun abandon(end: RecordingEnd) {
         abandoned = true
     }
 }

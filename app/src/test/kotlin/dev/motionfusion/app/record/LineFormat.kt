@@ -90,7 +90,7 @@ internal class LineSink(private val dir: File, failAfterBytes: Long) : SessionSi
         File(dir, "finished").writeText(end.toString())
     }
 
-    override fun abandon() {
+    override fun abandon(end: RecordingEnd) {
         try {
             file.close()
         } catch (_: IOException) {
