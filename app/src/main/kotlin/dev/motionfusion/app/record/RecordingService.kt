@@ -70,7 +70,7 @@ class RecordingService : Service() {
         goForeground()
 
         val format = RecordingDeps.format
-        SessionRecovery.recoverAll(this, format)
+        InterruptedSessions.recoverAll(this, format)
         val dir = SessionFolders.newSession(this, startedWallMs)
         val ring = EventRing(RecordingDeps.ringCapacity)
         val sensorManager = getSystemService(SensorManager::class.java)

@@ -12,7 +12,7 @@ import android.widget.ListView
 import android.widget.TextView
 import dev.motionfusion.app.R
 import dev.motionfusion.app.record.SessionFolders
-import dev.motionfusion.app.record.SessionRecovery
+import dev.motionfusion.app.record.InterruptedSessions
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.MainScope
 import kotlinx.coroutines.cancel
@@ -60,7 +60,7 @@ class SessionsActivity : Activity() {
     }
 
     private fun load(): List<Item> {
-        SessionRecovery.recoverAll(this)
+        InterruptedSessions.recoverAll(this)
         val library = SessionsDeps.library
         return SessionFolders.list(this).map { dir ->
             try {

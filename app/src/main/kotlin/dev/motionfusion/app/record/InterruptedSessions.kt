@@ -5,7 +5,7 @@ import android.util.Log
 import java.io.File
 
 /** Finds sessions a killed process or a storage failure left unfinished and repairs them. */
-internal object SessionRecovery {
+internal object InterruptedSessions {
     /** Recovers every interrupted session except the one being recorded; returns the recovered folders. */
     fun recoverAll(context: Context, format: SessionFormat = RecordingDeps.format): List<File> {
         val recording = (RecordingStatus.state as? RecordingStatus.State.Active)?.session
@@ -18,7 +18,7 @@ internal object SessionRecovery {
                     recovered += dir
                 }
             } catch (e: Exception) {
-                Log.w("SessionRecovery", "cannot recover ${dir.name}: ${e.message}")
+                Log.w("InterruptedSessions", "cannot recover ${dir.name}: ${e.message}")
             }
         }
         return recovered
