@@ -4,8 +4,6 @@ import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.io.TempDir
-import java.io.ByteArrayOutputStream
-import java.io.PrintStream
 import java.nio.file.Files
 import java.nio.file.Path
 import java.util.zip.GZIPOutputStream
@@ -14,14 +12,6 @@ class CliTest {
     @TempDir
     lateinit var dir: Path
 
-    private class Result(val code: Int, val out: String, val err: String)
-
-    private fun fusion(vararg args: String): Result {
-        val out = ByteArrayOutputStream()
-        val err = ByteArrayOutputStream()
-        val code = Cli(PrintStream(out, true, "UTF-8"), PrintStream(err, true, "UTF-8")).run(args.toList())
-        return Result(code, out.toString("UTF-8"), err.toString("UTF-8"))
-    }
 
     private fun table(name: String, text: String, gzip: Boolean = false): String {
         val p = dir.resolve(name)

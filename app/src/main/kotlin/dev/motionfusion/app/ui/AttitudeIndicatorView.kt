@@ -6,7 +6,6 @@ import android.graphics.Color
 import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
-import kotlin.math.min
 
 /**
  * An artificial horizon: sky and ground as seen from the phone flown with the screen's top edge
@@ -38,12 +37,7 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
         invalidate()
     }
 
-
-    override fun onDraw(canvas: Canvas) {
-        val cx = width / 2f
-        val cy = height / 2f
-        val r = min(cx, cy) - dp(4f)
-        if (r <= 0f) return
+    override fun drawDial(canvas: Canvas, cx: Float, cy: Float, r: Float) {
         clip.rewind()
         clip.addCircle(cx, cy, r, Path.Direction.CW)
         canvas.save()

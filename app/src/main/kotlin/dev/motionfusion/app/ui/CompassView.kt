@@ -7,7 +7,6 @@ import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
 import kotlin.math.cos
-import kotlin.math.min
 import kotlin.math.sin
 
 /**
@@ -39,12 +38,7 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
         invalidate()
     }
 
-
-    override fun onDraw(canvas: Canvas) {
-        val cx = width / 2f
-        val cy = height / 2f
-        val r = min(cx, cy) - dp(4f)
-        if (r <= 0f) return
+    override fun drawDial(canvas: Canvas, cx: Float, cy: Float, r: Float) {
         canvas.drawCircle(cx, cy, r, face)
         rim.color = when (state) {
             State.WARNING -> Color.rgb(0xFF, 0xB7, 0x4D)

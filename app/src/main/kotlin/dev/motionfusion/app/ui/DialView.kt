@@ -1,6 +1,7 @@
 package dev.motionfusion.app.ui
 
 import android.content.Context
+import android.graphics.Canvas
 import android.util.AttributeSet
 import android.view.View
 import kotlin.math.min
@@ -15,6 +16,16 @@ abstract class DialView(context: Context, attrs: AttributeSet?) : View(context, 
         val w = MeasureSpec.getSize(widthMeasureSpec)
         setMeasuredDimension(w, resolveSize(min(w, dp(MAX_DIAL_DP).toInt()), heightMeasureSpec))
     }
+
+    final override fun onDraw(canvas: Canvas) {
+        val cx = width / 2f
+        val cy = height / 2f
+        val r = min(cx, cy) - dp(4f)
+        if (r > 0f) drawDial(canvas, cx, cy, r)
+    }
+
+    /** Draws the instrument as a circle of radius [r] px about ([cx], [cy]), inset for its rim. */
+    protected abstract fun drawDial(canvas: Canvas, cx: Float, cy: Float, r: Float)
 
     /** [v] density-independent pixels in pixels. */
     protected fun dp(v: Float): Float = v * resources.displayMetrics.density
