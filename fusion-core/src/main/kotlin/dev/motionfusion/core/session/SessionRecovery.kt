@@ -102,7 +102,9 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
             if (p.stats.samples > 0) end = maxOf(end, p.stats.lastTimestampNs)
         }
         val endNs = if (end == Long.MIN_VALUE) null else end
-        val pauses = meta.pauses.map { if (it.endElapsedRealtimeNs == null) it.copy(endElapsedRealtimeNs = endNs ?: it.startElapsedRealtimeNs) else it }
+        val pauses = meta.pauses.map {
+            if (it.endElapsedRealtimeNs != null) it else it.copy(endElapsedRealtimeNs = maxOf(it.startElapsedRealtimeNs, endNs ?: it.startElapsedRealtimeNs))
+        }
         val repaired = meta.copy(
             complete = true, recovered = true, endElapsedRealtimeNs = endNs,
             endReason = meta.endReason.ifEmpty { "interrupted" }, streams = stats, pauses = pauses,
