@@ -27,7 +27,8 @@ internal class Cli(
 
     fun run(args: List<String>): Int {
         val code = dispatch(args)
-        if (code == ExitCode.OK && out.checkError()) return fail(ExitCode.IO_ERROR, stdoutMessage())
+        val stdoutFailed = out.checkError() // flushes
+        if (code == ExitCode.OK && stdoutFailed) return fail(ExitCode.IO_ERROR, stdoutMessage())
         return code
     }
 
@@ -81,7 +82,7 @@ internal class Cli(
     }
 
     private fun stdoutMessage(): String =
-        "standard output: ${stdoutFailure()?.let { AtomicFiles.reason(it) } ?: "write failed (closed pipe or full device)"}; nothing was written"
+        "standard output: ${stdoutFailure()?.let { AtomicFiles.reason(it) } ?: "write failed (closed pipe or full device)"}"
 
     private fun fail(code: Int, message: String): Int {
         err.println("fusion: $message")

@@ -8,7 +8,7 @@ import kotlin.system.exitProcess
 /** Entry point of the `fusion` command. */
 public fun main(args: Array<String>) {
     val stdout = RecordingOutput(FileOutputStream(FileDescriptor.out))
-    val out = PrintStream(stdout, false, System.getProperty("sun.stdout.encoding") ?: java.nio.charset.Charset.defaultCharset().name())
+    val out = PrintStream(java.io.BufferedOutputStream(stdout, 1 shl 16), false, System.getProperty("sun.stdout.encoding") ?: java.nio.charset.Charset.defaultCharset().name())
     val code = Cli(out, System.err) { stdout.failure }.run(args.toList())
     exitProcess(code)
 }

@@ -95,8 +95,8 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
             }
             val same = target == input || (Files.exists(target) && Files.isSameFile(target, input))
             if (same) throw UsageException("the output $output is the input $i; write it elsewhere")
-            if (Files.isDirectory(input) && target.startsWith(input)) {
-                throw UsageException("the output $output lies inside the input folder $i; write it elsewhere")
+            if (target.startsWith(input)) {
+                throw UsageException("the output $output lies inside the input $i; write it elsewhere")
             }
         }
         return target
