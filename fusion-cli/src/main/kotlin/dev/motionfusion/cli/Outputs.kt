@@ -33,7 +33,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
      */
     fun file(output: String, inputs: List<String>): OutputStream {
         val target = check(output, inputs)
-        if (Files.exists(target) && !Files.isRegularFile(target) && !Files.isDirectory(target)) {
+        if (isDevice(target)) {
             val stream = AtomicFiles.named(target) { Files.newOutputStream(target, StandardOpenOption.WRITE) }
             return NamedStream(target, stream).also { direct += it }
         }
@@ -105,6 +105,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
     private fun destination(p: Path): Path {
         var x = p.toAbsolutePath()
         repeat(MAX_LINKS) {
+            if (isDevice(x)) return x // e.g. /dev/stdout → /proc/self/fd/1 → pipe:[…]: written as named
             if (!Files.isSymbolicLink(x)) {
                 val parent = AtomicFiles.named(x) { x.parent.toRealPath() }
                 return parent.resolve(x.fileName)
@@ -113,6 +114,9 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
         }
         throw FileSystemException(p.toString(), null, "too many levels of symbolic links")
     }
+
+    /** A device or a pipe (links followed): written directly, there is nothing to replace. */
+    private fun isDevice(p: Path) = Files.exists(p) && !Files.isRegularFile(p) && !Files.isDirectory(p)
 
     /** A direct output (device, pipe) whose failures name the file. */
     private class NamedStream(private val target: Path, private val out: OutputStream) : OutputStream() {

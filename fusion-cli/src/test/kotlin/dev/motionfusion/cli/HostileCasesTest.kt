@@ -66,6 +66,10 @@ class HostileCasesTest {
         for (out in listOf("s", "s.zip", "table.csv")) check(fusion("simulate", "-o", t(out), *sim.toTypedArray()).code == 0)
         Files.writeString(template.resolve("prev.csv"), "an earlier output\n")
         Files.writeString(template.resolve("bad.csv"), table + "0,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n0.02,0,0,zz,0,0,9.8\n")
+        Files.write(template.resolve("corrupt.csv.gz"), byteArrayOf(0x1f, 0x8b.toByte(), 8, 0, 0, 0, 0, 0, 0, 3, 1, 2, 3, 4, 5, 6, 7, 8))
+        Files.write(template.resolve("cut.csv.gz"), ByteArrayOutputStream().also { b ->
+            java.util.zip.GZIPOutputStream(b).use { it.write((table + "0,0,0,0,0,0,9.8\n".repeat(200)).toByteArray()) }
+        }.toByteArray().let { it.copyOf(it.size / 2) })
         Files.writeString(template.resolve("truth.csv"), "t_s,qw,qx,qy,qz\n0,1,0,0,0\n1,1,0,0,0\n")
         // An interrupted session: "complete": false and a partial last row.
         val int = copyTree(template.resolve("s"), template.resolve("s-int"))
@@ -154,6 +158,7 @@ class HostileCasesTest {
         c += Case("simulate a zip on a disk that fills up", listOf("simulate", "-o", "new.zip") + sim, 3, """new\.zip: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
         c += Case("simulate over a session", listOf("simulate", "-o", "s") + sim, 2, """s exists and is not an empty folder""")
         // What succeeds changes exactly its output.
+        c += Case("replay to a device", listOf("replay", "table.csv", "-o", "/dev/null"), 0, "")
         c += Case("replay over an earlier output", listOf("replay", "table.csv", "-o", "prev.csv"), 0, "", setOf("prev.csv"))
         c += Case("replay through a link to an earlier output", listOf("replay", "s", "-o", "out-link.csv"), 0, "", setOf("prev.csv", "out-link.csv"))
         c += Case("simulate a new session", listOf("simulate", "-o", "new") + sim, 0, "", setOf("new") + listOf("meta.json", "accelerometer.csv", "gyroscope.csv", "magnetometer.csv", "truth.csv", "rotation_vector.csv").map { "new/$it" })
@@ -188,6 +193,8 @@ class HostileCasesTest {
         c += Case("--set of an unknown setting", listOf("replay", "table.csv", "--set", "nope=1"), 2, """--set nope: no such setting""")
         c += Case("--set of a word as a flag", listOf("replay", "table.csv", "--set", "accRejection=yes"), 2, """--set accRejection: 'yes' is not true or false""")
         c += Case("summary of a missing file", listOf("summary", "nope.csv"), 3, """nope\.csv: no such file""")
+        c += Case("summary of corrupt gzip data", listOf("summary", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt gzip data""")
+        c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: gzip data ends early""")
         return c
     }
 

@@ -172,18 +172,18 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
 
     /** Byte offset just after the last '\n' of the file (0 when it has none). */
     private fun lastNewlineEnd(ch: FileChannel, length: Long): Long {
-        val block = ByteBuffer.allocate(8192)
+        val block = ByteArray(8192)
         var end = length
         while (end > 0) {
-            val start = maxOf(0L, end - block.capacity())
-            block.clear().limit((end - start).toInt())
+            val start = maxOf(0L, end - block.size)
+            val buf = ByteBuffer.wrap(block, 0, (end - start).toInt())
             var at = start
-            while (block.hasRemaining()) {
-                val n = ch.read(block, at)
+            while (buf.hasRemaining()) {
+                val n = ch.read(buf, at)
                 if (n < 0) break
                 at += n
             }
-            for (k in block.position() - 1 downTo 0) if (block.get(k) == NEWLINE) return start + k + 1
+            for (k in (at - start).toInt() - 1 downTo 0) if (block[k] == NEWLINE) return start + k + 1
             end = start
         }
         return 0L
