@@ -74,6 +74,8 @@ internal class Cli(
         fail(ExitCode.IO_ERROR, "${e.file}${e.otherFile?.let { " → $it" } ?: ""}: ${AtomicFiles.reason(e)}")
     } catch (e: IOException) {
         fail(ExitCode.IO_ERROR, e.message ?: e.toString())
+    } catch (e: RuntimeException) {
+        fail(ExitCode.INTERNAL_ERROR, "internal error, a bug of fusion (please report it with the command line): $e")
     } catch (e: OutOfMemoryError) {
         val maxMiB = Runtime.getRuntime().maxMemory() shr 20
         fail(ExitCode.IO_ERROR, "out of memory: '${command.name}' needs more than the $maxMiB MiB this Java may use; nothing was written. Give it more, e.g. FUSION_JAVA_OPTS=-Xmx4g")
@@ -102,7 +104,7 @@ internal class Cli(
         appendLine("Exit codes: ${ExitCode.OK} success, ${ExitCode.DATA_ERROR} malformed input (file:line:column given),")
         appendLine("            ${ExitCode.USAGE} wrong command line (also: an output that names an input),")
         appendLine("            ${ExitCode.IO_ERROR} a file (or standard output) cannot be read or written, or out of memory;")
-        appendLine("            the message names the file and the reason.")
+        appendLine("            the message names the file and the reason; ${ExitCode.INTERNAL_ERROR} an internal error (a bug).")
         appendLine()
         appendLine("Outputs are written aside and moved into place only when the command succeeds: a failed")
         appendLine("run leaves an earlier file as it was. An output that is an input, or lies inside an input")
