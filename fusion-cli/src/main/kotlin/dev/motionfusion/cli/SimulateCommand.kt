@@ -79,7 +79,15 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
                     tmp.toFile().deleteRecursively()
                 }
             }
-            else -> writeSession(outputs.folder(output, emptyList()), samples, rate, seed, command)
+            else -> {
+                val dir = outputs.folder(output, emptyList())
+                // Name the session the user asked for, not the folder it is written in aside.
+                try {
+                    writeSession(dir, samples, rate, seed, command)
+                } catch (e: java.io.IOException) {
+                    throw java.nio.file.FileSystemException(output, null, dev.motionfusion.core.io.AtomicFiles.reason(e))
+                }
+            }
         }
         out.println("$output: ${samples.size} samples, ${fmt(duration)} s at ${fmt(rate)} Hz ($command)")
         return ExitCode.OK

@@ -39,6 +39,12 @@ public interface FileOperations {
     /** Creates the new file [path] for writing; fails when anything (a file, a link) is there. */
     public fun create(path: Path): SyncedOutput
 
+    /**
+     * Opens [path] for writing from its start: created when missing, an existing file cut to
+     * nothing (the stream files of a new session folder).
+     */
+    public fun open(path: Path): SyncedOutput
+
     /** Cuts the existing regular file [path] to [size] bytes and syncs it (never through a link). */
     public fun truncate(path: Path, size: Long)
 
@@ -196,7 +202,7 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
         public inline fun <T> named(file: Path, block: () -> T): T = try {
             block()
         } catch (e: IOException) {
-            if (e is FileSystemException && e.file == file.toString()) throw e
+            if (e is FileSystemException && e.file == file.toString() && e.reason != null) throw e
             throw FileSystemException(file.toString(), null, reason(e)).apply { initCause(e) }
         }
     }
@@ -206,6 +212,9 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
 private object SystemFileOperations : FileOperations {
     override fun create(path: Path): SyncedOutput =
         ChannelOutput(FileChannel.open(path, StandardOpenOption.CREATE_NEW, StandardOpenOption.WRITE))
+
+    override fun open(path: Path): SyncedOutput =
+        ChannelOutput(FileChannel.open(path, StandardOpenOption.CREATE, StandardOpenOption.TRUNCATE_EXISTING, StandardOpenOption.WRITE))
 
     override fun truncate(path: Path, size: Long) {
         FileChannel.open(path, StandardOpenOption.WRITE, LinkOption.NOFOLLOW_LINKS).use { ch ->

@@ -263,8 +263,7 @@ public class SessionWriter private constructor(
 
     /** One stream's file, byte buffer and running statistics. */
     private inner class StreamOut(private val stream: SessionStream) {
-        private val path = directory.resolve(stream.fileName)
-        private val file = AtomicFiles.named(path) { files.create(path) }
+        private val file = files.open(directory.resolve(stream.fileName))
         private val buf = ByteArray(bufferBytes)
         private var pos = 0
         private val stats = StatsAccumulator()
@@ -305,12 +304,12 @@ public class SessionWriter private constructor(
 
         fun drain() {
             if (pos > 0) {
-                AtomicFiles.named(path) { file.write(buf, 0, pos) }
+                file.write(buf, 0, pos)
                 pos = 0
             }
         }
 
-        fun sync() = AtomicFiles.named(path) { file.sync() }
+        fun sync() = file.sync()
 
         fun close(sync: Boolean) {
             try {

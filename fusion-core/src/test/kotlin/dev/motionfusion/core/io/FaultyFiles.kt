@@ -39,9 +39,16 @@ internal class FaultyFiles(
         throw SimulatedKill()
     }
 
-    override fun create(path: Path): SyncedOutput {
-        if (step()) die()
-        val out = real.create(path)
+    override fun create(path: Path): SyncedOutput = faulty(real.create(path))
+
+    override fun open(path: Path): SyncedOutput = faulty(real.open(path))
+
+    private fun faulty(opened: SyncedOutput): SyncedOutput {
+        if (step()) {
+            opened.close()
+            die()
+        }
+        val out = opened
         open += out
         return object : SyncedOutput() {
             override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
