@@ -32,8 +32,9 @@ public abstract class SyncedOutput : OutputStream() {
 
 /**
  * The file-system steps of durable writing. [SYSTEM] is the real file system; tests pass an
- * implementation that fails or stops at a chosen step. No operation follows a symbolic link
- * at the path it is given.
+ * implementation that fails or stops at a chosen step. [create], [truncate] and [delete]
+ * never act through a symbolic link at the path they are given; [open] opens what is there
+ * (a pipe or a device too).
  */
 public interface FileOperations {
     /** Creates the new file [path] for writing; fails when anything (a file, a link) is there. */
