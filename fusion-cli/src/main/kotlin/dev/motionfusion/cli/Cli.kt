@@ -1,24 +1,42 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.DataFormatException
 import java.io.IOException
 import java.io.PrintStream
-import java.nio.file.NoSuchFileException
+import java.nio.file.FileSystemException
 import java.util.Properties
 
-/** Dispatches `fusion` subcommands and turns failures into messages and [ExitCode]s. */
-internal class Cli(private val out: PrintStream, private val err: PrintStream) {
+/**
+ * Dispatches `fusion` subcommands and turns failures into messages and [ExitCode]s. [out] is
+ * checked after every run: a write that failed (closed pipe, full device) fails the run, and
+ * [stdoutFailure] gives its reason when known. Files are written through [outputs].
+ */
+internal class Cli(
+    private val out: PrintStream,
+    private val err: PrintStream,
+    private val outputs: Outputs = Outputs(),
+    private val stdoutFailure: () -> IOException? = { null },
+) {
+    constructor(out: PrintStream, err: PrintStream, stdoutFailure: () -> IOException?) : this(out, err, Outputs(), stdoutFailure)
 
     private val commands: List<Command> = listOf(
-        ReplayCommand(err), EvalCommand(err), CompareCommand(err), PlotCommand(err),
-        SimulateCommand(), RecoverCommand(), SummaryCommand(),
+        ReplayCommand(err, outputs), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
+        SimulateCommand(outputs), RecoverCommand(), SummaryCommand(),
     )
 
     fun run(args: List<String>): Int {
+        val code = dispatch(args)
+        val stdoutFailed = out.checkError() // flushes
+        if (code == ExitCode.OK && stdoutFailed) return fail(ExitCode.IO_ERROR, stdoutMessage())
+        return code
+    }
+
+    private fun dispatch(args: List<String>): Int {
         val first = args.firstOrNull()
         return when {
             first == null || first == "--help" || first == "-h" || first == "help" -> {
-                if (first == "help" && args.size > 1) return run(listOf(args[1], "--help"))
+                if (first == "help" && args.size > 1) return dispatch(listOf(args[1], "--help"))
                 out.print(usage())
                 if (first == null) ExitCode.USAGE else ExitCode.OK
             }
@@ -40,17 +58,33 @@ internal class Cli(private val out: PrintStream, private val err: PrintStream) {
         }
     }
 
+    /** Runs [command]; its outputs are moved into place only when it succeeded and [out] took everything. */
     private fun execute(command: Command, args: List<String>): Int = try {
-        command.run(args, out)
+        val code = command.run(args, out)
+        if (out.checkError()) throw StdoutException("write failed")
+        if (code == ExitCode.OK) outputs.commit()
+        code
     } catch (e: UsageException) {
         fail(ExitCode.USAGE, "${e.message}; run 'fusion ${command.name} --help'")
     } catch (e: DataFormatException) {
         fail(ExitCode.DATA_ERROR, e.message ?: "malformed input")
-    } catch (e: NoSuchFileException) {
-        fail(ExitCode.IO_ERROR, "${e.file}: no such file")
+    } catch (e: StdoutException) {
+        fail(ExitCode.IO_ERROR, stdoutMessage())
+    } catch (e: FileSystemException) {
+        fail(ExitCode.IO_ERROR, "${e.file}${e.otherFile?.let { " → $it" } ?: ""}: ${AtomicFiles.reason(e)}")
     } catch (e: IOException) {
         fail(ExitCode.IO_ERROR, e.message ?: e.toString())
+    } catch (e: RuntimeException) {
+        fail(ExitCode.INTERNAL_ERROR, "internal error, a bug of fusion (please report it with the command line): $e")
+    } catch (e: OutOfMemoryError) {
+        val maxMiB = Runtime.getRuntime().maxMemory() shr 20
+        fail(ExitCode.IO_ERROR, "out of memory: '${command.name}' needs more than the $maxMiB MiB this Java may use; nothing was written. Give it more, e.g. FUSION_JAVA_OPTS=-Xmx4g")
+    } finally {
+        outputs.abort()
     }
+
+    private fun stdoutMessage(): String =
+        "standard output: ${stdoutFailure()?.let { AtomicFiles.reason(it) } ?: "write failed (closed pipe or full device)"}"
 
     private fun fail(code: Int, message: String): Int {
         err.println("fusion: $message")
@@ -68,7 +102,13 @@ internal class Cli(private val out: PrintStream, private val err: PrintStream) {
         appendLine("Options: --help, --version")
         appendLine()
         appendLine("Exit codes: ${ExitCode.OK} success, ${ExitCode.DATA_ERROR} malformed input (file:line:column given),")
-        appendLine("            ${ExitCode.USAGE} wrong command line, ${ExitCode.IO_ERROR} file not found or not readable/writable")
+        appendLine("            ${ExitCode.USAGE} wrong command line (also: an output that names an input),")
+        appendLine("            ${ExitCode.IO_ERROR} a file (or standard output) cannot be read or written, or out of memory;")
+        appendLine("            the message names the file and the reason; ${ExitCode.INTERNAL_ERROR} an internal error (a bug).")
+        appendLine()
+        appendLine("Outputs are written aside and moved into place only when the command succeeds: a failed")
+        appendLine("run leaves an earlier file as it was. An output that is an input, or lies inside an input")
+        appendLine("folder, is refused before anything is written.")
     }
 
     companion object {

@@ -17,7 +17,7 @@ import java.nio.file.Path
 import java.util.Locale
 
 /** `fusion compare`: the replayed Madgwick orientation against the phone's rotation vector. */
-internal class CompareCommand(private val err: PrintStream) : Command {
+internal class CompareCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
     override val name = "compare"
     override val summary = "Madgwick output vs the phone's rotation vector: difference over time and statistics"
     override val help = """
@@ -52,7 +52,7 @@ internal class CompareCommand(private val err: PrintStream) : Command {
             }
             if (live && SessionStream.ORIENTATION !in rec.streams) throw DataFormatException(input, 0, 0, "no orientation.csv (live orientation) in this recording")
             var origin = rec.originNs
-            val diff: OutputStream? = output?.let { BufferedOutputStream(Files.newOutputStream(Path.of(it)), 1 shl 16) }
+            val diff: OutputStream? = output?.let { BufferedOutputStream(outputs.file(it, listOf(input)), 1 shl 16) }
             val buf = ByteArray(256)
             diff?.write("t_s,total_deg,heading_deg,inclination_deg\n".toByteArray())
             val comparison = OrientationComparison(removeInitialHeadingOffset = o.has("--game")) { t, total, heading, incl ->

@@ -11,6 +11,9 @@ internal object ExitCode {
     /** Wrong command line (unknown subcommand or option, missing argument). */
     const val USAGE = 2
 
-    /** A file could not be read or written (missing, unreadable, disk full). */
+    /** A file or standard output could not be read or written (missing, unreadable, disk full), or out of memory. */
     const val IO_ERROR = 3
+
+    /** A bug of fusion: an unexpected exception, reported in one line instead of a stack trace. */
+    const val INTERNAL_ERROR = 70
 }

@@ -50,11 +50,36 @@ internal object FilterOptions {
             if (o.has("--acc-rejection")) s = s.copy(accRejection = true)
             o.value("--set")?.split(',')?.filter { it.isNotBlank() }?.forEach { a ->
                 if ('=' !in a) throw UsageException("--set expects NAME=VALUE, got '$a'")
-                s = SettingsOverride.apply(s, a.trim())
+                s = applySet(s, a.trim())
             }
         } catch (e: IllegalArgumentException) {
             throw UsageException(e.message ?: "invalid filter setting")
         }
         return s
+    }
+
+    /** One --set NAME=VALUE, with its errors in this tool's words. */
+    private fun applySet(s: FilterSettings, assignment: String): FilterSettings {
+        val name = assignment.substringBefore('=').trim()
+        val value = assignment.substringAfter('=').trim()
+        return try {
+            SettingsOverride.apply(s, "$name=$value")
+        } catch (e: NumberFormatException) {
+            throw UsageException("--set $name: '$value' is not a number")
+        } catch (e: IllegalArgumentException) {
+            val enumValues = when (name) {
+                "mode" -> FilterMode.entries
+                "initialisation" -> Initialisation.entries
+                "outputFrame" -> dev.motionfusion.core.WorldFrame.entries
+                else -> null
+            }
+            val reason = when {
+                enumValues != null && enumValues.none { it.name == value } -> "'$value' is not one of ${enumValues.joinToString(", ")}"
+                value != "true" && value != "false" && e.message?.contains("boolean") == true -> "'$value' is not true or false"
+                e.message?.startsWith("unknown setting") == true -> "no such setting (names as in FilterSettings, e.g. beta, magNormTolerance)"
+                else -> e.message ?: "invalid value '$value'"
+            }
+            throw UsageException("--set $name: $reason")
+        }
     }
 }

@@ -1,10 +1,14 @@
 package dev.motionfusion.cli
 
+import java.io.FileDescriptor
+import java.io.FileOutputStream
+import java.io.PrintStream
 import kotlin.system.exitProcess
 
 /** Entry point of the `fusion` command. */
 public fun main(args: Array<String>) {
-    val code = Cli(System.out, System.err).run(args.toList())
-    System.out.flush()
+    val stdout = RecordingOutput(FileOutputStream(FileDescriptor.out))
+    val out = PrintStream(java.io.BufferedOutputStream(stdout, 1 shl 16), false, System.getProperty("sun.stdout.encoding") ?: java.nio.charset.Charset.defaultCharset().name())
+    val code = Cli(out, System.err) { stdout.failure }.run(args.toList())
     exitProcess(code)
 }

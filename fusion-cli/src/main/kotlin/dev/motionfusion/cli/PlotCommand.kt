@@ -16,7 +16,7 @@ import java.util.Locale
 import kotlin.math.roundToLong
 
 /** `fusion plot INPUT -o FIGURE.svg`. */
-internal class PlotCommand(private val err: PrintStream) : Command {
+internal class PlotCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
     override val name = "plot"
     override val summary = "SVG figure of the replayed Euler angles, and the error vs truth or rotation vector"
     override val help = """
@@ -112,7 +112,7 @@ internal class PlotCommand(private val err: PrintStream) : Command {
                 val c2 = listOf("#000000", "#ff7f0e", "#9467bd")
                 fig.panel(SvgFigure.Panel("error vs $refLabel (°)", labels.indices.map { SvgFigure.Line(labels[it], c2[it], errors[it], wraps = false) }, 0.0, null, null))
             }
-            Files.writeString(Path.of(output), fig.render())
+            outputs.file(output, listOfNotNull(input, truthPath?.toString())).use { it.write(fig.render().toByteArray(Charsets.UTF_8)) }
             val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""
             out.println("$output: ${names.joinToString("/")} over ${String.format(Locale.ROOT, "%.1f", tMax)} s$stats")
         }

@@ -5,12 +5,11 @@ import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.Replayer
 import java.io.BufferedOutputStream
 import java.io.PrintStream
-import java.nio.file.Files
 import java.nio.file.Path
 import java.util.zip.GZIPOutputStream
 
 /** `fusion replay INPUT [-o OUT] [filter settings]`. */
-internal class ReplayCommand(private val err: PrintStream) : Command {
+internal class ReplayCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
     override val name = "replay"
     override val summary = "run the filter over a recording and write the orientation as CSV"
     override val help = """
@@ -39,6 +38,8 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         |  --quiet              no summary on standard error
         |${FilterOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
+        |The output is written aside and moved into place only when the replay succeeds; an
+        |output that is the input or lies inside it is refused.
         |Exit codes: 0 ok, 1 malformed input (FILE:LINE:COLUMN: reason), 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
@@ -50,7 +51,7 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         Recording.open(Path.of(input)).use { rec ->
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
-            val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(Files.newOutputStream(Path.of(output)), 1 shl 16).let {
+            val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {
                 if (output.endsWith(".gz")) GZIPOutputStream(it, 1 shl 16) else it
             }
             val writer = ReplayCsvWriter(stream, closeStream = output != null)
@@ -71,23 +72,5 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
             }
         }
         return ExitCode.OK
-    }
-}
-
-/**
- * Standard output that stops the run once it is closed (e.g. `fusion replay … | head`):
- * PrintStream swallows write errors, which would let a long replay run on for nothing.
- */
-internal class StdoutGuard(private val out: PrintStream) : java.io.OutputStream() {
-    override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
-
-    override fun write(b: ByteArray, off: Int, len: Int) {
-        out.write(b, off, len)
-        if (out.checkError()) throw java.io.IOException("standard output closed")
-    }
-
-    override fun flush() {
-        out.flush()
-        if (out.checkError()) throw java.io.IOException("standard output closed")
     }
 }

@@ -23,7 +23,7 @@ import java.util.Random
 import java.util.zip.GZIPOutputStream
 
 /** `fusion simulate -o OUT`: a session (or IMU table) from the project's MotionSimulator. */
-internal class SimulateCommand : Command {
+internal class SimulateCommand(private val outputs: Outputs) : Command {
     override val name = "simulate"
     override val summary = "write a simulated recording with known truth (session or IMU table)"
     override val help = """
@@ -67,18 +67,27 @@ internal class SimulateCommand : Command {
         val lower = output.lowercase()
         val command = "fusion simulate --duration ${fmt(duration)} --rate ${fmt(rate)} --seed $seed"
         when {
-            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(path, samples, lower.endsWith(".gz"))
+            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(outputs.file(output, emptyList()), samples, lower.endsWith(".gz"))
             lower.endsWith(".zip") -> {
+                val zip = outputs.file(output, emptyList())
                 val tmp = Files.createTempDirectory("fusion-simulate")
                 val dir = tmp.resolve(path.fileName.toString().removeSuffix(".zip").removeSuffix(".ZIP"))
                 try {
                     writeSession(dir, samples, rate, seed, command)
-                    SessionArchive.zip(dir, path, entryTimeMs = START_WALL_CLOCK_MS)
+                    zip.use { SessionArchive.zip(dir, it, entryTimeMs = START_WALL_CLOCK_MS) }
                 } finally {
                     tmp.toFile().deleteRecursively()
                 }
             }
-            else -> writeSession(path, samples, rate, seed, command)
+            else -> {
+                val dir = outputs.folder(output, emptyList())
+                // Name the session the user asked for, not the folder it is written in aside.
+                try {
+                    writeSession(dir, samples, rate, seed, command)
+                } catch (e: java.io.IOException) {
+                    throw java.nio.file.FileSystemException(output, null, dev.motionfusion.core.io.AtomicFiles.reason(e))
+                }
+            }
         }
         out.println("$output: ${samples.size} samples, ${fmt(duration)} s at ${fmt(rate)} Hz ($command)")
         return ExitCode.OK
@@ -100,8 +109,8 @@ internal class SimulateCommand : Command {
         timestampJitter = minOf(0.0002, 0.2 / rate),
     )
 
-    private fun writeTable(path: Path, samples: List<SimulatedSample>, gzip: Boolean) {
-        val raw = BufferedOutputStream(Files.newOutputStream(path), 1 shl 16)
+    private fun writeTable(file: java.io.OutputStream, samples: List<SimulatedSample>, gzip: Boolean) {
+        val raw = BufferedOutputStream(file, 1 shl 16)
         val stream = if (gzip) GZIPOutputStream(raw, 1 shl 16) else raw
         stream.use { s ->
             s.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n".toByteArray())
@@ -121,7 +130,6 @@ internal class SimulateCommand : Command {
     }
 
     private fun writeSession(dir: Path, samples: List<SimulatedSample>, rate: Double, seed: Long, command: String) {
-        if (Files.exists(dir) && Files.list(dir).use { it.findAny().isPresent }) throw UsageException("$dir exists and is not empty")
         val base = 1_000_000_000_000L // an elapsedRealtimeNanos-like origin (about 17 minutes after boot)
         val period = (1e6 / rate).toInt()
         val meta = SessionMetadata(

@@ -1,5 +1,6 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.ImuTableReader
 import java.io.PrintStream
 import java.nio.file.Path
@@ -23,8 +24,14 @@ internal class SummaryCommand : Command {
             if (args.isEmpty()) "summary needs a FILE" else "summary takes one FILE, got ${args.size} arguments",
         )
         if (file.startsWith("-")) throw UsageException("unknown option '$file'")
-        val stats = ImuTableReader.open(Path.of(file)).use { reader ->
-            TableStats(reader.hasMagnetometer).also { s -> reader.forEach(s::add) }
+        val stats = try {
+            ImuTableReader.open(Path.of(file)).use { reader ->
+                TableStats(reader.hasMagnetometer).also { s -> reader.forEach(s::add) }
+            }
+        } catch (e: java.util.zip.ZipException) {
+            throw DataFormatException(file, 0, 0, "corrupt gzip data: ${e.message}")
+        } catch (e: java.io.EOFException) {
+            throw DataFormatException(file, 0, 0, "gzip data ends early")
         }
         out.print(stats.report(file))
         return ExitCode.OK

@@ -2,7 +2,6 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
-import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionRecovery
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.session.SessionWriter
@@ -12,13 +11,8 @@ import java.io.File
 internal object CoreSessionFormat : SessionFormat {
     override fun create(dir: File, metadata: SessionMetadata): SessionSink = CoreSessionSink(SessionWriter.create(dir.toPath(), metadata))
 
-    /** meta.json says "complete": false (or is unreadable: a session killed before its first metadata write). */
-    override fun isInterrupted(dir: File): Boolean =
-        try {
-            SessionReader.open(dir.toPath()).use { !it.metadata.complete }
-        } catch (_: Exception) {
-            false // not a session this app can repair; listed as unreadable instead
-        }
+    /** As SessionRecovery decides it: "complete": false, or an unreadable meta.json beside nothing but session files. */
+    override fun isInterrupted(dir: File): Boolean = SessionRecovery.isInterrupted(dir.toPath())
 
     override fun recover(dir: File) {
         SessionRecovery.recover(dir.toPath())

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import dev.motionfusion.app.record.RecordingStatus
+import dev.motionfusion.core.io.AtomicFiles
 import java.io.File
 import java.io.IOException
 
@@ -22,7 +23,7 @@ internal object SessionStore {
         if (isRecording(dir)) throw IOException("the session is being recorded")
         val target = File(dir.parentFile, name)
         if (target.exists()) throw IOException("a session called $name exists")
-        if (!dir.renameTo(target)) throw IOException("cannot rename ${dir.name}")
+        AtomicFiles().rename(dir.toPath(), target.toPath()) // one atomic step, then the folder synced
         return target
     }
 

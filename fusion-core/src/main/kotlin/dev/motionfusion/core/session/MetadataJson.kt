@@ -1,7 +1,8 @@
 /*
  * SessionMetadata ↔ meta.json. Members are named as in docs/SESSION_FORMAT.md; unknown members
- * are ignored (newer minor versions may add some), missing ones take their defaults, a member
- * of the wrong type is an error naming its path.
+ * are ignored when reading (newer minor versions may add some) and kept by a rewrite of an
+ * existing meta.json (writeKeeping), missing ones take their defaults, a member of the wrong
+ * type is an error naming its path.
  */
 package dev.motionfusion.core.session
 
@@ -14,10 +15,38 @@ import dev.motionfusion.core.io.Json
 
 internal object MetadataJson {
 
+    /** The value of the "format" member that marks a meta.json as this project's. */
+    const val FORMAT_MARKER = "motion-fusion-session"
+
     fun write(m: SessionMetadata): String = Json.write(toMap(m))
 
+    /**
+     * meta.json of [m], keeping every member of [original] that this version does not write
+     * (members of a newer minor version, anywhere in the tree: top level, device, sensors,
+     * streams, filter_settings), in their original order. Known members take their value from [m].
+     */
+    fun writeKeeping(original: Map<*, *>, m: SessionMetadata): String = Json.write(keepUnknown(original, toMap(m), ""))
+
+    private fun keepUnknown(old: Any?, new: Any?, path: String): Any? = when {
+        old is Map<*, *> && new is Map<*, *> -> {
+            val out = LinkedHashMap<Any?, Any?>()
+            for ((k, v) in old) {
+                when {
+                    new.containsKey(k) -> out[k] = keepUnknown(v, new[k], "$path$k.")
+                    // A stream this version knows but no longer has a file: its statistics go.
+                    path == "streams." && SessionStream.ofKey(k.toString()) != null -> {}
+                    else -> out[k] = v
+                }
+            }
+            for ((k, v) in new) if (!out.containsKey(k)) out[k] = v
+            out
+        }
+        old is List<*> && new is List<*> && old.size == new.size -> old.indices.map { keepUnknown(old[it], new[it], path) }
+        else -> new
+    }
+
     fun toMap(m: SessionMetadata): Map<String, Any?> = linkedMapOf(
-        "format" to "motion-fusion-session",
+        "format" to FORMAT_MARKER,
         "format_version" to m.formatVersion,
         "app_version" to m.appVersion,
         "source" to m.source,

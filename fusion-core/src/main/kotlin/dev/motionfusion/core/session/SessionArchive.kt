@@ -4,6 +4,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.DataFormatException
 import java.io.BufferedOutputStream
 import java.io.OutputStream
@@ -21,13 +22,14 @@ public object SessionArchive {
     /**
      * Writes the session folder [dir] as a zip to [zipFile] (deflate), files inside a folder
      * named like [dir]. Only meta.json and the stream files are included. Entries carry the
-     * files' modification times, or [entryTimeMs] when given (reproducible archives).
+     * files' modification times, or [entryTimeMs] when given (reproducible archives). The zip
+     * is written aside and moved into place whole (AtomicFiles): a failure leaves [zipFile] as it was.
      */
     @JvmStatic
     @JvmOverloads
     public fun zip(dir: Path, zipFile: Path, entryTimeMs: Long? = null) {
         require(Files.isRegularFile(dir.resolve(SessionMetadata.FILE_NAME))) { "$dir is not a session folder (no meta.json)" }
-        Files.newOutputStream(zipFile).use { zip(dir, it, entryTimeMs) }
+        AtomicFiles().write(zipFile) { zip(dir, it, entryTimeMs) }
     }
 
     /** As [zip], to a stream (e.g. a content:// URI's output stream on Android); does not close [out]. */

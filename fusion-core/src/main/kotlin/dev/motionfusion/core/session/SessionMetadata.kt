@@ -24,7 +24,12 @@ public data class DeviceInfo(
  */
 public data class ClockAnchor(val wallClockMs: Long, val elapsedRealtimeNs: Long) {
     /** Unix time in ms of the sensor timestamp [timestampNs]. */
-    public fun toWallClockMs(timestampNs: Long): Double = wallClockMs + (timestampNs - elapsedRealtimeNs) / 1e6
+    public fun toWallClockMs(timestampNs: Long): Double {
+        val d = timestampNs - elapsedRealtimeNs
+        // Timestamps of opposite signs far apart overflow a Long difference: take it in doubles then.
+        val overflow = ((timestampNs xor elapsedRealtimeNs) and (timestampNs xor d)) < 0
+        return wallClockMs + (if (overflow) timestampNs.toDouble() - elapsedRealtimeNs.toDouble() else d.toDouble()) / 1e6
+    }
 }
 
 /**

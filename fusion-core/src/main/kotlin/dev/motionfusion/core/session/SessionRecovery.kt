@@ -2,97 +2,287 @@
  * Repair of a session whose recording process was killed (docs/SESSION_FORMAT.md, "Recovery"):
  * the writer leaves whole rows up to its last flush, possibly followed by a partial row, and
  * meta.json with "complete": false.
+ *
+ * Recovery must never make things worse, so it
+ *  - acts only on a folder whose meta.json carries the format marker ("format":
+ *    "motion-fusion-session"), or, when meta.json is missing or unreadable, on a folder that
+ *    holds nothing but session files with their exact headers (meta.json is then rebuilt from
+ *    the streams and the unreadable one kept as meta.json.unreadable);
+ *  - reads and checks every stream before it changes any: a malformed row stops it with
+ *    nothing changed;
+ *  - never follows a symbolic link and touches only the known files of the folder;
+ *  - keeps every meta.json member it does not know;
+ *  - changes files in an order that a kill or a full disk at any step leaves recoverable:
+ *    cutting a partial last row needs no space and is idempotent, meta.json is replaced
+ *    atomically and last (AtomicFiles), so until then the session still reads as interrupted.
  */
 package dev.motionfusion.core.session
 
-import java.io.RandomAccessFile
+import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.ByteCsvReader
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.FileOperations
+import dev.motionfusion.core.io.Json
+import java.io.IOException
+import java.nio.ByteBuffer
+import java.nio.channels.FileChannel
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files
+import java.nio.file.LinkOption
+import java.nio.file.NoSuchFileException
 import java.nio.file.Path
+import java.nio.file.StandardOpenOption
+import java.nio.file.attribute.BasicFileAttributes
 
-/** What [SessionRecovery.recover] did: bytes cut from each file, and the new metadata. */
-public data class RecoveryReport(val truncatedBytes: Map<SessionStream, Long>, val metadata: SessionMetadata) {
-    /** True when a file was changed. */
+/**
+ * What [SessionRecovery.recover] did (or, for a dry run, would do): bytes cut from each file,
+ * the new metadata, and the steps in words.
+ */
+public data class RecoveryReport(
+    val truncatedBytes: Map<SessionStream, Long>,
+    val metadata: SessionMetadata,
+    /** The changes, one line each (e.g. "gyroscope.csv: cut 17 bytes of a partial last row"); empty when none. */
+    val actions: List<String> = emptyList(),
+    /** True when meta.json was missing or unreadable and is rebuilt from the streams. */
+    val rebuiltMetadata: Boolean = false,
+    /** True when nothing was changed because a dry run was asked for. */
+    val dryRun: Boolean = false,
+) {
+    /** True when a stream file was (or would be) changed. */
     public val repaired: Boolean get() = truncatedBytes.values.any { it > 0 }
+
+    /** True when the session was already complete: nothing to do. */
+    public val wasComplete: Boolean get() = actions.isEmpty()
 }
 
-public object SessionRecovery {
-    /**
-     * True when [dir] holds a session that was never finished (meta.json says "complete": false):
-     * its process was killed or its writer abandoned after a failure. False for a complete
-     * session, and for a folder whose meta.json is missing or unreadable (not a session).
-     */
-    @JvmStatic
-    public fun isInterrupted(dir: Path): Boolean = try {
-        SessionReader.open(dir).use { !it.metadata.complete }
-    } catch (e: dev.motionfusion.core.io.DataFormatException) {
-        false
-    } catch (e: java.io.IOException) {
-        false
-    }
+/** Recovery of interrupted sessions through [files] (the real file system unless a test passes another). */
+public class SessionRecovery(private val files: FileOperations = FileOperations.SYSTEM) {
+    private val atomic = AtomicFiles(files)
 
     /**
-     * Repairs the session folder [dir] in place: cuts each CSV after its last complete line (a
-     * file cut inside its header gets the header back), recomputes the per-stream statistics,
-     * closes an open pause at the end, and rewrites meta.json with "recovered": true and
-     * "complete": true. A complete session is left as it is.
-     * @throws dev.motionfusion.core.io.DataFormatException when meta.json or a kept row is malformed.
+     * Repairs the session folder [dir] in place (see the file comment): cuts each CSV after its
+     * last complete line (a file cut inside its header gets the header back), recomputes the
+     * per-stream statistics, closes an open pause at the end, and replaces meta.json with
+     * "recovered": true and "complete": true. A complete session is left as it is. With
+     * [dryRun] nothing is changed and the report says what would be.
+     * @throws DataFormatException when the folder is not a session of this project, holds a
+     *   link where a session file belongs, or a kept row or meta.json is malformed; nothing is
+     *   changed then.
+     * @throws IOException when a file cannot be read or written (it names the file and reason).
      */
-    @JvmStatic
-    public fun recover(dir: Path): RecoveryReport {
-        val metaFile = dir.resolve(SessionMetadata.FILE_NAME)
-        val meta = SessionReader.open(dir).use { it.metadata }
-        if (meta.complete) return RecoveryReport(emptyMap(), meta)
-        val truncated = LinkedHashMap<SessionStream, Long>()
-        for (s in SessionStream.entries) {
-            val f = dir.resolve(s.fileName)
-            if (!Files.isRegularFile(f)) continue
-            truncated[s] = cutAfterLastNewline(f, s)
+    public fun recover(dir: Path, dryRun: Boolean): RecoveryReport {
+        val root = dir.toRealPath()
+        if (!Files.isDirectory(root)) throw DataFormatException(dir.toString(), 0, 0, "not a folder: a session is recovered as a folder")
+        val entries = list(root)
+        for (name in KNOWN) {
+            val a = entries[name] ?: continue
+            if (a.isSymbolicLink) throw refused(root, name, "is a symbolic link; recovery never follows links")
+            if (!a.isRegularFile) throw refused(root, name, "is not a regular file")
         }
+        val metaFile = root.resolve(SessionMetadata.FILE_NAME)
+        val original = if (entries.containsKey(SessionMetadata.FILE_NAME)) readMeta(metaFile) else null
+        val meta: SessionMetadata
+        val raw: Map<*, *>?
+        if (original != null) {
+            meta = original.second
+            raw = original.first
+            if (meta.complete) return RecoveryReport(emptyMap(), meta, dryRun = dryRun)
+        } else {
+            checkLooksLikeSession(root, entries)
+            meta = SessionMetadata(source = "rebuilt by recovery from the stream files")
+            raw = null
+        }
+
+        // 1. Check every stream and plan the cuts; nothing is changed before all are read.
+        val plans = SessionStream.entries.filter { entries.containsKey(it.fileName) }.map { plan(root, it) }
         val stats = LinkedHashMap<SessionStream, StreamStats>()
         var end = meta.endElapsedRealtimeNs ?: Long.MIN_VALUE
-        SessionReader.open(dir).use { r ->
-            for (s in r.streams) {
-                val acc = StatsAccumulator()
-                r.stream(s).use { e -> while (e.next()) acc.add(e.timestampNs) }
-                val st = acc.result()
-                stats[s] = st
-                if (st.samples > 0) end = maxOf(end, st.lastTimestampNs)
-            }
+        for (p in plans) {
+            stats[p.stream] = p.stats
+            if (p.stats.samples > 0) end = maxOf(end, p.stats.lastTimestampNs)
         }
         val endNs = if (end == Long.MIN_VALUE) null else end
-        val pauses = meta.pauses.map { if (it.endElapsedRealtimeNs == null) it.copy(endElapsedRealtimeNs = endNs ?: it.startElapsedRealtimeNs) else it }
-        val reason = meta.endReason.ifEmpty { "interrupted" }
-        val repaired = meta.copy(complete = true, recovered = true, endElapsedRealtimeNs = endNs, endReason = reason, streams = stats, pauses = pauses)
-        Files.write(metaFile, MetadataJson.write(repaired).toByteArray(StandardCharsets.UTF_8))
-        return RecoveryReport(truncated, repaired)
+        val pauses = meta.pauses.map {
+            if (it.endElapsedRealtimeNs != null) it else it.copy(endElapsedRealtimeNs = maxOf(it.startElapsedRealtimeNs, endNs ?: it.startElapsedRealtimeNs))
+        }
+        val repaired = meta.copy(
+            complete = true, recovered = true, endElapsedRealtimeNs = endNs,
+            endReason = meta.endReason.ifEmpty { "interrupted" }, streams = stats, pauses = pauses,
+        )
+        val actions = ArrayList<String>()
+        val stale = entries.keys.filter { AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) && entries.getValue(it).isRegularFile }.sorted()
+        for (name in stale) actions += "$name: remove (left by an interrupted metadata write)"
+        for (p in plans) {
+            when {
+                p.restoreHeader -> actions += "${p.stream.fileName}: cut inside its header; write the header again"
+                p.cut > 0 -> actions += "${p.stream.fileName}: cut ${p.cut} bytes of a partial last row"
+            }
+        }
+        val keepUnreadable = raw == null && entries.containsKey(SessionMetadata.FILE_NAME) && !entries.containsKey(UNREADABLE_META)
+        if (keepUnreadable) actions += "${SessionMetadata.FILE_NAME}: unreadable; keep it as $UNREADABLE_META"
+        actions += if (raw == null) {
+            "${SessionMetadata.FILE_NAME}: rebuild from the streams (${stats.values.sumOf { it.samples }} samples), \"complete\": true, \"recovered\": true"
+        } else {
+            "${SessionMetadata.FILE_NAME}: statistics of ${stats.size} streams, \"complete\": true, \"recovered\": true (other members kept)"
+        }
+        val report = RecoveryReport(plans.associate { it.stream to it.cut }, repaired, actions, rebuiltMetadata = raw == null, dryRun = dryRun)
+        if (dryRun) return report
+
+        // 2. Change: leftovers, partial rows, then meta.json last (atomic), so a kill at any step
+        //    leaves a session that reads as interrupted and is recovered again the same way.
+        for (name in stale) files.delete(root.resolve(name))
+        for (p in plans) {
+            val f = root.resolve(p.stream.fileName)
+            when {
+                p.restoreHeader -> atomic.write(f, (p.stream.header + "\n").toByteArray(StandardCharsets.US_ASCII))
+                p.cut > 0 -> AtomicFiles.named(f) { files.truncate(f, p.keep) }
+            }
+        }
+        if (keepUnreadable) atomic.write(root.resolve(UNREADABLE_META), Files.readAllBytes(metaFile))
+        val json = if (raw != null) MetadataJson.writeKeeping(raw, repaired) else MetadataJson.write(repaired)
+        atomic.write(metaFile, json.toByteArray(StandardCharsets.UTF_8))
+        return report
     }
 
-    /** Cuts [f] after its last '\n'; returns the number of bytes removed. */
-    private fun cutAfterLastNewline(f: Path, s: SessionStream): Long {
-        RandomAccessFile(f.toFile(), "rw").use { raf ->
-            val length = raf.length()
-            val block = ByteArray(8192)
-            var end = length
-            while (end > 0) {
-                val start = maxOf(0L, end - block.size)
-                val n = (end - start).toInt()
-                raf.seek(start)
-                raf.readFully(block, 0, n)
-                for (k in n - 1 downTo 0) {
-                    if (block[k] == '\n'.code.toByte()) {
-                        val keep = start + k + 1
-                        raf.setLength(keep)
-                        return length - keep
-                    }
-                }
-                end = start
+    /** A stream's check result: its statistics over the complete rows, and where to cut. */
+    private class Plan(val stream: SessionStream, val keep: Long, val cut: Long, val restoreHeader: Boolean, val stats: StreamStats)
+
+    /** Reads [s]'s file once to its end: every complete row must parse; the cut goes after the last '\n'. */
+    private fun plan(root: Path, s: SessionStream): Plan {
+        val f = root.resolve(s.fileName)
+        val length: Long
+        val keep: Long
+        FileChannel.open(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { ch ->
+            length = ch.size()
+            keep = lastNewlineEnd(ch, length)
+        }
+        if (keep == 0L) {
+            // Cut inside the header line: only a prefix of the header is expected there.
+            val head = String(Files.readAllBytes(f), StandardCharsets.US_ASCII)
+            if (!s.header.startsWith(head)) throw refused(root, s.fileName, "holds no header line and is not a cut-off '${s.header}'")
+            return Plan(s, 0L, length, restoreHeader = true, StatsAccumulator().result())
+        }
+        val acc = StatsAccumulator()
+        val input = Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS)
+        SessionCsvCursor(s, ByteCsvReader(input, f.toString()), skipCutLastLine = true).use { c ->
+            while (c.next()) acc.add(c.timestampNs)
+        }
+        return Plan(s, keep, length - keep, restoreHeader = false, acc.result())
+    }
+
+    /** Byte offset just after the last '\n' of the file (0 when it has none). */
+    private fun lastNewlineEnd(ch: FileChannel, length: Long): Long {
+        val block = ByteArray(8192)
+        var end = length
+        while (end > 0) {
+            val start = maxOf(0L, end - block.size)
+            val buf = ByteBuffer.wrap(block, 0, (end - start).toInt())
+            var at = start
+            while (buf.hasRemaining()) {
+                val n = ch.read(buf, at)
+                if (n < 0) break
+                at += n
             }
-            // Not even the header line is complete: write it again.
-            val header = (s.header + "\n").toByteArray(StandardCharsets.US_ASCII)
-            raf.setLength(0)
-            raf.write(header)
-            return length
+            for (k in (at - start).toInt() - 1 downTo 0) if (block[k] == NEWLINE) return start + k + 1
+            end = start
+        }
+        return 0L
+    }
+
+    /** meta.json as (raw JSON object, metadata), or null when it is unreadable (rebuilt then). */
+    private fun readMeta(metaFile: Path): Pair<Map<*, *>, SessionMetadata>? {
+        val bytes = Files.newInputStream(metaFile, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { it.readBytes() }
+        val text = String(bytes, StandardCharsets.UTF_8)
+        val json = try {
+            Json.parse(text, metaFile.toString())
+        } catch (e: DataFormatException) {
+            return null // e.g. cut by a full disk (an old in-place write) or by the storage
+        }
+        val root = json as? Map<*, *>
+        if (root == null || root["format"] != MetadataJson.FORMAT_MARKER) {
+            throw DataFormatException(
+                metaFile.toString(), 0, 0,
+                "not a Motion Fusion session (no \"format\": \"${MetadataJson.FORMAT_MARKER}\"); left untouched",
+            )
+        }
+        return root to MetadataJson.parse(text, metaFile.toString())
+    }
+
+    /**
+     * Without a readable meta.json, the folder is taken for an interrupted session only when it
+     * holds session files and nothing else, each stream file starting with its exact header.
+     */
+    private fun checkLooksLikeSession(root: Path, entries: Map<String, BasicFileAttributes>) {
+        val foreign = entries.keys.filter { it !in KNOWN && it != UNREADABLE_META && !AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) }
+        val streams = SessionStream.entries.filter { entries.containsKey(it.fileName) }
+        if (streams.isEmpty() || foreign.isNotEmpty()) {
+            val what = if (streams.isEmpty()) "no stream file" else "other files (${foreign.sorted().take(3).joinToString()})"
+            throw DataFormatException(
+                root.resolve(SessionMetadata.FILE_NAME).toString(), 0, 0,
+                "missing or unreadable, and the folder holds $what: not taken for a session; left untouched",
+            )
+        }
+        for (s in streams) {
+            val f = root.resolve(s.fileName)
+            val head = Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { input ->
+                val b = ByteArray(s.header.length + 1)
+                var n = 0
+                while (n < b.size) {
+                    val r = input.read(b, n, b.size - n)
+                    if (r < 0) break
+                    n += r
+                }
+                String(b, 0, n, StandardCharsets.US_ASCII)
+            }
+            val line = head.substringBefore('\n')
+            if (if ('\n' in head) line != s.header else !s.header.startsWith(head)) {
+                throw refused(root, s.fileName, "does not start with the header '${s.header}': not taken for a session; left untouched")
+            }
+        }
+    }
+
+    public companion object {
+        /** Where recovery keeps an unreadable meta.json it rebuilt. */
+        public const val UNREADABLE_META: String = "meta.json.unreadable"
+
+        private const val NEWLINE = '\n'.code.toByte()
+        private val KNOWN: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }
+
+        /**
+         * True when [dir] holds a session that was never finished: meta.json says
+         * "complete": false (its process was killed or its writer abandoned after a failure), or
+         * meta.json is missing or unreadable in a folder that holds nothing but session files.
+         * False for a complete session and for anything recovery would refuse.
+         */
+        @JvmStatic
+        public fun isInterrupted(dir: Path): Boolean = try {
+            !SessionRecovery().recover(dir, dryRun = true).wasComplete
+        } catch (e: DataFormatException) {
+            false
+        } catch (e: IOException) {
+            false
+        }
+
+        /** [SessionRecovery.recover] on the real file system, changing the folder. */
+        @JvmStatic
+        public fun recover(dir: Path): RecoveryReport = SessionRecovery().recover(dir, dryRun = false)
+
+        private fun refused(root: Path, name: String, reason: String) = DataFormatException(root.resolve(name).toString(), 0, 0, "$reason; nothing changed")
+
+        /** The folder's entries by name, links not followed. */
+        private fun list(root: Path): Map<String, BasicFileAttributes> {
+            val out = HashMap<String, BasicFileAttributes>()
+            Files.newDirectoryStream(root).use { ds ->
+                for (p in ds) {
+                    val a = try {
+                        Files.readAttributes(p, BasicFileAttributes::class.java, LinkOption.NOFOLLOW_LINKS)
+                    } catch (e: NoSuchFileException) {
+                        continue
+                    }
+                    out[p.fileName.toString()] = a
+                }
+            }
+            return out
         }
     }
 }

@@ -6,23 +6,25 @@
  *
  * Durability: flush() hands buffered rows to the operating system, so they survive the process
  * being killed; call it at least once a second. sync() also forces them to the storage device
- * (survives power loss); it is slow, call it rarely (e.g. every minute and on pause). A killed
- * process leaves at most a partial last line per file and meta.json with "complete": false:
- * SessionRecovery.recover repairs that.
+ * (survives power loss); it is slow, call it rarely (anchor() does it, e.g. every minute). A
+ * killed process leaves at most a partial last line per file and meta.json with
+ * "complete": false: SessionRecovery.recover repairs that. meta.json is only ever replaced
+ * whole (AtomicFiles: temporary file, sync, rename, folder sync), and "complete": true is
+ * written only after every stream has been synced.
  *
  * Units and frames are those of SessionStream: SI, Android device frame, ENU quaternions.
  */
 package dev.motionfusion.core.session
 
 import dev.motionfusion.core.io.AsciiNumbers
+import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.FileOperations
 import java.io.Closeable
-import java.io.FileOutputStream
 import java.io.Flushable
 import java.io.IOException
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files
 import java.nio.file.Path
-import java.nio.file.StandardCopyOption
 
 /**
  * Writes one session into a folder: a CSV file per stream (created at the stream's first
@@ -33,7 +35,10 @@ public class SessionWriter private constructor(
     public val directory: Path,
     initial: SessionMetadata,
     private val bufferBytes: Int,
+    private val files: FileOperations,
 ) : Closeable, Flushable {
+
+    private val atomic = AtomicFiles(files)
 
     private val outs = arrayOfNulls<StreamOut>(SessionStream.entries.size)
     private var meta = initial.copy(formatVersion = SessionMetadata.FORMAT_VERSION, complete = false)
@@ -153,9 +158,13 @@ public class SessionWriter private constructor(
         writeMetadata()
     }
 
-    /** Adds a wall-clock anchor taken during recording (e.g. every minute); rewrites meta.json. */
+    /**
+     * A checkpoint with a wall-clock anchor taken during recording (e.g. every minute): the
+     * streams are synced to the device ([sync]), then meta.json with the anchor is replaced
+     * atomically and synced.
+     */
     public fun anchor(anchor: ClockAnchor) {
-        checkOpen()
+        sync()
         meta = meta.copy(anchors = meta.anchors + anchor)
         writeMetadata()
     }
@@ -186,8 +195,10 @@ public class SessionWriter private constructor(
     }
 
     /**
-     * Flushes and closes every stream and writes the final meta.json (complete, per-stream
-     * statistics, [endElapsedRealtimeNs], [endReason] such as "stopped" or "storage_low").
+     * Flushes, syncs and closes every stream, then writes the final meta.json (complete,
+     * per-stream statistics, [endElapsedRealtimeNs], [endReason] such as "stopped" or
+     * "storage_low"). When a stream cannot be written or synced, the session is not marked
+     * complete (it is left for SessionRecovery, as after [abandon]) and the failure is thrown.
      * A second close does nothing.
      */
     @JvmOverloads
@@ -196,16 +207,16 @@ public class SessionWriter private constructor(
         var failure: IOException? = null
         for (o in outs) {
             try {
-                o?.close()
+                o?.close(sync = true)
             } catch (e: IOException) {
                 if (failure == null) failure = e else failure.addSuppressed(e)
             }
         }
         closed = true
+        if (failure != null) throw failure
         val stats = SessionStream.entries.mapNotNull { s -> outs[s.ordinal]?.let { s to it.stats() } }.toMap()
         meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, endReason = endReason, streams = stats)
         writeMetadata()
-        if (failure != null) throw failure
     }
 
     /**
@@ -218,7 +229,7 @@ public class SessionWriter private constructor(
         closed = true
         for (o in outs) {
             try {
-                o?.close()
+                o?.close(sync = false)
             } catch (e: IOException) {
                 // The storage failed; recovery keeps what reached it.
             }
@@ -247,19 +258,12 @@ public class SessionWriter private constructor(
 
     private fun checkOpen() = check(!closed) { "session writer closed" }
 
-    private fun writeMetadata() {
-        val tmp = directory.resolve(SessionMetadata.FILE_NAME + ".tmp")
-        Files.write(tmp, MetadataJson.write(meta).toByteArray(StandardCharsets.UTF_8))
-        try {
-            Files.move(tmp, directory.resolve(SessionMetadata.FILE_NAME), StandardCopyOption.REPLACE_EXISTING, StandardCopyOption.ATOMIC_MOVE)
-        } catch (e: java.nio.file.AtomicMoveNotSupportedException) {
-            Files.move(tmp, directory.resolve(SessionMetadata.FILE_NAME), StandardCopyOption.REPLACE_EXISTING)
-        }
-    }
+    private fun writeMetadata() =
+        atomic.write(directory.resolve(SessionMetadata.FILE_NAME), MetadataJson.write(meta).toByteArray(StandardCharsets.UTF_8))
 
     /** One stream's file, byte buffer and running statistics. */
     private inner class StreamOut(private val stream: SessionStream) {
-        private val file = FileOutputStream(directory.resolve(stream.fileName).toFile())
+        private val file = files.open(directory.resolve(stream.fileName))
         private val buf = ByteArray(bufferBytes)
         private var pos = 0
         private val stats = StatsAccumulator()
@@ -305,11 +309,12 @@ public class SessionWriter private constructor(
             }
         }
 
-        fun sync() = file.fd.sync()
+        fun sync() = file.sync()
 
-        fun close() {
+        fun close(sync: Boolean) {
             try {
                 drain()
+                if (sync) sync()
             } finally {
                 file.close()
             }
@@ -333,16 +338,22 @@ public class SessionWriter private constructor(
 
         /**
          * Starts a session in [directory] (created if missing; must not already hold a session)
-         * and writes meta.json with [metadata] and "complete": false.
+         * and writes meta.json with [metadata] and "complete": false. Every file operation goes
+         * through [files] (tests pass one that fails or stops at a chosen step).
          * @throws IllegalArgumentException when [directory] already holds a meta.json.
          */
         @JvmStatic
         @JvmOverloads
-        public fun create(directory: Path, metadata: SessionMetadata, bufferBytes: Int = DEFAULT_BUFFER_BYTES): SessionWriter {
+        public fun create(
+            directory: Path,
+            metadata: SessionMetadata,
+            bufferBytes: Int = DEFAULT_BUFFER_BYTES,
+            files: FileOperations = FileOperations.SYSTEM,
+        ): SessionWriter {
             require(bufferBytes >= 4 * MAX_ROW_BYTES) { "bufferBytes must be ≥ ${4 * MAX_ROW_BYTES}" }
             Files.createDirectories(directory)
-            require(!Files.exists(directory.resolve(SessionMetadata.FILE_NAME))) { "$directory already holds a session" }
-            return SessionWriter(directory, metadata, bufferBytes)
+            require(!Files.exists(directory.resolve(SessionMetadata.FILE_NAME), java.nio.file.LinkOption.NOFOLLOW_LINKS)) { "$directory already holds a session" }
+            return SessionWriter(directory, metadata, bufferBytes, files)
         }
     }
 }
@@ -363,12 +374,12 @@ internal class StatsAccumulator {
 
     fun add(t: Long) {
         if (count > 0) {
-            val dt = t - last
             when {
-                dt < 0 -> backwards++
-                dt == 0L -> duplicates++
-                dt <= MAX_INTERVAL_NS -> {
-                    val s = dt * 1e-9
+                t < last -> backwards++
+                t == last -> duplicates++
+                // t > last here; the difference of two extreme timestamps overflows to a negative value.
+                t - last in 1..MAX_INTERVAL_NS -> {
+                    val s = (t - last) * 1e-9
                     intervals++
                     sum += s
                     sumSq += s * s

@@ -1,0 +1,174 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.FileOperations
+import java.io.IOException
+import java.io.OutputStream
+import java.io.PrintStream
+import java.nio.file.FileSystemException
+import java.nio.file.Files
+import java.nio.file.LinkOption
+import java.nio.file.Path
+import java.nio.file.StandardOpenOption
+
+/**
+ * Every file a command writes goes through here (one per run of [Cli]):
+ *  - an output that is an input, or lies inside an input folder, is refused (a
+ *    [UsageException], exit 2) before anything is opened for writing; real paths are compared,
+ *    so symbolic and hard links to an input are refused too;
+ *  - an output is written aside (a temporary file, or folder, beside it) and moved into place
+ *    by [commit], which [Cli] calls only when the run succeeded and standard output took
+ *    everything; otherwise [abort] removes what was written aside and the previous file stays
+ *    as it was. An output that is a device or a pipe (e.g. /dev/null) is written directly.
+ */
+internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
+    private val atomic = AtomicFiles(files)
+    private val pending = ArrayList<AtomicFiles.PendingFile>()
+    private val folders = ArrayList<Pair<Path, Path>>()
+    private val direct = ArrayList<OutputStream>()
+
+    /**
+     * A new file [output] for this run's result, checked against [inputs] (paths as given on the
+     * command line). Unbuffered: wrap it in a buffer. Closing it does not move it into place.
+     */
+    fun file(output: String, inputs: List<String>): OutputStream {
+        val target = check(output, inputs)
+        if (isDevice(target)) {
+            val stream = AtomicFiles.named(target) { Files.newOutputStream(target, StandardOpenOption.WRITE) }
+            return NamedStream(target, stream).also { direct += it }
+        }
+        return atomic.open(target).also { pending += it }
+    }
+
+    /**
+     * A new folder [output] (e.g. a session), filled in the returned temporary folder beside it
+     * and renamed into place by [commit]; [output] must not exist or be an empty folder.
+     */
+    fun folder(output: String, inputs: List<String>): Path {
+        val target = check(output, inputs)
+        if (Files.exists(target) && !(Files.isDirectory(target) && Files.list(target).use { !it.findAny().isPresent })) {
+            throw UsageException("$output exists and is not an empty folder")
+        }
+        val tmp = AtomicFiles.named(target) {
+            Files.createDirectory(target.parent.resolve(".${target.fileName}.${java.lang.Long.toHexString(System.nanoTime())}${AtomicFiles.TEMP_SUFFIX}"))
+        }
+        folders += tmp to target
+        return tmp
+    }
+
+    /** Moves every output into place (and syncs its folder). */
+    fun commit() {
+        for (d in direct) d.close()
+        direct.clear()
+        for (p in pending) p.commit()
+        pending.clear()
+        for ((tmp, target) in folders) {
+            AtomicFiles.named(target) {
+                if (Files.isDirectory(target, LinkOption.NOFOLLOW_LINKS)) Files.delete(target) // the empty folder it replaces
+                atomic.rename(tmp, target)
+            }
+        }
+        folders.clear()
+    }
+
+    /** Removes what was written aside (after a failure); never throws. */
+    fun abort() {
+        for (d in direct) runCatching { d.close() }
+        direct.clear()
+        for (p in pending) p.abort()
+        pending.clear()
+        for ((tmp, _) in folders) runCatching { tmp.toFile().deleteRecursively() }
+        folders.clear()
+    }
+
+    /**
+     * The real destination of [output] (links followed, also a dangling one) after checking
+     * it against [inputs].
+     */
+    private fun check(output: String, inputs: List<String>): Path {
+        val target = destination(Path.of(output))
+        for (i in inputs) {
+            val input = try {
+                Path.of(i).toRealPath()
+            } catch (e: IOException) {
+                continue // a missing input is reported when it is read; it cannot be overwritten
+            }
+            val same = target == input || (Files.exists(target) && Files.isSameFile(target, input))
+            if (same) throw UsageException("the output $output is the input $i; write it elsewhere")
+            if (target.startsWith(input)) {
+                throw UsageException("the output $output lies inside the input $i; write it elsewhere")
+            }
+        }
+        return target
+    }
+
+    private fun destination(p: Path): Path {
+        var x = p.toAbsolutePath()
+        repeat(MAX_LINKS) {
+            if (isDevice(x)) return x // e.g. /dev/stdout → /proc/self/fd/1 → pipe:[…]: written as named
+            if (!Files.isSymbolicLink(x)) {
+                val parent = AtomicFiles.named(x) { x.parent.toRealPath() }
+                return parent.resolve(x.fileName)
+            }
+            x = x.parent.resolve(Files.readSymbolicLink(x))
+        }
+        throw FileSystemException(p.toString(), null, "too many levels of symbolic links")
+    }
+
+    /** A device or a pipe (links followed): written directly, there is nothing to replace. */
+    private fun isDevice(p: Path) = Files.exists(p) && !Files.isRegularFile(p) && !Files.isDirectory(p)
+
+    /** A direct output (device, pipe) whose failures name the file. */
+    private class NamedStream(private val target: Path, private val out: OutputStream) : OutputStream() {
+        override fun write(b: Int) = AtomicFiles.named(target) { out.write(b) }
+        override fun write(b: ByteArray, off: Int, len: Int) = AtomicFiles.named(target) { out.write(b, off, len) }
+        override fun flush() = AtomicFiles.named(target) { out.flush() }
+        override fun close() = AtomicFiles.named(target) { out.close() }
+    }
+
+    private companion object {
+        const val MAX_LINKS = 40
+    }
+}
+
+/** Standard output failed (closed pipe, full device); the message is the reason. */
+internal class StdoutException(reason: String) : IOException(reason)
+
+/**
+ * Standard output that stops the run once it fails (e.g. `fusion replay … | head`):
+ * PrintStream swallows write errors, which would let a long replay run on for nothing.
+ */
+internal class StdoutGuard(private val out: PrintStream) : OutputStream() {
+    override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
+
+    override fun write(b: ByteArray, off: Int, len: Int) {
+        out.write(b, off, len)
+        if (out.checkError()) throw StdoutException("write failed")
+    }
+
+    override fun flush() {
+        out.flush()
+        if (out.checkError()) throw StdoutException("write failed")
+    }
+}
+
+/** The process's standard output, remembering why a write failed (PrintStream only says that one did). */
+internal class RecordingOutput(private val out: OutputStream) : OutputStream() {
+    @Volatile
+    var failure: IOException? = null
+        private set
+
+    override fun write(b: Int) = guard { out.write(b) }
+    override fun write(b: ByteArray, off: Int, len: Int) = guard { out.write(b, off, len) }
+    override fun flush() = guard { out.flush() }
+    override fun close() = guard { out.close() }
+
+    private inline fun guard(block: () -> Unit) {
+        try {
+            block()
+        } catch (e: IOException) {
+            if (failure == null) failure = e
+            throw e
+        }
+    }
+}

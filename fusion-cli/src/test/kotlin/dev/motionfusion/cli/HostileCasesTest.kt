@@ -1,0 +1,290 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.io.FileOperations
+import dev.motionfusion.core.io.SyncedOutput
+import org.junit.jupiter.api.AfterAll
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.BeforeAll
+import org.junit.jupiter.api.DynamicTest
+import org.junit.jupiter.api.TestFactory
+import org.junit.jupiter.api.TestInstance
+import java.io.ByteArrayOutputStream
+import java.io.FileOutputStream
+import java.io.IOException
+import java.io.OutputStream
+import java.io.PrintStream
+import java.nio.file.AccessDeniedException
+import java.nio.file.Files
+import java.nio.file.LinkOption
+import java.nio.file.Path
+import java.nio.file.StandardCopyOption
+import java.security.MessageDigest
+
+/**
+ * The careless or unlucky user's runs of `fusion` (issue: nothing written is lost, half-written
+ * or outside its folder), one generated test per case. Each case runs in a fresh copy of the
+ * same folder (sessions, zip, tables, links, interrupted and foreign folders) and checks the exit
+ * code, the message, that no stack trace is printed, and, by hashing every file (link targets
+ * included) before and after, that nothing but the case's expected output changed.
+ */
+@TestInstance(TestInstance.Lifecycle.PER_CLASS)
+class HostileCasesTest {
+    private val tmp: Path = Files.createTempDirectory("fusion-hostile")
+
+    private lateinit var template: Path
+
+    /** Where stdout goes in a case. */
+    private enum class Stdout { CAPTURED, BROKEN_PIPE, DEV_FULL }
+
+    /** Storage faults under the command's outputs. */
+    private enum class Storage { REAL, FULL_AFTER_2000_BYTES, PERMISSION_DENIED, OUT_OF_MEMORY }
+
+    private class Case(
+        val name: String,
+        val args: List<String>,
+        val code: Int,
+        val message: String,
+        /** Paths (relative to the case folder) the run may change, add or remove. */
+        val changes: Set<String> = emptySet(),
+        val stdout: Stdout = Stdout.CAPTURED,
+        val storage: Storage = Storage.REAL,
+    )
+
+    private var casesRun = 0
+    private var stackTraces = 0
+    private var changedOutside = 0
+    private var inputsModified = 0
+
+    private val sim = listOf("--duration", "5", "--rate", "50")
+    private val table = "t_s,gx,gy,gz,ax,ay,az\n"
+
+    @BeforeAll
+    fun buildTemplate() {
+        template = Files.createDirectories(tmp.resolve("template"))
+        fun t(p: String) = template.resolve(p).toString()
+        for (out in listOf("s", "s.zip", "table.csv")) check(fusion("simulate", "-o", t(out), *sim.toTypedArray()).code == 0)
+        Files.writeString(template.resolve("prev.csv"), "an earlier output\n")
+        Files.writeString(template.resolve("bad.csv"), table + "0,0,0,0,0,0,9.8\n0.01,0,0,0,0,0,9.8\n0.02,0,0,zz,0,0,9.8\n")
+        Files.write(template.resolve("corrupt.csv.gz"), byteArrayOf(0x1f, 0x8b.toByte(), 8, 0, 0, 0, 0, 0, 0, 3, 1, 2, 3, 4, 5, 6, 7, 8))
+        Files.write(template.resolve("cut.csv.gz"), ByteArrayOutputStream().also { b ->
+            java.util.zip.GZIPOutputStream(b).use { it.write((table + "0,0,0,0,0,0,9.8\n".repeat(200)).toByteArray()) }
+        }.toByteArray().let { it.copyOf(it.size / 2) })
+        Files.writeString(template.resolve("truth.csv"), "t_s,qw,qx,qy,qz\n0,1,0,0,0\n1,1,0,0,0\n")
+        // An interrupted session: "complete": false and a partial last row.
+        val int = copyTree(template.resolve("s"), template.resolve("s-int"))
+        val meta = int.resolve("meta.json")
+        Files.writeString(meta, Files.readString(meta).replace("\"complete\": true", "\"complete\": false"))
+        Files.write(int.resolve("gyroscope.csv"), "1000005000000,0.1,0.".toByteArray(), java.nio.file.StandardOpenOption.APPEND)
+        // ... with a malformed row in the middle.
+        val bad = copyTree(int, template.resolve("s-bad"))
+        val g = bad.resolve("gyroscope.csv")
+        val lines = Files.readAllLines(g)
+        Files.write(g, (lines.take(50) + lines[50].replaceFirst(",", ",zz") + lines.drop(51)).joinToString("\n").toByteArray())
+        // ... whose meta.json an old in-place write left cut.
+        val broken = copyTree(int, template.resolve("s-broken"))
+        Files.write(broken.resolve("meta.json"), Files.readAllBytes(broken.resolve("meta.json")).copyOf(60))
+        // A foreign project's folder with a format_version but not this project's marker.
+        val foreign = Files.createDirectories(template.resolve("foreign"))
+        Files.writeString(foreign.resolve("meta.json"), "{\"format_version\": 1, \"complete\": false, \"theirs\": {\"a\": 1}}")
+        Files.writeString(foreign.resolve("gyroscope.csv"), "timestamp_ns,x_rad_s,y_rad_s,z_rad_s,accuracy\n1,0,0,0,3\n2,0,")
+        Files.createDirectories(template.resolve("outside"))
+        Files.writeString(template.resolve("outside/precious.csv"), "timestamp_ns,x_rad_s,y_rad_s,z_rad_s,accuracy\n1,0,0,0,3\n2,0,")
+        copyTree(int, template.resolve("s-link"))
+    }
+
+    private fun copyTree(from: Path, to: Path): Path {
+        Files.walk(from).use { s ->
+            for (p in s.toList()) {
+                val q = to.resolve(from.relativize(p).toString())
+                if (Files.isDirectory(p, LinkOption.NOFOLLOW_LINKS)) Files.createDirectories(q) else Files.copy(p, q, LinkOption.NOFOLLOW_LINKS, StandardCopyOption.COPY_ATTRIBUTES)
+            }
+        }
+        return to
+    }
+
+    /** A fresh case folder: the template plus links (copied trees do not keep hard links). */
+    private fun caseFolder(name: String): Path {
+        val root = copyTree(template, tmp.resolve("case-$name"))
+        Files.createSymbolicLink(root.resolve("link.csv"), root.resolve("table.csv"))
+        Files.createLink(root.resolve("hard.csv"), root.resolve("table.csv"))
+        Files.createSymbolicLink(root.resolve("dangling.csv"), root.resolve("s/new.csv"))
+        Files.delete(root.resolve("s-link/gyroscope.csv"))
+        Files.createSymbolicLink(root.resolve("s-link/gyroscope.csv"), root.resolve("outside/precious.csv"))
+        return root
+    }
+
+    private fun hashes(root: Path): Map<String, String> {
+        val md = MessageDigest.getInstance("SHA-256")
+        return Files.walk(root).use { s ->
+            s.filter { it != root }.toList().associate { p ->
+                val rel = root.relativize(p).toString()
+                val content = when {
+                    Files.isDirectory(p) -> "folder"
+                    Files.exists(p) -> md.digest(Files.readAllBytes(p)).joinToString("") { "%02x".format(it) }
+                    else -> "dangling"
+                }
+                rel to (if (Files.isSymbolicLink(p)) "link → ${Files.readSymbolicLink(p)}: " else "") + content
+            }
+        }
+    }
+
+    private fun cases(): List<Case> {
+        val c = ArrayList<Case>()
+        val refused = "is the input|lies inside the input"
+        // An output that is an input, or inside one, is refused before anything is written.
+        c += Case("replay onto its input", listOf("replay", "table.csv", "-o", "table.csv"), 2, refused)
+        c += Case("replay into the input session", listOf("replay", "s", "-o", "s/out.csv"), 2, refused)
+        c += Case("replay over a stream of the input", listOf("replay", "s", "-o", "s/gyroscope.csv"), 2, refused)
+        c += Case("replay onto the input zip", listOf("replay", "s.zip", "-o", "s.zip"), 2, refused)
+        c += Case("replay into the input zip", listOf("replay", "s.zip", "-o", "s.zip/x.csv"), 2, refused)
+        c += Case("replay onto a symbolic link to the input", listOf("replay", "table.csv", "-o", "link.csv"), 2, refused)
+        c += Case("replay onto a hard link to the input", listOf("replay", "table.csv", "-o", "hard.csv"), 2, refused)
+        c += Case("replay onto a dangling link into the input", listOf("replay", "s", "-o", "dangling.csv"), 2, refused)
+        c += Case("compare onto the input folder", listOf("compare", "s", "-o", "s"), 2, refused)
+        c += Case("compare over the input's meta.json", listOf("compare", "s", "-o", "s/meta.json"), 2, refused)
+        c += Case("plot onto its input", listOf("plot", "table.csv", "-o", "table.csv"), 2, refused)
+        c += Case("plot onto its truth", listOf("plot", "s", "--truth", "truth.csv", "-o", "truth.csv"), 2, refused)
+        // A failed run leaves the earlier output as it was.
+        c += Case("replay of a malformed table over an earlier output", listOf("replay", "bad.csv", "-o", "prev.csv"), 1, """bad\.csv:4:\d+: column gz""")
+        c += Case("replay into a missing folder", listOf("replay", "table.csv", "-o", "missing/out.csv"), 3, """missing/out\.csv: no such file or folder""")
+        c += Case("replay to a full device", listOf("replay", "table.csv", "-o", "/dev/full"), 3, """/dev/full: No space left on device""")
+        c += Case("replay on a disk that fills up", listOf("replay", "table.csv", "-o", "prev.csv"), 3, """prev\.csv: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
+        c += Case("replay to a folder without permission", listOf("replay", "table.csv", "-o", "prev.csv"), 3, """prev\.csv: permission denied""", storage = Storage.PERMISSION_DENIED)
+        c += Case("replay out of memory", listOf("replay", "table.csv", "-o", "prev.csv"), 3, """out of memory: 'replay' needs more than the \d+ MiB""", storage = Storage.OUT_OF_MEMORY)
+        c += Case("compare on a disk that fills up", listOf("compare", "s", "-o", "prev.csv"), 3, """prev\.csv: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
+        c += Case("plot on a disk that fills up", listOf("plot", "s", "-o", "prev.csv"), 3, """prev\.csv: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
+        c += Case("simulate a table on a disk that fills up", listOf("simulate", "-o", "prev.csv") + sim, 3, """prev\.csv: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
+        c += Case("simulate a zip on a disk that fills up", listOf("simulate", "-o", "new.zip") + sim, 3, """new\.zip: No space left on device""", storage = Storage.FULL_AFTER_2000_BYTES)
+        c += Case("simulate over a session", listOf("simulate", "-o", "s") + sim, 2, """s exists and is not an empty folder""")
+        // What succeeds changes exactly its output.
+        c += Case("replay to a device", listOf("replay", "table.csv", "-o", "/dev/null"), 0, "")
+        c += Case("replay over an earlier output", listOf("replay", "table.csv", "-o", "prev.csv"), 0, "", setOf("prev.csv"))
+        c += Case("replay through a link to an earlier output", listOf("replay", "s", "-o", "out-link.csv"), 0, "", setOf("prev.csv", "out-link.csv"))
+        c += Case("simulate a new session", listOf("simulate", "-o", "new") + sim, 0, "", setOf("new") + listOf("meta.json", "accelerometer.csv", "gyroscope.csv", "magnetometer.csv", "truth.csv", "rotation_vector.csv").map { "new/$it" })
+        // Standard output that cannot be written fails the run (and its file outputs stay aside).
+        for (stdout in listOf(Stdout.BROKEN_PIPE, Stdout.DEV_FULL)) {
+            val why = if (stdout == Stdout.BROKEN_PIPE) "Broken pipe" else "No space left on device"
+            val m = "standard output: $why"
+            c += Case("summary, $why", listOf("summary", "table.csv"), 3, m, stdout = stdout)
+            c += Case("eval, $why", listOf("eval", "s"), 3, m, stdout = stdout)
+            c += Case("compare, $why", listOf("compare", "s"), 3, m, stdout = stdout)
+            c += Case("replay to stdout, $why", listOf("replay", "s"), 3, m, stdout = stdout)
+            c += Case("simulate, $why", listOf("simulate", "-o", "new.csv") + sim, 3, m, stdout = stdout)
+            c += Case("plot, $why", listOf("plot", "s", "-o", "new.svg"), 3, m, stdout = stdout)
+            c += Case("recover, $why", listOf("recover", "s-int"), 3, m, setOf("s-int/meta.json", "s-int/gyroscope.csv"), stdout = stdout)
+            c += Case("--help, $why", listOf("--help"), 3, m, stdout = stdout)
+            c += Case("command help, $why", listOf("replay", "--help"), 3, m, stdout = stdout)
+            c += Case("--version, $why", listOf("--version"), 3, m, stdout = stdout)
+        }
+        // Recovery cannot do harm.
+        c += Case("recover a foreign folder", listOf("recover", "foreign"), 1, """foreign/meta\.json: not a Motion Fusion session""")
+        c += Case("recover a session with a link out of it", listOf("recover", "s-link"), 1, """s-link/gyroscope\.csv: is a symbolic link""")
+        c += Case("recover with a malformed row midway", listOf("recover", "s-bad"), 1, """s-bad/gyroscope\.csv:51:\d+: column""")
+        c += Case("recover a zip", listOf("recover", "s.zip"), 2, """not a folder""")
+        c += Case("recover nothing", listOf("recover", "nope"), 3, """nope: no such file or folder""")
+        c += Case("recover --dry-run", listOf("recover", "--dry-run", "s-int"), 0, "")
+        c += Case("recover", listOf("recover", "s-int"), 0, "", setOf("s-int/meta.json", "s-int/gyroscope.csv"))
+        c += Case("recover a cut meta.json", listOf("recover", "s-broken"), 0, "", setOf("s-broken/meta.json", "s-broken/meta.json.unreadable", "s-broken/gyroscope.csv"))
+        c += Case("recover a complete session", listOf("recover", "s"), 0, "")
+        // Usage errors in the tool's own words.
+        c += Case("--set of a word as a number", listOf("replay", "table.csv", "--set", "beta=abc"), 2, """--set beta: 'abc' is not a number""")
+        c += Case("--set of an unknown mode", listOf("replay", "table.csv", "--set", "mode=fast"), 2, """--set mode: 'fast' is not one of IMU, MARG""")
+        c += Case("--set of an unknown setting", listOf("replay", "table.csv", "--set", "nope=1"), 2, """--set nope: no such setting""")
+        c += Case("--set of a word as a flag", listOf("replay", "table.csv", "--set", "accRejection=yes"), 2, """--set accRejection: 'yes' is not true or false""")
+        c += Case("summary of a missing file", listOf("summary", "nope.csv"), 3, """nope\.csv: no such file""")
+        c += Case("summary of corrupt gzip data", listOf("summary", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt gzip data""")
+        c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: gzip data ends early""")
+        return c
+    }
+
+    @TestFactory
+    fun `hostile runs of fusion`(): List<DynamicTest> = cases().map { case -> DynamicTest.dynamicTest(case.name) { run(case) } }
+
+    private fun run(case: Case) {
+        val root = caseFolder(case.name.replace(Regex("[^A-Za-z0-9]+"), "-"))
+        if (case.name == "replay through a link to an earlier output") Files.createSymbolicLink(root.resolve("out-link.csv"), root.resolve("prev.csv"))
+        val before = hashes(root)
+        val args = case.args.mapIndexed { i, a -> if (isPath(case.args, i)) root.resolve(a).toString() else a }
+        val err = ByteArrayOutputStream()
+        val captured = ByteArrayOutputStream()
+        val raw: OutputStream = when (case.stdout) {
+            Stdout.CAPTURED -> captured
+            Stdout.BROKEN_PIPE -> object : OutputStream() {
+                override fun write(b: Int) = throw IOException("Broken pipe")
+            }
+            Stdout.DEV_FULL -> FileOutputStream("/dev/full")
+        }
+        val recording = RecordingOutput(raw)
+        val code = raw.use {
+            Cli(PrintStream(recording, false, "UTF-8"), PrintStream(err, true, "UTF-8"), Outputs(storage(case.storage)), { recording.failure }).run(args)
+        }
+        val message = err.toString("UTF-8")
+        casesRun++
+        if (message.contains("\tat ") || message.contains("Exception")) stackTraces++
+        val after = hashes(root)
+        val changed = (before.keys + after.keys).filter { before[it] != after[it] }.toSet()
+        val outside = changed - case.changes
+        changedOutside += outside.size
+        val inputs = case.args.indices.filter { isPath(case.args, it) && case.args.getOrNull(it - 1) != "-o" }.map { case.args[it] }.toSet()
+        val inputsChanged = outside.filter { c -> inputs.any { c == it || c.startsWith("$it/") } }
+        inputsModified += inputsChanged.size
+        println("${case.name}: exit $code; ${message.lines().lastOrNull { it.isNotBlank() } ?: ""}".replace(root.toString() + "/", ""))
+
+        assertEquals(case.code, code, "exit code; stderr: $message")
+        assertTrue(Regex(case.message).containsMatchIn(message), "message /${case.message}/ in: $message")
+        assertTrue(!message.contains("\tat ") && !message.contains("Exception"), "no stack trace: $message")
+        assertEquals(emptyList<String>(), inputsChanged, "inputs modified")
+        assertEquals(emptySet<String>(), outside, "changed outside the expected output ${case.changes}")
+        if (case.code == 0 && case.changes.isNotEmpty()) assertEquals(case.changes.filter { !it.startsWith("new/") }.toSet(), changed.filter { !it.startsWith("new/") }.toSet(), "the output is in place")
+    }
+
+    private fun storage(s: Storage): FileOperations = when (s) {
+        Storage.REAL -> FileOperations.SYSTEM
+        Storage.FULL_AFTER_2000_BYTES -> FullDisk(2000)
+        Storage.PERMISSION_DENIED -> object : FileOperations by FileOperations.SYSTEM {
+            override fun create(path: Path): SyncedOutput = throw AccessDeniedException(path.toString())
+        }
+        Storage.OUT_OF_MEMORY -> object : FileOperations by FileOperations.SYSTEM {
+            override fun create(path: Path): SyncedOutput = throw OutOfMemoryError("Java heap space")
+        }
+    }
+
+    @AfterAll
+    fun numbers() {
+        tmp.toFile().deleteRecursively()
+        println("hostile cases: $casesRun run, $stackTraces stack traces, $changedOutside files changed outside their targets, $inputsModified inputs modified")
+    }
+
+    /** True when args[i] names a file of the case folder (not the command, an option, an option's value or an absolute path). */
+    private fun isPath(args: List<String>, i: Int): Boolean {
+        val a = args[i]
+        return i > 0 && !a.startsWith("-") && !a.startsWith("/") && args[i - 1] !in VALUE_OPTIONS
+    }
+
+    private companion object {
+        val VALUE_OPTIONS = setOf("--duration", "--rate", "--seed", "--set", "--angles")
+    }
+}
+
+/** Storage that takes [spaceBytes] bytes in all and then fails like a full disk (write(2): ENOSPC). */
+internal class FullDisk(private val spaceBytes: Long) : FileOperations by FileOperations.SYSTEM {
+    private var written = 0L
+
+    override fun create(path: Path): SyncedOutput {
+        val out = FileOperations.SYSTEM.create(path)
+        return object : SyncedOutput() {
+            override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
+
+            override fun write(b: ByteArray, off: Int, len: Int) {
+                val n = minOf(len.toLong(), maxOf(0L, spaceBytes - written)).toInt()
+                if (n > 0) out.write(b, off, n)
+                written += n
+                if (n < len) throw IOException("No space left on device")
+            }
+
+            override fun sync() = out.sync()
+            override fun close() = out.close()
+        }
+    }
+}
