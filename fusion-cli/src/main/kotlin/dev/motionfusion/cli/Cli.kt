@@ -11,7 +11,7 @@ internal class Cli(private val out: PrintStream, private val err: PrintStream) {
 
     private val commands: List<Command> = listOf(
         ReplayCommand(err), EvalCommand(err), CompareCommand(err), PlotCommand(err),
-        SimulateCommand(), RecoverCommand(), SummaryCommand(),
+        SimulateCommand(), RecoverCommand(), SummaryCommand(), CalibrateCommand(err), AllanCommand(err),
     )
 
     fun run(args: List<String>): Int {

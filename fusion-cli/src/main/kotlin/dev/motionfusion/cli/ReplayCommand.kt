@@ -37,17 +37,20 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         |Options:
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
         |  --quiet              no summary on standard error
+        |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
         |${FilterOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
         |Exit codes: 0 ok, 1 malformed input (FILE:LINE:COLUMN: reason), 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         val settings = FilterOptions.settings(o)
         val output = o.value("-o") ?: o.value("--output")
+        val calibration = o.value("--calibration")?.let { CalibrateCommand.read(Path.of(it)) }
         Recording.open(Path.of(input)).use { rec ->
+            CalibrateCommand.requireApplies(rec, calibration, o.value("--calibration"))
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(Files.newOutputStream(Path.of(output)), 1 shl 16).let {
@@ -55,7 +58,7 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
             }
             val writer = ReplayCsvWriter(stream, closeStream = output != null)
             val replayer = Replayer(settings)
-            val counts = writer.use { w -> rec.events().use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
+            val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
             progress.finish()
             if (!o.has("--quiet")) {
                 val d = replayer.filter.diagnostics()
