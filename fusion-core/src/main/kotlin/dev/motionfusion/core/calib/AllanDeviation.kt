@@ -31,9 +31,14 @@ public class AllanAccumulator {
 
     /**
      * Adds one sample at [timestampNs]. The samples are taken as evenly spaced at the mean
-     * interval; intervals over five times the mean so far are counted in [AllanCurve.gaps].
+     * interval; intervals over five times the mean so far, and non-finite samples (skipped),
+     * are counted in [AllanCurve.gaps].
      */
     public fun add(timestampNs: Long, vx: Double, vy: Double, vz: Double) {
+        if (!(vx.isFinite() && vy.isFinite() && vz.isFinite())) {
+            gaps++
+            return
+        }
         if (count == 0L) {
             first[0] = vx; first[1] = vy; first[2] = vz
             firstNs = timestampNs
@@ -135,7 +140,7 @@ public class AllanCurve(
     public val clusterCounts: LongArray,
     public val samples: Long,
     public val rateHz: Double,
-    /** Intervals over five times the mean interval (the analysis assumes even sampling). */
+    /** Intervals over five times the mean interval and skipped non-finite samples (the analysis assumes even sampling). */
     public val gaps: Long,
 ) {
     /** The noise terms of each axis. */

@@ -36,7 +36,7 @@ internal class AxisSums {
 
 /**
  * Feed gyroscope ([gyroscope]) and accelerometer ([accelerometer]) samples in time order, then
- * read [gyroscopeFit] and [accelerometerFit].
+ * read [gyroscopeFit], [poses] and [accelerometerFit] (reading ends the input: later samples are ignored).
  */
 public class StillPeriods(
     private val settings: CalibrationSettings = CalibrationSettings(),
@@ -62,9 +62,10 @@ public class StillPeriods(
     private val pose = AxisSums()
     private var poseNs = 0L
     private val poses = ArrayList<Pair<Vector3, Long>>()
+    private var finished = false
 
     public fun gyroscope(timestampNs: Long, x: Double, y: Double, z: Double) {
-        if (!(x.isFinite() && y.isFinite() && z.isFinite())) return
+        if (finished || !(x.isFinite() && y.isFinite() && z.isFinite())) return
         if (windowStart == Long.MIN_VALUE || timestampNs < lastGyroNs || timestampNs - lastGyroNs > windowNs / 2) {
             closeWindow(still = false)
             windowStart = timestampNs
@@ -77,7 +78,7 @@ public class StillPeriods(
     }
 
     public fun accelerometer(x: Double, y: Double, z: Double) {
-        if (windowStart == Long.MIN_VALUE || !(x.isFinite() && y.isFinite() && z.isFinite())) return
+        if (finished || windowStart == Long.MIN_VALUE || !(x.isFinite() && y.isFinite() && z.isFinite())) return
         acc.add(x, y, z)
     }
 
@@ -113,8 +114,6 @@ public class StillPeriods(
         pose.clear()
         poseNs = 0L
     }
-
-    private var finished = false
 
     private fun finish() {
         if (finished) return

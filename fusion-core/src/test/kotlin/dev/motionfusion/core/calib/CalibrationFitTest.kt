@@ -74,6 +74,12 @@ class CalibrationFitTest {
             println("turning at $rate rad/s for 30 s: $fit")
             assertTrue(fit is Fit.Refused && "directions" in fit.reason, "got $fit")
         }
+        // Turns that locate the centre well but leave most of the sphere unvisited: refused for coverage alone.
+        val partial = magnetometerFit(turning(1.5, 60.0))
+        println("turning at 1.5 rad/s for 60 s: $partial")
+        assertTrue(partial is Fit.Refused && "of the sphere (at least 30 % needed)" in partial.reason, "got $partial")
+        val accepted = magnetometerFit(turning(1.5, 60.0), CalibrationSettings(minCoverage = 0.2))
+        assertTrue(accepted is Fit.Done && accepted.value.coverage in 0.2..0.3 && (accepted.value.correction.offset - hardIron).norm() < 2.0, "got $accepted")
     }
 
     @Test
