@@ -37,7 +37,7 @@ internal object AllanPlot {
     fun table(r: AllanResult): String = buildString {
         fun rows(sensor: String, curve: AllanCurve?, terms: List<NoiseTerms>?, unit: String) {
             if (curve == null || terms == null) return
-            appendLine("$sensor: ${curve.samples} samples at ${g(curve.rateHz)} Hz over ${g(curve.samples / curve.rateHz)} s, ${curve.gaps} gaps")
+            appendLine("$sensor: ${curve.samples} samples at ${g(curve.rateHz)} Hz over ${String.format(Locale.ROOT, "%.0f", curve.samples / curve.rateHz)} s, ${curve.gaps} gaps")
             appendLine(String.format(Locale.ROOT, "  %-4s %-14s %-14s %-14s %s", "axis", "N ($unit/√Hz)", "B ($unit)", "K ($unit/s/√Hz)", "B at τ (s)"))
             for ((a, t) in terms.withIndex()) {
                 val k = if (t.randomWalk.isFinite()) g(t.randomWalk) else "< ${g(t.randomWalkUpperBound)}"

@@ -41,17 +41,28 @@ public class AllanResult(
             appendLine("# no $key stream in the recording")
             return
         }
-        val n = terms.maxOf { it.whiteNoise }
+        val n = largest(terms.map { it.whiteNoise })
         val walks = terms.map { if (it.randomWalk.isFinite()) it.randomWalk else it.randomWalkUpperBound }
         val bounded = terms.any { !it.randomWalk.isFinite() }
         appendLine("${key}_noise_density: ${num(n)}  # $unit/sqrt(Hz); x y z: ${terms.joinToString(" ") { num(it.whiteNoise) }}")
-        appendLine("${key}_random_walk: ${num(walks.max())}  # $unit/s/sqrt(Hz); x y z: ${walks.joinToString(" ") { num(it) }}" +
+        appendLine("${key}_random_walk: ${num(largest(walks))}  # $unit/s/sqrt(Hz); x y z: ${walks.joinToString(" ") { num(it) }}" +
             if (bounded) " (upper bound: the recording is too short to show the random walk on every axis)" else "")
         appendLine("# ${key} bias instability ($unit): ${terms.joinToString(" ") { num(it.biasInstability) }} at tau ${terms.joinToString(" ") { num(it.biasInstabilityTau) }} s")
         appendLine("# ${curve.samples} samples at ${num(curve.rateHz)} Hz, ${curve.gaps} gaps")
     }
 
-    private fun num(v: Double) = if (v.isFinite()) String.format(Locale.ROOT, "%.6g", v) else ".nan"
+    /** The largest finite value, NaN when none is. */
+    private fun largest(values: List<Double>): Double = values.filter { it.isFinite() }.maxOrNull() ?: Double.NaN
+
+    /** Six significant digits without trailing zeros; YAML's .nan for unknown. */
+    private fun num(v: Double): String {
+        if (!v.isFinite()) return ".nan"
+        val s = String.format(Locale.ROOT, "%.6g", v)
+        val e = s.indexOfAny(charArrayOf('e', 'E'))
+        val mantissa = if (e < 0) s else s.substring(0, e)
+        val trimmed = if ('.' in mantissa) mantissa.trimEnd('0').trimEnd('.') else mantissa
+        return if (e < 0) trimmed else trimmed + s.substring(e)
+    }
 
     public companion object {
         /** Reads [events] (a recording with [streams]) once. [progress] as in [Calibrator.calibrate]. */
