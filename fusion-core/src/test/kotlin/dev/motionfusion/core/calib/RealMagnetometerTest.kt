@@ -80,4 +80,33 @@ class RealMagnetometerTest {
             assertTrue(phone.std < raw.std)
         }
     }
+
+    @Test
+    fun `the gyroscope bias from still periods of a real recording agrees with the phone's own`() {
+        val dir = folder("sl-ios-siberiawolf/datasets/gaming/2023-06-11_01-01-00")
+        Recording.open(dir).use { rec ->
+            val cal = rec.events().use { Calibrator.calibrate(it, rec.streams) }
+            val g = cal.gyroscope ?: throw AssertionError("refused: ${cal.refused}")
+            assertTrue(g.stream == SessionStream.GYROSCOPE_UNCALIBRATED)
+            // The phone's bias: uncalibrated minus calibrated rate, at the calibrated sample nearest in time (both about 100 Hz).
+            val phone = Array(3) { Moments() }
+            val lastRaw = DoubleArray(3) { Double.NaN }
+            var lastRawNs = Long.MIN_VALUE
+            rec.events(setOf(SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.GYROSCOPE)).use { e ->
+                while (e.next()) {
+                    if (e.stream == SessionStream.GYROSCOPE_UNCALIBRATED) {
+                        e.values.copyInto(lastRaw, 0, 0, 3); lastRawNs = e.timestampNs
+                    } else if (lastRawNs != Long.MIN_VALUE && e.timestampNs - lastRawNs < 5_000_000L) {
+                        for (k in 0 until 3) phone[k].add(lastRaw[k] - e.values[k])
+                    }
+                }
+            }
+            println("sl-ios-siberiawolf gyroscope: bias %s ± %s rad/s over %.1f s still; the phone's (%.6f, %.6f, %.6f) rad/s"
+                .format(g.bias, g.biasStdError, g.stillTimeS, phone[0].mean, phone[1].mean, phone[2].mean))
+            for (k in 0 until 3) {
+                val d = kotlin.math.abs(g.bias[k] - phone[k].mean)
+                assertTrue(d < 3 * g.biasStdError[k] + 2e-4, "axis $k: ours ${g.bias[k]}, the phone's ${phone[k].mean}")
+            }
+        }
+    }
 }
