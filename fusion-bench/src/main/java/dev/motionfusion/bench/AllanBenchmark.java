@@ -46,7 +46,12 @@ public class AllanBenchmark {
 
     @TearDown(Level.Trial)
     public void delete() throws IOException {
-        try (Stream<Path> files = Files.walk(dir.getParent())) {
+        deleteTree(dir.getParent());
+    }
+
+    /** Deletes [root] and everything below it. */
+    static void deleteTree(Path root) throws IOException {
+        try (Stream<Path> files = Files.walk(root)) {
             files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
         }
     }
@@ -86,9 +91,7 @@ public class AllanBenchmark {
                     s, cpu, (rt.totalMemory() - rt.freeMemory()) / 1e6, rt.maxMemory() / 1e6);
             }
         } finally {
-            try (Stream<Path> files = Files.walk(d.getParent())) {
-                files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
-            }
+            deleteTree(d.getParent());
         }
     }
 }
