@@ -137,4 +137,32 @@ class CalibrationCommandsTest {
         assertEquals(ExitCode.USAGE, fusion("calibrate", s.toString(), "-o", s.toString()).code)
         assertEquals(ExitCode.IO_ERROR, fusion("calibrate", dir.resolve("missing").toString()).code)
     }
+
+    @Test
+    fun `malformed and non-finite input`() {
+        val s = session("turning", turning)
+        // A malformed row stops with FILE:LINE:COLUMN and nothing is written.
+        val gyro = s.resolve("gyroscope_uncalibrated.csv")
+        val lines = Files.readAllLines(gyro).toMutableList()
+        lines[5] = lines[5].replaceFirst(",", ",x")
+        Files.write(gyro, lines)
+        for (c in listOf("calibrate", "allan")) {
+            val r = fusion(c, s.toString(), "-o", dir.resolve("$c.out").toString())
+            assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
+            assertTrue(Regex("""gyroscope_uncalibrated\.csv:6:\d+: """).containsMatchIn(r.err), r.err)
+            assertTrue(!Files.exists(dir.resolve("$c.out")))
+        }
+        // A NaN reading is skipped by the fits and held at the previous sample by the Allan deviation.
+        lines[5] = lines[5].replaceFirst(",x", ",")
+        val fields = lines[5].split(',').toMutableList()
+        fields[1] = "NaN"
+        lines[5] = fields.joinToString(",")
+        Files.write(gyro, lines)
+        val r = fusion("calibrate", s.toString(), "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue((CalibrationJson.parse(r.out, "out").gyroscope!!.bias - gyroBias).norm() < 3e-4)
+        val a = fusion("allan", s.toString(), "--quiet")
+        assertEquals(ExitCode.OK, a.code, a.err)
+        assertTrue("# 9000 samples at 100 Hz, 0 gaps" in a.out && "# 9000 samples at 100 Hz, 1 gaps" in a.out, a.out)
+    }
 }

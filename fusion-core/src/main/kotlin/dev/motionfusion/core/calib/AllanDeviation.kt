@@ -21,6 +21,7 @@ public class AllanAccumulator {
     private val levels = Array(MAX_LEVELS) { Level(it) }
     private var count = 0L
     private val first = DoubleArray(3)
+    private val prev = DoubleArray(3)
     private val x = DoubleArray(3) // running sums of (sample − first sample), in samples
     private var firstNs = 0L
     private var lastNs = 0L
@@ -31,19 +32,22 @@ public class AllanAccumulator {
 
     /**
      * Adds one sample at [timestampNs]. The samples are taken as evenly spaced at the mean
-     * interval; intervals over five times the mean so far, and non-finite samples (skipped),
-     * are counted in [AllanCurve.gaps].
+     * interval; intervals over five times the mean so far, timestamps that stall or step back,
+     * and non-finite samples (replaced by the previous sample) are counted in [AllanCurve.gaps].
      */
     public fun add(timestampNs: Long, vx: Double, vy: Double, vz: Double) {
         if (!(vx.isFinite() && vy.isFinite() && vz.isFinite())) {
+            // Hold the previous sample, so the samples stay on their time grid.
             gaps++
+            if (count > 0L) add(timestampNs, prev[0], prev[1], prev[2])
             return
         }
+        prev[0] = vx; prev[1] = vy; prev[2] = vz
         if (count == 0L) {
             first[0] = vx; first[1] = vy; first[2] = vz
             firstNs = timestampNs
             for (lv in levels) lv.push(x) // x_0 = 0: the sum before the first sample
-        } else if (count > 10 && (timestampNs - lastNs).toDouble() > 5.0 * (lastNs - firstNs) / (count - 1)) {
+        } else if (timestampNs <= lastNs || (count > 10 && (timestampNs - lastNs).toDouble() > 5.0 * (lastNs - firstNs) / (count - 1))) {
             gaps++
         }
         lastNs = timestampNs
@@ -140,7 +144,7 @@ public class AllanCurve(
     public val clusterCounts: LongArray,
     public val samples: Long,
     public val rateHz: Double,
-    /** Intervals over five times the mean interval and skipped non-finite samples (the analysis assumes even sampling). */
+    /** Intervals over five times the mean, stalled or backward timestamps, non-finite samples (held at the previous one) (the analysis assumes even sampling). */
     public val gaps: Long,
 ) {
     /** The noise terms of each axis. */
