@@ -85,7 +85,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
      * The real destination of [output] (links followed, also a dangling one) after checking
      * it against [inputs].
      */
-    private fun check(output: String, inputs: List<String>): Path {
+    fun check(output: String, inputs: List<String>): Path {
         val target = destination(Path.of(output))
         for (i in inputs) {
             val input = try {

@@ -36,6 +36,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |Options:
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
         |  --quiet              no summary on standard error
+        |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
         |${FilterOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
         |The output is written aside and moved into place only when the replay succeeds; an
@@ -44,11 +45,13 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         val settings = FilterOptions.settings(o)
         val output = o.value("-o") ?: o.value("--output")
+        val calibration = o.value("--calibration")?.let { CalibrateCommand.read(Path.of(it)) }
         Recording.open(Path.of(input)).use { rec ->
+            CalibrateCommand.requireApplies(rec, calibration, o.value("--calibration"))
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {
@@ -56,7 +59,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             }
             val writer = ReplayCsvWriter(stream, closeStream = output != null)
             val replayer = Replayer(settings)
-            val counts = writer.use { w -> rec.events().use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
+            val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
             progress.finish()
             if (!o.has("--quiet")) {
                 val d = replayer.filter.diagnostics()

@@ -97,9 +97,7 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
         val gap = 50.0
         val h = top + panels.size * ph + (panels.size - 1) * gap + 50.0
         val sb = StringBuilder()
-        sb.append("""<svg xmlns="http://www.w3.org/2000/svg" width="${n(w)}" height="${n(h)}" viewBox="0 0 ${n(w)} ${n(h)}" font-family="sans-serif" font-size="12">""").append('\n')
-        sb.append("""<rect width="100%" height="100%" fill="white"/>""").append('\n')
-        sb.append("""<text x="${n(left)}" y="22" font-size="15" font-weight="bold">${esc(title)}</text>""").append('\n')
+        svgStart(sb, w, h, left, title)
         val plotW = w - left - right
         val span = if (tMax > tMin) tMax - tMin else 1.0
         fun x(t: Double) = left + (t - tMin) / span * plotW
@@ -114,38 +112,37 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
             if (p.yMax == null) yMax = ceil(yMax / yStep) * yStep
             fun y(v: Double) = y0 + ph - (v - yMin) / (yMax - yMin) * ph
             sb.append("""<g>""").append('\n')
-            sb.append("""<rect x="${n(left)}" y="${n(y0)}" width="${n(plotW)}" height="${n(ph)}" fill="none" stroke="#444"/>""").append('\n')
+            sb.append("""<rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}" fill="none" stroke="#444"/>""").append('\n')
             var v = yMin
             while (v <= yMax + 1e-9) {
-                sb.append("""<line x1="${n(left)}" x2="${n(left + plotW)}" y1="${n(y(v))}" y2="${n(y(v))}" stroke="#ddd"/>""")
-                sb.append("""<text x="${n(left - 6)}" y="${n(y(v) + 4)}" text-anchor="end">${num(v)}</text>""").append('\n')
+                sb.append("""<line x1="${svgNum(left)}" x2="${svgNum(left + plotW)}" y1="${svgNum(y(v))}" y2="${svgNum(y(v))}" stroke="#ddd"/>""")
+                sb.append("""<text x="${svgNum(left - 6)}" y="${svgNum(y(v) + 4)}" text-anchor="end">${num(v)}</text>""").append('\n')
                 v += yStep
             }
             val tStep = niceStep(span / 8)
             var t = ceil(tMin / tStep) * tStep
             while (t <= tMax + 1e-9) {
-                sb.append("""<line x1="${n(x(t))}" x2="${n(x(t))}" y1="${n(y0)}" y2="${n(y0 + ph)}" stroke="#eee"/>""")
-                sb.append("""<text x="${n(x(t))}" y="${n(y0 + ph + 16)}" text-anchor="middle">${num(t)}</text>""").append('\n')
+                sb.append("""<line x1="${svgNum(x(t))}" x2="${svgNum(x(t))}" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="#eee"/>""")
+                sb.append("""<text x="${svgNum(x(t))}" y="${svgNum(y0 + ph + 16)}" text-anchor="middle">${num(t)}</text>""").append('\n')
                 t += tStep
             }
-            sb.append("""<text transform="translate(18 ${n(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${esc(p.yLabel)}</text>""").append('\n')
+            sb.append("""<text transform="translate(18 ${svgNum(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${svgEsc(p.yLabel)}</text>""").append('\n')
             for ((li, l) in p.lines.withIndex()) {
                 val pts = l.data.points()
                 val path = StringBuilder()
                 var prev = Double.NaN
                 for ((tt, vv) in pts) {
                     val cmd = if (prev.isNaN() || (l.wraps && abs(vv - prev) > 180.0)) "M" else "L"
-                    path.append(cmd).append(n(x(tt))).append(',').append(n(y(vv.coerceIn(yMin, yMax)))).append(' ')
+                    path.append(cmd).append(svgNum(x(tt))).append(',').append(svgNum(y(vv.coerceIn(yMin, yMax)))).append(' ')
                     prev = vv
                 }
                 sb.append("""<path d="${path.toString().trim()}" fill="none" stroke="${l.color}" stroke-width="1.2"/>""").append('\n')
                 val ly = y0 + 16 + li * 18
-                sb.append("""<line x1="${n(left + plotW + 12)}" x2="${n(left + plotW + 32)}" y1="${n(ly - 4)}" y2="${n(ly - 4)}" stroke="${l.color}" stroke-width="2"/>""")
-                sb.append("""<text x="${n(left + plotW + 38)}" y="${n(ly)}">${esc(l.label)}</text>""").append('\n')
+                svgLegend(sb, left + plotW + 12, ly, l.color, "", l.label)
             }
             sb.append("</g>\n")
         }
-        sb.append("""<text x="${n(left + plotW / 2)}" y="${n(h - 10)}" text-anchor="middle">time (s)</text>""").append('\n')
+        sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">time (s)</text>""").append('\n')
         sb.append("</svg>\n")
         return sb.toString()
     }
@@ -162,7 +159,87 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
         }
     }
 
-    private fun n(v: Double) = String.format(Locale.ROOT, "%.1f", v)
     private fun num(v: Double): String = if (abs(v - Math.rint(v)) < 1e-9) String.format(Locale.ROOT, "%d", Math.rint(v).toLong()) else String.format(Locale.ROOT, "%.2f", v).trimEnd('0')
-    private fun esc(s: String) = s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+}
+
+/** An SVG coordinate, one decimal. */
+internal fun svgNum(v: Double): String = String.format(Locale.ROOT, "%.1f", v)
+
+/** Opens an SVG document of [w] × [h] with a white background and [title] at [left]. */
+internal fun svgStart(sb: StringBuilder, w: Double, h: Double, left: Double, title: String) {
+    sb.append("""<svg xmlns="http://www.w3.org/2000/svg" width="${svgNum(w)}" height="${svgNum(h)}" viewBox="0 0 ${svgNum(w)} ${svgNum(h)}" font-family="sans-serif" font-size="12">""").append('\n')
+    sb.append("""<rect width="100%" height="100%" fill="white"/>""").append('\n')
+    sb.append("""<text x="${svgNum(left)}" y="22" font-size="15" font-weight="bold">${svgEsc(title)}</text>""").append('\n')
+}
+
+/** One legend entry at ([x], [y]): a short line in [color] ([dash]: extra attributes) and [label]. */
+internal fun svgLegend(sb: StringBuilder, x: Double, y: Double, color: String, dash: String, label: String) {
+    sb.append("""<line x1="${svgNum(x)}" x2="${svgNum(x + 20)}" y1="${svgNum(y - 4)}" y2="${svgNum(y - 4)}" stroke="$color" stroke-width="2"$dash/>""")
+    sb.append("""<text x="${svgNum(x + 26)}" y="${svgNum(y)}">${svgEsc(label)}</text>""").append('\n')
+}
+
+/** Text escaped for SVG. */
+internal fun svgEsc(s: String): String = s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+
+/**
+ * A hand-written SVG figure of panels with logarithmic x and y axes (decades gridded), each
+ * holding curves drawn as lines and points and straight lines given by two end points.
+ */
+internal class LogLogFigure(private val title: String, private val xLabel: String) {
+    class Curve(val label: String, val color: String, val x: DoubleArray, val y: DoubleArray, val dashed: Boolean = false)
+    class Panel(val yLabel: String, val curves: List<Curve>)
+
+    private val panels = ArrayList<Panel>()
+
+    fun panel(p: Panel) { panels += p }
+
+    fun render(): String {
+        val w = 1000.0
+        val ph = 360.0
+        val left = 80.0
+        val right = 230.0
+        val top = 40.0
+        val gap = 60.0
+        val h = top + panels.size * ph + (panels.size - 1) * gap + 50.0
+        val plotW = w - left - right
+        val sb = StringBuilder()
+        svgStart(sb, w, h, left, title)
+        fun finite(c: Curve) = c.x.indices.filter { c.x[it] > 0 && c.y[it] > 0 && c.x[it].isFinite() && c.y[it].isFinite() }
+        val xs = panels.flatMap { p -> p.curves.filter { !it.dashed }.flatMap { c -> finite(c).map { c.x[it] } } }
+        val xMin = floor(log10(xs.minOrNull() ?: 0.1))
+        val xMax = ceil(log10(xs.maxOrNull() ?: 10.0)).coerceAtLeast(xMin + 1)
+        fun x(v: Double) = left + (log10(v) - xMin) / (xMax - xMin) * plotW
+        for ((pi, p) in panels.withIndex()) {
+            val y0 = top + pi * (ph + gap)
+            val ys = p.curves.filter { !it.dashed }.flatMap { c -> finite(c).map { c.y[it] } }
+            val yMin = floor(log10(ys.minOrNull() ?: 0.1))
+            val yMax = ceil(log10(ys.maxOrNull() ?: 10.0)).coerceAtLeast(yMin + 1)
+            fun y(v: Double) = y0 + ph - (log10(v) - yMin) / (yMax - yMin) * ph
+            sb.append("<g>\n")
+            sb.append("""<rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}" fill="none" stroke="#444"/>""").append('\n')
+            for (e in yMin.toInt()..yMax.toInt()) {
+                val yy = y(10.0.pow(e))
+                sb.append("""<line x1="${svgNum(left)}" x2="${svgNum(left + plotW)}" y1="${svgNum(yy)}" y2="${svgNum(yy)}" stroke="#ddd"/>""")
+                sb.append("""<text x="${svgNum(left - 6)}" y="${svgNum(yy + 4)}" text-anchor="end">1e$e</text>""").append('\n')
+            }
+            for (e in xMin.toInt()..xMax.toInt()) {
+                val xx = x(10.0.pow(e))
+                sb.append("""<line x1="${svgNum(xx)}" x2="${svgNum(xx)}" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="#eee"/>""")
+                sb.append("""<text x="${svgNum(xx)}" y="${svgNum(y0 + ph + 16)}" text-anchor="middle">1e$e</text>""").append('\n')
+            }
+            sb.append("""<text transform="translate(18 ${svgNum(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${svgEsc(p.yLabel)}</text>""").append('\n')
+            sb.append("""<clipPath id="c$pi"><rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}"/></clipPath>""").append('\n')
+            for ((ci, c) in p.curves.withIndex()) {
+                val path = finite(c).joinToString(" ") { i -> "${if (i == finite(c).first()) "M" else "L"}${svgNum(x(c.x[i]))},${svgNum(y(c.y[i]))}" }
+                val dash = if (c.dashed) """ stroke-dasharray="6 4"""" else ""
+                sb.append("""<path d="$path" fill="none" stroke="${c.color}" stroke-width="${if (c.dashed) "1" else "1.5"}"$dash clip-path="url(#c$pi)"/>""").append('\n')
+                val ly = y0 + 16 + ci * 18
+                svgLegend(sb, left + plotW + 12, ly, c.color, dash, c.label)
+            }
+            sb.append("</g>\n")
+        }
+        sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">${svgEsc(xLabel)}</text>""").append('\n')
+        sb.append("</svg>\n")
+        return sb.toString()
+    }
 }

@@ -10,11 +10,16 @@
  * instants by the exponential of the rate at the interval's midpoint, and the gyroscope sample at
  * the end of the interval reports that rate: integrating the gyroscope over the timestamps
  * reproduces the truth exactly (apart from noise, bias and dropped samples).
+ *
+ * Sensor errors (SimulationSettings): gyroscope = rate + bias + noise; accelerometer =
+ * M · specific force + offset + noise; magnetometer = K · field + hard iron + noise. The errors
+ * added for calibration draw from a second random sequence, only when set.
  */
 package dev.motionfusion.core.sim
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.calib.Matrix3
 import java.util.Random
 import kotlin.math.PI
 import kotlin.math.cos
@@ -54,36 +59,60 @@ public class MotionSimulator(public val settings: SimulationSettings) {
 
     /** Runs the whole simulation. */
     public fun run(): List<SimulatedSample> {
-        val s = settings
-        val period = 1.0 / s.rateHz
-        val n = (s.durationS * s.rateHz).toInt()
-        val field = Vector3(0.0, s.fieldStrength * cos(s.dip), -s.fieldStrength * sin(s.dip))
-        val up = Vector3(0.0, 0.0, s.gravity)
-        val out = ArrayList<SimulatedSample>(n)
-        var q = s.initialOrientation
-        var bias = s.gyroBias
-        var tPrev = 0.0
-        for (k in 0 until n) {
-            val t = if (k == 0) 0.0 else k * period + s.timestampJitter * gaussianBounded()
-            val dt = t - tPrev
-            val rate = if (k == 0) angularVelocity(0.0) else angularVelocity(0.5 * (t + tPrev))
-            if (k > 0) {
-                q = (q * Quaternion.fromRotationVector(rate * dt)).normalized()
-                bias += gaussianVector(s.gyroBiasDrift * sqrt(dt))
-            }
-            tPrev = t
-            val hardIron = if (s.hardIronWindow != null && t in s.hardIronWindow) s.hardIron else Vector3.ZERO
-            val gyro = rate + bias + gaussianVector(s.gyroNoise)
-            val acc = q.inverseRotate(up + linearAcceleration(t)) + gaussianVector(s.accNoise)
-            val mag = q.inverseRotate(field) + hardIron + gaussianVector(s.magNoise)
-            val dropped = s.dropProbability > 0.0 && random.nextDouble() < s.dropProbability
-            if (!dropped || k == 0) out.add(SimulatedSample((t * 1e9).roundToLong(), gyro, acc, mag, q))
-        }
+        val out = ArrayList<SimulatedSample>((settings.durationS * settings.rateHz).toInt())
+        forEach { out.add(it) }
         return out
     }
 
-    private fun gaussianVector(sigma: Double): Vector3 =
-        if (sigma == 0.0) Vector3.ZERO else Vector3(sigma * random.nextGaussian(), sigma * random.nextGaussian(), sigma * random.nextGaussian())
+    /** Runs the whole simulation, handing each sample to [action] in time order (memory independent of the duration). */
+    public fun forEach(action: (SimulatedSample) -> Unit) {
+        val s = settings
+        val period = 1.0 / s.rateHz
+        val n = (s.durationS * s.rateHz).toLong()
+        val field = Vector3(0.0, s.fieldStrength * cos(s.dip), -s.fieldStrength * sin(s.dip))
+        val up = Vector3(0.0, 0.0, s.gravity)
+        val errors = Random(s.seed xor ERROR_SEED)
+        val gyroDensitySigma = s.gyroNoiseDensity * sqrt(s.rateHz)
+        val accDensitySigma = s.accNoiseDensity * sqrt(s.rateHz)
+        var accOffset = s.accOffset
+        var q = s.initialOrientation
+        var bias = s.gyroBias
+        var tPrev = 0.0
+        for (k in 0L until n) {
+            val t = if (k == 0L) 0.0 else k * period + s.timestampJitter * gaussianBounded()
+            val dt = t - tPrev
+            val rate = if (k == 0L) angularVelocity(0.0) else angularVelocity(0.5 * (t + tPrev))
+            if (k > 0L) {
+                q = (q * Quaternion.fromRotationVector(rate * dt)).normalized()
+                bias += gaussianVector(s.gyroBiasDrift * sqrt(dt))
+                if (s.accBiasDrift > 0.0) accOffset += gaussianVector(errors, s.accBiasDrift * sqrt(dt))
+            }
+            tPrev = t
+            val hardIron = if (s.hardIronWindow != null && t in s.hardIronWindow) s.hardIron else Vector3.ZERO
+            var gyro = rate + bias + gaussianVector(s.gyroNoise)
+            var acc = q.inverseRotate(up + linearAcceleration(t))
+            if (s.accMisalignment != Matrix3.IDENTITY) acc = s.accMisalignment * acc
+            acc += gaussianVector(s.accNoise)
+            var magField = q.inverseRotate(field)
+            if (s.magSoftIron != Matrix3.IDENTITY) magField = s.magSoftIron * magField
+            val mag = magField + hardIron + gaussianVector(s.magNoise)
+            if (gyroDensitySigma > 0.0) gyro += gaussianVector(errors, gyroDensitySigma)
+            if (accOffset != Vector3.ZERO) acc += accOffset
+            if (accDensitySigma > 0.0) acc += gaussianVector(errors, accDensitySigma)
+            val dropped = s.dropProbability > 0.0 && random.nextDouble() < s.dropProbability
+            if (!dropped || k == 0L) action(SimulatedSample((t * 1e9).roundToLong(), gyro, acc, mag, q))
+        }
+    }
+
+    private fun gaussianVector(sigma: Double): Vector3 = gaussianVector(random, sigma)
+
+    private fun gaussianVector(r: Random, sigma: Double): Vector3 =
+        if (sigma == 0.0) Vector3.ZERO else Vector3(sigma * r.nextGaussian(), sigma * r.nextGaussian(), sigma * r.nextGaussian())
+
+    private companion object {
+        /** Seed offset of the sensor-error sequence. */
+        const val ERROR_SEED = 0x5E4503L
+    }
 
     /** A standard normal number clipped to ±2, so jittered instants stay ordered. */
     private fun gaussianBounded(): Double = random.nextGaussian().coerceIn(-2.0, 2.0)

@@ -6,6 +6,7 @@ package dev.motionfusion.core.sim
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.calib.Matrix3
 import kotlin.math.PI
 
 /** A time window [startS, endS) in seconds from the start of a simulation. */
@@ -40,6 +41,15 @@ public data class TimeWindow(val startS: Double, val endS: Double) {
  * @property timestampJitter standard deviation of the true sampling instants around the nominal grid, s
  *   (the timestamps report the true instants, as SensorEvent.timestamp does).
  * @property dropProbability probability that a sample is lost (not emitted).
+ *
+ * Sensor errors for calibration (docs/CALIBRATION.md); their defaults add nothing, and they draw
+ * from a random sequence of their own, so settings without them give the same streams as before:
+ * @property magSoftIron soft iron K: magnetometer = K · field + hard iron + noise (symmetric, positive definite).
+ * @property accMisalignment scale and misalignment M: accelerometer = M · specific force + [accOffset] + noise.
+ * @property accOffset accelerometer offset at t = 0, m/s².
+ * @property accBiasDrift random-walk intensity of the accelerometer offset, m/s² per √s (m/s³/√Hz).
+ * @property gyroNoiseDensity white gyroscope noise density, rad/s/√Hz (σ per sample = density · √[rateHz]), added to [gyroNoise].
+ * @property accNoiseDensity white accelerometer noise density, m/s²/√Hz, added to [accNoise].
  */
 public data class SimulationSettings(
     val seed: Long = 1L,
@@ -62,6 +72,12 @@ public data class SimulationSettings(
     val linearAccelerationWindow: TimeWindow? = null,
     val timestampJitter: Double = 0.0,
     val dropProbability: Double = 0.0,
+    val magSoftIron: Matrix3 = Matrix3.IDENTITY,
+    val accMisalignment: Matrix3 = Matrix3.IDENTITY,
+    val accOffset: Vector3 = Vector3.ZERO,
+    val accBiasDrift: Double = 0.0,
+    val gyroNoiseDensity: Double = 0.0,
+    val accNoiseDensity: Double = 0.0,
 ) {
     init {
         require(rateHz.isFinite() && rateHz > 0.0) { "rateHz must be > 0: $rateHz" }
@@ -71,9 +87,12 @@ public data class SimulationSettings(
             "angularRate" to angularRate, "gyroNoise" to gyroNoise, "accNoise" to accNoise, "magNoise" to magNoise,
             "gyroBiasDrift" to gyroBiasDrift, "fieldStrength" to fieldStrength, "gravity" to gravity,
             "linearAcceleration" to linearAcceleration, "timestampJitter" to timestampJitter,
+            "accBiasDrift" to accBiasDrift, "gyroNoiseDensity" to gyroNoiseDensity, "accNoiseDensity" to accNoiseDensity,
         )) require(v.isFinite() && v >= 0.0) { "$name must be finite and ≥ 0: $v" }
         require(dip.isFinite() && kotlin.math.abs(dip) <= PI / 2) { "dip must be in [−π/2, π/2]: $dip" }
-        require(gyroBias.isFinite() && hardIron.isFinite()) { "vectors must be finite" }
+        require(gyroBias.isFinite() && hardIron.isFinite() && accOffset.isFinite()) { "vectors must be finite" }
+        require(magSoftIron.isFinite() && magSoftIron.determinant() > 0.0) { "magSoftIron must be finite with a positive determinant" }
+        require(accMisalignment.isFinite() && accMisalignment.determinant() > 0.0) { "accMisalignment must be finite with a positive determinant" }
         require(timestampJitter < 0.25 / rateHz) { "timestampJitter must be below a quarter sample period" }
         require(dropProbability in 0.0..0.5) { "dropProbability must be in [0, 0.5]: $dropProbability" }
     }

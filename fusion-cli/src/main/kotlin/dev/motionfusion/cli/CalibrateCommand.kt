@@ -1,0 +1,167 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.calib.CalibrationJson
+import dev.motionfusion.core.calib.CalibrationSettings
+import dev.motionfusion.core.calib.Calibrator
+import dev.motionfusion.core.calib.EllipsoidModel
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.recording.Recording
+import java.io.PrintStream
+import java.nio.charset.StandardCharsets
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.Locale
+
+/** `fusion calibrate INPUT [-o FILE]`: magnetometer, gyroscope bias and accelerometer calibration (docs/CALIBRATION.md). */
+internal class CalibrateCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
+    override val name = "calibrate"
+    override val summary = "fit magnetometer hard/soft iron, gyroscope bias, accelerometer offset/scale"
+    override val help = """
+        |Usage: fusion calibrate INPUT [-o FILE.json] [options]
+        |
+        |Reads a recording (any input of fusion replay) once and fits what it supports:
+        |  magnetometer   hard and soft iron (ellipsoid fit), on magnetometer_uncalibrated when
+        |                 recorded, else on magnetometer; refused when the field directions cover
+        |                 too little of the sphere (turn the phone through all orientations)
+        |  gyroscope      bias: the mean rate over still periods (phone untouched on a table)
+        |  accelerometer  offset and scale per axis from 6+ still poses (each face up in turn);
+        |                 with 12+ distinct poses also the misalignment
+        |The result is JSON (docs/CALIBRATION.md) for fusion replay --calibration; each fit's
+        |quality (residual, coverage, still time, poses) and each refusal are printed on
+        |standard error.
+        |
+        |Options:
+        |  -o, --output FILE    write the JSON there instead of standard output
+        |  --min-coverage F    least fraction of the sphere of directions for the magnetometer
+        |                       (default ${CalibrationSettings().minCoverage})
+        |  --mag-model M        full (hard and soft iron, default) or sphere (hard iron only)
+        |  --gravity G          magnitude of gravity for the accelerometer, m/s² (default 9.80665)
+        |  --quiet              no report on standard error
+        |Exit codes: 0 at least one sensor calibrated, 1 malformed input or nothing could be
+        |calibrated (the reasons are printed), 2 usage, 3 file not found/unwritable.
+        |""".trimMargin()
+
+    override fun run(args: List<String>, out: PrintStream): Int {
+        val o = Options(args, setOf("-o", "--output", "--min-coverage", "--mag-model", "--gravity"), setOf("--quiet"))
+        val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "calibrate needs an INPUT" else "calibrate takes one INPUT")
+        val output = o.value("-o") ?: o.value("--output")
+        output?.let { outputs.check(it, listOf(input)) }
+        val model = when (o.value("--mag-model")?.lowercase() ?: "full") {
+            "full" -> EllipsoidModel.FULL
+            "sphere" -> EllipsoidModel.SPHERE
+            else -> throw UsageException("--mag-model expects full or sphere")
+        }
+        val d = CalibrationSettings()
+        val settings = try {
+            CalibrationSettings(magModel = model, minCoverage = o.double("--min-coverage") ?: d.minCoverage, gravity = o.double("--gravity") ?: d.gravity)
+        } catch (e: IllegalArgumentException) {
+            throw UsageException(e.message ?: "invalid setting")
+        }
+        val calibration = Recording.open(Path.of(input)).use { rec ->
+            val progress = Progress(err, "calibrate", rec.metadata?.streams?.values?.sumOf { it.samples })
+            rec.events().use { e ->
+                Calibrator.calibrate(e, rec.streams, settings, "fusion calibrate ${Cli.VERSION}", rec.name, progress::update)
+            }.also { progress.finish() }
+        }
+        if (!o.has("--quiet")) err.print(report(calibration))
+        if (calibration.isEmpty) {
+            err.println("fusion calibrate: nothing could be calibrated from $input")
+            return ExitCode.DATA_ERROR
+        }
+        val json = CalibrationJson.write(calibration)
+        if (output == null) out.print(json) else outputs.file(output, listOf(input)).use { it.write(json.toByteArray(StandardCharsets.UTF_8)) }
+        return ExitCode.OK
+    }
+
+    private fun report(c: Calibration): String = buildString {
+        fun f(v: Double, digits: Int = 3) = String.format(Locale.ROOT, "%.${digits}g", v)
+        fun v(x: dev.motionfusion.core.Vector3, digits: Int = 4) = "(${f(x.x, digits)}, ${f(x.y, digits)}, ${f(x.z, digits)})"
+        c.magnetometer?.let { m ->
+            appendLine("magnetometer (${m.stream.key}, ${m.model.name.lowercase()}): offset ${v(m.correction.offset)} µT, field ${f(m.fieldStrength)} µT, " +
+                "residual ${f(m.residualRms)} µT, coverage ${String.format(Locale.ROOT, "%.0f", 100 * m.coverage)} %, " +
+                "|B| std ${f(m.magnitudeStdBefore)} → ${f(m.magnitudeStdAfter)} µT over ${m.samples} samples")
+        }
+        c.gyroscope?.let { g ->
+            appendLine("gyroscope (${g.stream.key}): bias ${v(g.bias)} rad/s ± ${v(g.biasStdError, 2)}, still ${f(g.stillTimeS)} s in ${g.stillWindows} windows")
+        }
+        c.accelerometer?.let { a ->
+            appendLine("accelerometer (${a.model.name.lowercase()}, ${a.poses} poses): offset ${v(a.correction.offset)} m/s², " +
+                "scale ${v(dev.motionfusion.core.Vector3(a.correction.matrix[0, 0], a.correction.matrix[1, 1], a.correction.matrix[2, 2]), 5)}, residual ${f(a.residualRms)} m/s²")
+        }
+        for ((sensor, reason) in c.refused) appendLine("$sensor: not calibrated: $reason")
+    }
+
+    companion object {
+        /** Reads a calibration file written by fusion calibrate. */
+        fun read(path: Path): Calibration {
+            val bytes = Files.readAllBytes(path)
+            return CalibrationJson.parse(String(bytes, StandardCharsets.UTF_8), path.toString())
+        }
+
+        /** Fails with a message naming [file] when [calibration] applies to a stream [rec] does not have. */
+        fun requireApplies(rec: Recording, calibration: Calibration?, file: String?) {
+            val missing = calibration?.streams()?.filter { it !in rec.streams } ?: return
+            if (missing.isNotEmpty()) {
+                throw DataFormatException(file ?: "calibration", 0, 0,
+                    "applies to ${missing.joinToString(", ") { it.key }}, which ${rec.name} does not have")
+            }
+        }
+
+        /** The events of [rec], with [calibration] applied when given (check it first with [requireApplies]). */
+        fun calibrated(rec: Recording, calibration: Calibration?): dev.motionfusion.core.session.SessionEvents =
+            if (calibration == null) rec.events() else dev.motionfusion.core.calib.CalibratedEvents(rec.events(), calibration, rec.streams)
+    }
+}
+
+/** `fusion allan INPUT [-o YAML] [--plot SVG]`: noise characterisation from a long still recording. */
+internal class AllanCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
+    override val name = "allan"
+    override val summary = "Allan deviation of gyroscope and accelerometer; noise figures as kalibr YAML"
+    override val help = """
+        |Usage: fusion allan INPUT [-o FILE.yaml] [--plot FILE.svg]
+        |
+        |Computes the overlapping Allan deviation per axis of the gyroscope (the uncalibrated
+        |stream when recorded) and the accelerometer of a long still recording (the phone
+        |untouched for an hour or more; any input of fusion replay), in one pass with memory
+        |independent of the length, and reads off the noise terms:
+        |  white noise N      line of slope -1/2 at tau = 1 s (angle/velocity random walk)
+        |  bias instability B the flat minimum / 0.664
+        |  random walk K      line of slope +1/2 at tau = 3 s (rate/acceleration random walk)
+        |Writes them as YAML in the layout of kalibr's imu.yaml (accelerometer_noise_density,
+        |accelerometer_random_walk, gyroscope_noise_density, gyroscope_random_walk, update_rate;
+        |the largest axis, per-axis values in comments) and prints a table on standard error.
+        |
+        |Options:
+        |  -o, --output FILE    write the YAML there instead of standard output
+        |  --plot FILE          draw the curves with the fitted lines as SVG
+        |  --quiet              no table on standard error
+        |Exit codes: 0 ok, 1 malformed input or no gyroscope/accelerometer, 2 usage, 3 file not found/unwritable.
+        |""".trimMargin()
+
+    override fun run(args: List<String>, out: PrintStream): Int {
+        val o = Options(args, setOf("-o", "--output", "--plot"), setOf("--quiet"))
+        val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "allan needs an INPUT" else "allan takes one INPUT")
+        val output = o.value("-o") ?: o.value("--output")
+        val plot = o.value("--plot")
+        output?.let { outputs.check(it, listOf(input)) }
+        plot?.let { outputs.check(it, listOf(input)) }
+        if (output != null && plot != null && Path.of(output).toAbsolutePath().normalize() == Path.of(plot).toAbsolutePath().normalize()) {
+            throw UsageException("-o and --plot name the same file")
+        }
+        val (result, name) = Recording.open(Path.of(input)).use { rec ->
+            val progress = Progress(err, "allan", rec.metadata?.streams?.values?.sumOf { it.samples })
+            val r = rec.events().use { e -> dev.motionfusion.core.calib.AllanResult.run(e, rec.streams, progress::update) }
+            progress.finish()
+            r to rec.name
+        }
+        if ((result.gyroscope?.tau?.size ?: 0) < 3 && (result.accelerometer?.tau?.size ?: 0) < 3) {
+            throw DataFormatException(input, 0, 0, "too short for an Allan deviation: needs a gyroscope or accelerometer stream of at least a few hundred samples")
+        }
+        if (!o.has("--quiet")) err.print(AllanPlot.table(result))
+        val yaml = result.kalibrYaml("fusion allan ${Cli.VERSION} from $name")
+        if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
+        if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
+        return ExitCode.OK
+    }
+}

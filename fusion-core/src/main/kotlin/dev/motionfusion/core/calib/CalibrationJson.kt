@@ -1,0 +1,154 @@
+/*
+ * Calibration ↔ JSON (docs/CALIBRATION.md, "The calibration file"). Vectors are arrays of three
+ * numbers, matrices arrays of three rows; units in the member names (µT, rad/s, m/s²), device frame.
+ */
+package dev.motionfusion.core.calib
+
+import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.Json
+import dev.motionfusion.core.session.SessionStream
+
+public object CalibrationJson {
+    public const val FORMAT: String = "motion-fusion-calibration"
+    public const val FORMAT_VERSION: Int = 1
+
+    @JvmStatic
+    public fun write(c: Calibration): String = Json.write(linkedMapOf(
+        "format" to FORMAT,
+        "format_version" to FORMAT_VERSION,
+        "source" to c.source,
+        "recording" to c.recording,
+        "magnetometer" to c.magnetometer?.let { m ->
+            linkedMapOf(
+                "stream" to m.stream.key,
+                "model" to m.model.name,
+                "offset_uT" to vector(m.correction.offset),
+                "matrix" to matrix(m.correction.matrix),
+                "field_strength_uT" to m.fieldStrength,
+                "residual_rms_uT" to m.residualRms,
+                "coverage" to m.coverage,
+                "samples" to m.samples,
+                "magnitude_std_before_uT" to m.magnitudeStdBefore,
+                "magnitude_std_after_uT" to m.magnitudeStdAfter,
+            )
+        },
+        "gyroscope" to c.gyroscope?.let { g ->
+            linkedMapOf(
+                "stream" to g.stream.key,
+                "bias_rad_s" to vector(g.bias),
+                "bias_std_error_rad_s" to vector(g.biasStdError),
+                "noise_std_rad_s" to vector(g.noiseStd),
+                "still_time_s" to g.stillTimeS,
+                "still_windows" to g.stillWindows,
+            )
+        },
+        "accelerometer" to c.accelerometer?.let { a ->
+            linkedMapOf(
+                "stream" to a.stream.key,
+                "model" to a.model.name,
+                "offset_m_s2" to vector(a.correction.offset),
+                "matrix" to matrix(a.correction.matrix),
+                "gravity_m_s2" to a.gravity,
+                "poses" to a.poses,
+                "residual_rms_m_s2" to a.residualRms,
+            )
+        },
+        "refused" to LinkedHashMap(c.refused),
+    ))
+
+    private fun vector(v: Vector3) = listOf(v.x, v.y, v.z)
+    private fun matrix(m: Matrix3) = (0 until 3).map { r -> (0 until 3).map { c -> m[r, c] } }
+
+    /**
+     * Parses a calibration file. Sections that are absent or null are not calibrated; quality
+     * members may be missing (NaN, 0). Unknown members are ignored.
+     * @throws DataFormatException naming [sourceName] and the member at fault.
+     */
+    @JvmStatic
+    public fun parse(text: String, sourceName: String): Calibration {
+        val root = Json.parse(text, sourceName) as? Map<*, *> ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
+        val r = Member(root, "", sourceName)
+        if (root["format"] != FORMAT) throw r.error("format", "expected \"$FORMAT\": not a calibration file")
+        val version = r.number("format_version", Double.NaN)
+        if (!(version >= 1.0) || version != Math.rint(version)) throw r.error("format_version", "missing or not a positive integer")
+        if (version > FORMAT_VERSION) throw r.error("format_version", "${version.toLong()} is newer than this reader ($FORMAT_VERSION); update fusion")
+        return Calibration(
+            magnetometer = r.section("magnetometer")?.let { m ->
+                MagnetometerCalibration(
+                    m.correction("offset_uT"), m.stream(SessionStream.MAGNETOMETER_UNCALIBRATED, SessionStream.MAGNETOMETER), m.model(), m.number("field_strength_uT", Double.NaN),
+                    m.number("residual_rms_uT", Double.NaN), m.number("coverage", Double.NaN), m.number("samples", 0.0).toLong(),
+                    m.number("magnitude_std_before_uT", Double.NaN), m.number("magnitude_std_after_uT", Double.NaN),
+                )
+            },
+            gyroscope = r.section("gyroscope")?.let { g ->
+                GyroscopeCalibration(
+                    g.vector("bias_rad_s")!!, g.stream(SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.GYROSCOPE), g.number("still_time_s", Double.NaN), g.number("still_windows", 0.0).toInt(),
+                    g.vector("bias_std_error_rad_s", required = false) ?: NAN3, g.vector("noise_std_rad_s", required = false) ?: NAN3,
+                )
+            },
+            accelerometer = r.section("accelerometer")?.let { a ->
+                AccelerometerCalibration(
+                    a.correction("offset_m_s2"), a.stream(SessionStream.ACCELEROMETER), a.model(), a.number("gravity_m_s2", Double.NaN),
+                    a.number("poses", 0.0).toInt(), a.number("residual_rms_m_s2", Double.NaN),
+                )
+            },
+            refused = (root["refused"] as? Map<*, *>)?.entries?.associate { (k, v) -> k.toString() to v.toString() } ?: emptyMap(),
+            source = root["source"] as? String ?: "",
+            recording = root["recording"] as? String ?: "",
+        )
+    }
+
+    private val NAN3 = Vector3(Double.NaN, Double.NaN, Double.NaN)
+
+    /** One JSON object of the file, with errors naming its path. */
+    private class Member(val map: Map<*, *>, val path: String, val source: String) {
+        fun error(key: String, reason: String) = DataFormatException(source, 0, 0, "$path$key: $reason")
+
+        fun section(key: String): Member? = when (val v = map[key]) {
+            null -> null
+            is Map<*, *> -> Member(v, "$path$key.", source)
+            else -> throw error(key, "expected an object")
+        }
+
+        fun number(key: String, default: Double): Double = when (val v = map[key]) {
+            null -> default
+            is Number -> v.toDouble()
+            else -> throw error(key, "expected a number")
+        }
+
+        private fun numbers(key: String, v: Any?, n: Int): DoubleArray {
+            val list = v as? List<*> ?: throw error(key, "expected an array of $n numbers")
+            if (list.size != n) throw error(key, "expected $n numbers, got ${list.size}")
+            return DoubleArray(n) { i ->
+                (list[i] as? Number)?.toDouble()?.takeIf { it.isFinite() } ?: throw error(key, "element $i is not a finite number")
+            }
+        }
+
+        fun vector(key: String, required: Boolean = true): Vector3? {
+            val v = map[key] ?: if (required) throw error(key, "missing") else return null
+            return numbers(key, v, 3).let { Vector3(it[0], it[1], it[2]) }
+        }
+
+        fun correction(offsetKey: String): SensorCorrection {
+            val rows = map["matrix"] as? List<*> ?: throw error("matrix", "expected an array of three rows of three numbers")
+            if (rows.size != 3) throw error("matrix", "expected three rows, got ${rows.size}")
+            val m = rows.flatMapIndexed { i, row -> numbers("matrix[$i]", row, 3).toList() }
+            val matrix = Matrix3.of(*m.toDoubleArray())
+            if (!(matrix.determinant() > 0.0)) throw error("matrix", "not a calibration matrix (its determinant is not positive)")
+            return SensorCorrection(vector(offsetKey)!!, matrix)
+        }
+
+        fun stream(vararg allowed: SessionStream): SessionStream {
+            val key = map["stream"] as? String ?: throw error("stream", "missing (the stream it applies to)")
+            val s = SessionStream.ofKey(key)
+            if (s == null || s !in allowed) throw error("stream", "'$key' is not one of ${allowed.joinToString(", ") { it.key }}")
+            return s
+        }
+
+        fun model(): EllipsoidModel {
+            val name = map["model"] as? String ?: return EllipsoidModel.FULL
+            return EllipsoidModel.entries.firstOrNull { it.name == name } ?: throw error("model", "unknown model '$name' (FULL, AXIS_ALIGNED or SPHERE)")
+        }
+    }
+}

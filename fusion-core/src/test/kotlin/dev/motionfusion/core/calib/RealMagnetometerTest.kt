@@ -1,0 +1,112 @@
+package dev.motionfusion.core.calib
+
+import dev.motionfusion.core.io.CsvLine
+import dev.motionfusion.core.io.Inputs
+import dev.motionfusion.core.recording.Dialect
+import dev.motionfusion.core.recording.MappedCsvCursor
+import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.session.SessionStream
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Assumptions.assumeTrue
+import org.junit.jupiter.api.Test
+import java.nio.file.Files
+import java.nio.file.Path
+import java.nio.file.Paths
+import kotlin.math.sqrt
+
+/**
+ * The magnetometer fit on the real exports with an uncalibrated magnetometer (SOURCES.md of
+ * ../shared/data/realdata: two iPhone Sensor Logger exports, whose MagnetometerUncalibrated.csv
+ * has no bias columns), read through the project's import code. Skipped when the data is absent.
+ */
+class RealMagnetometerTest {
+    private val realdata: Path? = listOf("../shared/data/realdata", "../../shared/data/realdata").map { Paths.get(it) }.firstOrNull { Files.isDirectory(it) }
+
+    private fun folder(relative: String): Path {
+        assumeTrue(realdata != null, "../shared/data/realdata is absent: real-data test skipped")
+        val dir = realdata!!.resolve(relative)
+        assumeTrue(Files.isDirectory(dir), "$dir is absent: real-data test skipped")
+        return dir
+    }
+
+    @Test
+    fun `an export of only uncalibrated streams, turned through many orientations, is fitted and its field narrows`() {
+        // Sensor Logger's importer wants a Gyroscope.csv to replay; this export has only the
+        // uncalibrated files, so its magnetometer file is read with the importer's column cursor.
+        val file = folder("sl-ios-simorxb").resolve("MagnetometerUncalibrated.csv")
+        val reader = Inputs.reader(file)
+        val names = CsvLine(',').also { it.split(reader.readLine()) }.let { f -> (0 until f.count).map { f.text(it) } }
+        val fitter = MagnetometerFitter(CalibrationSettings(), SessionStream.MAGNETOMETER_UNCALIBRATED)
+        MappedCsvCursor(SessionStream.MAGNETOMETER_UNCALIBRATED, reader, file.toString(), Dialect(',', false), names.indexOf("time"), 1.0,
+            intArrayOf(names.indexOf("x"), names.indexOf("y"), names.indexOf("z"), -1, -1, -1), DoubleArray(6) { 1.0 }, firstLineNumber = 1).use { c ->
+            while (c.next()) fitter.add(c.values[0], c.values[1], c.values[2])
+        }
+        val fit = fitter.fit()
+        println("sl-ios-simorxb: $fit")
+        val m = (fit as? Fit.Done)?.value ?: throw AssertionError("refused: $fit")
+        println("sl-ios-simorxb: %d samples, coverage %.2f, offset %s µT, field %.1f µT, residual %.2f µT; |B| std %.2f → %.2f µT"
+            .format(m.samples, m.coverage, m.correction.offset, m.fieldStrength, m.residualRms, m.magnitudeStdBefore, m.magnitudeStdAfter))
+        assertTrue(m.magnitudeStdAfter < 0.25 * m.magnitudeStdBefore, "std ${m.magnitudeStdBefore} → ${m.magnitudeStdAfter}")
+        assertTrue(m.fieldStrength in 25.0..70.0, "field ${m.fieldStrength} µT")
+    }
+
+    @Test
+    fun `a recording that tilts the phone only a little is refused, and the phone's own calibration is compared`() {
+        val dir = folder("sl-ios-siberiawolf/datasets/gaming/2023-06-11_01-01-00")
+        Recording.open(dir).use { rec ->
+            assertTrue(SessionStream.MAGNETOMETER_UNCALIBRATED in rec.streams, "streams ${rec.streams}")
+            val cal = rec.events().use { Calibrator.calibrate(it, rec.streams) }
+            println("sl-ios-siberiawolf: ${cal.refused}")
+            assertTrue(cal.magnetometer == null && "directions" in cal.refused["magnetometer"].orEmpty(), "${cal.magnetometer} ${cal.refused}")
+            // The phone's own hard-iron estimate: raw minus calibrated field, and the spread of both.
+            val raw = Moments()
+            val phone = Moments()
+            val offset = Array(3) { Moments() }
+            val lastRaw = DoubleArray(3) { Double.NaN }
+            rec.events(setOf(SessionStream.MAGNETOMETER_UNCALIBRATED, SessionStream.MAGNETOMETER)).use { e ->
+                while (e.next()) {
+                    val v = e.values
+                    val norm = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
+                    if (e.stream == SessionStream.MAGNETOMETER_UNCALIBRATED) {
+                        raw.add(norm); v.copyInto(lastRaw, 0, 0, 3)
+                    } else {
+                        phone.add(norm)
+                        if (!lastRaw[0].isNaN()) for (k in 0 until 3) offset[k].add(lastRaw[k] - v[k])
+                    }
+                }
+            }
+            println("sl-ios-siberiawolf: |B| std raw %.2f µT, phone-calibrated %.2f µT; phone's offset (%.1f, %.1f, %.1f) µT ± (%.1f, %.1f, %.1f)"
+                .format(raw.std, phone.std, offset[0].mean, offset[1].mean, offset[2].mean, offset[0].std, offset[1].std, offset[2].std))
+            assertTrue(phone.std < raw.std)
+        }
+    }
+
+    @Test
+    fun `the gyroscope bias from still periods of a real recording agrees with the phone's own`() {
+        val dir = folder("sl-ios-siberiawolf/datasets/gaming/2023-06-11_01-01-00")
+        Recording.open(dir).use { rec ->
+            val cal = rec.events().use { Calibrator.calibrate(it, rec.streams) }
+            val g = cal.gyroscope ?: throw AssertionError("refused: ${cal.refused}")
+            assertTrue(g.stream == SessionStream.GYROSCOPE_UNCALIBRATED)
+            // The phone's bias: uncalibrated minus calibrated rate, at the calibrated sample nearest in time (both about 100 Hz).
+            val phone = Array(3) { Moments() }
+            val lastRaw = DoubleArray(3) { Double.NaN }
+            var lastRawNs = Long.MIN_VALUE
+            rec.events(setOf(SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.GYROSCOPE)).use { e ->
+                while (e.next()) {
+                    if (e.stream == SessionStream.GYROSCOPE_UNCALIBRATED) {
+                        e.values.copyInto(lastRaw, 0, 0, 3); lastRawNs = e.timestampNs
+                    } else if (lastRawNs != Long.MIN_VALUE && e.timestampNs - lastRawNs < 5_000_000L) {
+                        for (k in 0 until 3) phone[k].add(lastRaw[k] - e.values[k])
+                    }
+                }
+            }
+            println("sl-ios-siberiawolf gyroscope: bias %s ± %s rad/s over %.1f s still; the phone's (%.6f, %.6f, %.6f) rad/s"
+                .format(g.bias, g.biasStdError, g.stillTimeS, phone[0].mean, phone[1].mean, phone[2].mean))
+            for (k in 0 until 3) {
+                val d = kotlin.math.abs(g.bias[k] - phone[k].mean)
+                assertTrue(d < 3 * g.biasStdError[k] + 2e-4, "axis $k: ours ${g.bias[k]}, the phone's ${phone[k].mean}")
+            }
+        }
+    }
+}
