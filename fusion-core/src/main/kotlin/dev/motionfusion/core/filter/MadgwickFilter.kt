@@ -176,7 +176,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
             wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
             sinceRest = 0.0
-        } else {
+        } else if (motionBiasGain != 0.0) {
             sinceRest += dt
         }
 
