@@ -3,7 +3,7 @@ package dev.motionfusion.bench;
 import dev.motionfusion.core.eval.BroadMetric;
 import dev.motionfusion.core.eval.ErrorRmse;
 import dev.motionfusion.core.eval.Evaluation;
-import dev.motionfusion.core.eval.SettingsOverride;
+import dev.motionfusion.core.filter.FilterSettingDescriptors;
 import dev.motionfusion.core.eval.Trial;
 import dev.motionfusion.core.filter.FilterMode;
 import dev.motionfusion.core.filter.FilterSettings;
@@ -109,7 +109,7 @@ public final class TuneFilter {
             if (body.startsWith(":")) body = body.substring(1);
         }
         for (String a : body.split(",")) {
-            if (!a.isBlank()) s = SettingsOverride.INSTANCE.apply(s, a.trim());
+            if (!a.isBlank()) s = FilterSettingDescriptors.apply(s, a.trim());
         }
         return s;
     }

@@ -35,10 +35,6 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     var disturbed = false
         private set
 
-    /** How long the rejection that the last accepted reading ended had lasted, s (0 if none). */
-    var endedRejection = 0.0
-        private set
-
     /** True when the last reading made a new reference (a new environment, not the first reading). */
     var newReference = false
         private set
@@ -55,10 +51,8 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
      * within the tolerances of its own running mean for that long becomes the reference too.
      */
     fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double): Boolean {
-        endedRejection = 0.0
         newReference = false
         if (needsReference) {
-            endedRejection = disturbedTime
             newReference = hasReference
             refNorm = norm
             refSinDip = sinDipRaw
@@ -89,7 +83,6 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         if (disturbed) {
             disturbedTime += dt
         } else {
-            endedRejection = disturbedTime
             disturbedTime = 0.0
             steadyTime = 0.0
             val k = minOf(1.0, dt * referenceRate)
@@ -113,7 +106,6 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         d[at + 5] = candNorm
         d[at + 6] = candSinDip
         d[at + 7] = steadyTime
-        d[at + 8] = endedRejection
         return at + STATE_SIZE
     }
 
@@ -126,11 +118,10 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         candNorm = d[at + 5]
         candSinDip = d[at + 6]
         steadyTime = d[at + 7]
-        endedRejection = d[at + 8]
         return at + STATE_SIZE
     }
 
     companion object {
-        const val STATE_SIZE = 9
+        const val STATE_SIZE = 8
     }
 }
