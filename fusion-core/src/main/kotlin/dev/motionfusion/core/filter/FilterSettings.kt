@@ -88,8 +88,9 @@ public enum class Initialisation {
  *   inferred from heading errors until it may have drifted. 0: full gain at once. Default 300 s.
  * @property motionBiasLimit each axis of the bias stays within ±this, rad/s. Default 2°/s.
  * @property headingRecoveryTime for this long after the start and after the magnetometer gets a new
- *   reference, the heading gain is at least 1/t (t the time since then, s), so a wrong first heading
- *   converges within seconds. 0 disables it. Default 10 s.
+ *   reference, while the heading error is large (from above 2° until below 0.5°), the heading gain is
+ *   at least 1/t (t the time since then, s), so a wrong first heading converges within seconds. 0
+ *   disables it. Default 10 s.
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
  *   tolerances of its own running mean for this long is trusted as the new reference, s. 0 disables
  *   it (then only magMaxRejectionTime ends a rejection). Default 0.

@@ -72,6 +72,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     // Time since the start or the last new magnetic reference, s (fast heading convergence).
     private var headingClock = 0.0
+
+    // Whether the fast convergence acts: from a heading error above 2° until it is below 0.5°.
+    private var headingOff = true
     private val scratch = DoubleArray(4)
 
     // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
@@ -204,10 +207,12 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         }
         if (useMag && headingGain != 0.0) {
             // Fast convergence (headingRecoveryTime): for that long after the start and after a new
-            // magnetic reference, the gain is at least 1/t, t the time since then (the mean of the errors).
+            // magnetic reference, while the heading is off, the gain is at least 1/t, t the time since
+            // then (the mean of the errors).
             headingClock += dt
-            val k = if (headingClock < headingRecoveryTime) maxOf(headingGain, 1.0 / headingClock) else headingGain
+            val k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
             val sinDelta = headingStep(dt * k)
+            headingOff = kotlin.math.abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
             if (motionBiasGain != 0.0) motionBias(dt, sinDelta)
         }
     }
@@ -284,7 +289,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
         val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0)
         own.copyInto(d)
         var at = DOUBLES
         at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
@@ -307,7 +312,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         q1 = d[0]; q2 = d[1]; q3 = d[2]; q4 = d[3]; bx = d[4]; bz = d[5]
         wbx = d[6]; wby = d[7]; wbz = d[8]
         ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
-        headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]
+        headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]; headingOff = d[18] != 0.0
         var at = DOUBLES
         at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
         at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
@@ -571,7 +576,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
 
     private companion object {
-        const val DOUBLES = 18
+        const val DOUBLES = 19
+
+        /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
+        val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)
+        val SIN_RECOVERY_DONE = kotlin.math.sin(0.5 * Math.PI / 180.0)
 
         /** 1/√x as √x · (1/x): the square root and the division run in parallel (shorter latency than 1/√x). */
         fun invSqrt(x: Double): Double = sqrt(x) * (1.0 / x)
