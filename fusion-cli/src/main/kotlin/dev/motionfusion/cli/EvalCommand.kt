@@ -1,7 +1,9 @@
 package dev.motionfusion.cli
 
 import dev.motionfusion.core.eval.BroadMetric
+import dev.motionfusion.core.eval.ErrorRmse
 import dev.motionfusion.core.eval.Evaluation
+import dev.motionfusion.core.eval.PhoneComparison
 import dev.motionfusion.core.eval.Trial
 import dev.motionfusion.core.eval.TrialResult
 import dev.motionfusion.core.filter.FilterMode
@@ -32,6 +34,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |scored samples (truth column movement = 1; all rows without that column), samples
         |without truth skipped. A 6D filter (--mode 6d) is scored with one constant heading
         |offset per trial removed. Prints a Markdown table: one row per trial, then the mean.
+        |A trial folder with rotation_vector.csv[.gz] (t_s,qw,qx,qy,qz: the phone's own
+        |orientation, as in the Tyrex subset) also gets that scored, in columns beside the filter's.
         |
         |First form: runs the filter on each trial folder (input.csv[.gz] + truth.csv[.gz], the
         |layout of the BROAD subset and of the public dataset converted to CSV), on each trial
@@ -59,6 +63,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         }
         val settings = FilterOptions.settings(o)
         val results = ArrayList<TrialResult>()
+        val rotationVector = HashMap<String, ErrorRmse>()
         for (p in o.positional) {
             val path = Path.of(p)
             if (!Files.exists(path)) throw java.nio.file.NoSuchFileException(p)
@@ -72,7 +77,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                 }
                 for (d in dirs) {
                     err.print(if (System.console() != null) "\reval ${d.name} …" else "")
-                    results += evaluateTrial(d, settings)
+                    results += evaluateTrial(d, settings, rotationVector)
                 }
                 if (System.console() != null) err.print("\r" + " ".repeat(60) + "\r")
             } else {
@@ -81,13 +86,14 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         }
         out.println("Filter: ${describe(settings)}")
         out.println()
-        out.print(Evaluation.table(results))
+        out.print(if (rotationVector.isEmpty()) Evaluation.table(results) else PhoneComparison.table(results, rotationVector))
         return ExitCode.OK
     }
 
-    private fun evaluateTrial(d: File, settings: FilterSettings): TrialResult {
+    /** Scores [d]; a trial with the phone's rotation vector also gets that scored into [rotationVector]. */
+    private fun evaluateTrial(d: File, settings: FilterSettings, rotationVector: MutableMap<String, ErrorRmse>): TrialResult {
         val trial = try {
-            Trial.load(d)
+            Trial.load(d).also { t -> PhoneComparison.rotationVector(d, t)?.let { rotationVector[t.name] = it } }
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
         } catch (e: NumberFormatException) {

@@ -1,9 +1,10 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.eval.SettingsOverride
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
+import dev.motionfusion.core.filter.SettingKind
 
 /** The filter settings options shared by replay, eval, compare and plot. */
 internal object FilterOptions {
@@ -11,9 +12,9 @@ internal object FilterOptions {
     val FLAGS = setOf("--report", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
 
     val HELP = """
-        |Filter settings (defaults: FilterSettings(), the values tuned on BROAD):
+        |Filter settings (defaults: FilterSettings(), chosen by cross-validation on BROAD and phone recordings):
         |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d)
-        |  --beta B             gradient step gain β, 1/s (default 0.02)
+        |  --beta B             gradient step gain β, rad/s (default ${FilterSettings().beta})
         |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default 0)
         |  --init identity|first-sample   start at the identity or from the first readings
         |  --no-rest-bias       do not estimate the gyroscope bias at rest
@@ -22,8 +23,19 @@ internal object FilterOptions {
         |  --max-gap S          longest accepted gap between samples, s (default 0.5)
         |  --report             start from the Madgwick report's own settings instead
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
-        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3)
+        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); names, units, defaults:
+        |${settingsTable()}
         |""".trimMargin()
+
+    /** One line per setting of [FilterSettingDescriptors]: name, unit, default. */
+    private fun settingsTable(): String {
+        val d = FilterSettings()
+        return FilterSettingDescriptors.all.joinToString("\n") { s ->
+            val unit = if (s.unit.isEmpty()) "" else " ${s.unit}"
+            val choices = if (s.kind == SettingKind.CHOICE) " (${s.choices.joinToString("|")})" else ""
+            "|                         ${s.name} = ${s.value(d)}$unit$choices"
+        }
+    }
 
     fun settings(o: Options): FilterSettings {
         var s = if (o.has("--report")) FilterSettings.report() else FilterSettings()
@@ -62,24 +74,18 @@ internal object FilterOptions {
     private fun applySet(s: FilterSettings, assignment: String): FilterSettings {
         val name = assignment.substringBefore('=').trim()
         val value = assignment.substringAfter('=').trim()
+        val d = FilterSettingDescriptors.named(name)
+            ?: throw UsageException("--set $name: no such setting (names as in FilterSettings, e.g. beta, magNormTolerance; see --help)")
+        val malformed = when (d.kind) {
+            SettingKind.NUMBER -> if (value.toDoubleOrNull() == null) "'$value' is not a number" else null
+            SettingKind.BOOLEAN -> if (value.toBooleanStrictOrNull() == null) "'$value' is not true or false" else null
+            SettingKind.CHOICE -> if (value !in d.choices) "'$value' is not one of ${d.choices.joinToString(", ")}" else null
+        }
+        if (malformed != null) throw UsageException("--set $name: $malformed")
         return try {
-            SettingsOverride.apply(s, "$name=$value")
-        } catch (e: NumberFormatException) {
-            throw UsageException("--set $name: '$value' is not a number")
+            d.withText(s, value)
         } catch (e: IllegalArgumentException) {
-            val enumValues = when (name) {
-                "mode" -> FilterMode.entries
-                "initialisation" -> Initialisation.entries
-                "outputFrame" -> dev.motionfusion.core.WorldFrame.entries
-                else -> null
-            }
-            val reason = when {
-                enumValues != null && enumValues.none { it.name == value } -> "'$value' is not one of ${enumValues.joinToString(", ")}"
-                value != "true" && value != "false" && e.message?.contains("boolean") == true -> "'$value' is not true or false"
-                e.message?.startsWith("unknown setting") == true -> "no such setting (names as in FilterSettings, e.g. beta, magNormTolerance)"
-                else -> e.message ?: "invalid value '$value'"
-            }
-            throw UsageException("--set $name: $reason")
+            throw UsageException("--set $name: ${e.message ?: "invalid value '$value'"}")
         }
     }
 }

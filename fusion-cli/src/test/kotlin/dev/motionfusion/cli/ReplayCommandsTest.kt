@@ -266,6 +266,14 @@ class ReplayCommandsTest {
         assertTrue(x[0] < 3.0, byTrial.out)
         val six = fusion("eval", "--mode", "6d", trial.toString())
         assertEquals(ExitCode.OK, six.code, six.err)
+        // With the phone's rotation vector (here the truth itself) its figures follow the filter's.
+        val rv = truth.lines().filter { it.isNotEmpty() }.joinToString("\n") { it.split(',').take(5).joinToString(",") } + "\n"
+        GZIPOutputStream(Files.newOutputStream(trial.resolve("rotation_vector.csv.gz"))).use { it.write(rv.toByteArray()) }
+        val withRv = fusion("eval", trial.toString())
+        assertEquals(ExitCode.OK, withRv.code, withRv.err)
+        assertTrue(withRv.out.contains("| rotation vector total (°) |"), withRv.out)
+        assertTrue(withRv.out.lines().first { it.startsWith("| 01_sim |") }.endsWith("| 0.00 | 0.00 | 0.00 |"), withRv.out)
+        assertEquals(x, numbers(withRv.out))
         val plot = fusion("plot", trial.toString(), "-o", p("trial.svg"))
         assertEquals(ExitCode.OK, plot.code, plot.err)
         assertTrue(Files.readString(dir.resolve("trial.svg")).contains("error vs truth"))

@@ -8,10 +8,8 @@
 
 package dev.motionfusion.core.eval
 
-import dev.motionfusion.core.WorldFrame
-import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.filter.Initialisation
 import dev.motionfusion.core.io.DataFormatException
 import java.io.File
 import kotlin.system.exitProcess
@@ -48,40 +46,12 @@ private fun usage(message: String): Nothing {
     exitProcess(2)
 }
 
-/** Command-line overrides of [FilterSettings]: "name=value" by the name of a property. */
+/** Command-line overrides of [FilterSettings]: "name=value" by the name of a property ([FilterSettingDescriptors]). */
 public object SettingsOverride {
     /**
      * [s] with the property named before '=' set to the value after it (numbers in SI units as the
      * property documents, booleans true/false, enums by name).
      * @throws IllegalArgumentException for an unknown name or a value the settings reject.
      */
-    public fun apply(s: FilterSettings, assignment: String): FilterSettings {
-        require('=' in assignment) { "expected name=value: $assignment" }
-        val (name, value) = assignment.split('=', limit = 2)
-        fun d() = value.toDouble()
-        fun b() = value.toBooleanStrict()
-        return when (name) {
-            "mode" -> s.copy(mode = FilterMode.valueOf(value))
-            "initialisation" -> s.copy(initialisation = Initialisation.valueOf(value))
-            "outputFrame" -> s.copy(outputFrame = WorldFrame.valueOf(value))
-            "beta" -> s.copy(beta = d())
-            "zeta" -> s.copy(zeta = d())
-            "restBiasEstimation" -> s.copy(restBiasEstimation = b())
-            "restGyroThreshold" -> s.copy(restGyroThreshold = d())
-            "restAccThreshold" -> s.copy(restAccThreshold = d())
-            "restMinTime" -> s.copy(restMinTime = d())
-            "restBiasTime" -> s.copy(restBiasTime = d())
-            "magDisturbanceRejection" -> s.copy(magDisturbanceRejection = b())
-            "magNormTolerance" -> s.copy(magNormTolerance = d())
-            "magDipTolerance" -> s.copy(magDipTolerance = d())
-            "magMaxRejectionTime" -> s.copy(magMaxRejectionTime = d())
-            "magReferenceTime" -> s.copy(magReferenceTime = d())
-            "accRejection" -> s.copy(accRejection = b())
-            "accNormTolerance" -> s.copy(accNormTolerance = d())
-            "accAngleTolerance" -> s.copy(accAngleTolerance = d())
-            "accMaxRejectionTime" -> s.copy(accMaxRejectionTime = d())
-            "maxGap" -> s.copy(maxGap = d())
-            else -> throw IllegalArgumentException("unknown setting $name")
-        }
-    }
+    public fun apply(s: FilterSettings, assignment: String): FilterSettings = FilterSettingDescriptors.apply(s, assignment)
 }

@@ -32,15 +32,16 @@ public enum class Initialisation {
 }
 
 /**
- * Immutable, validated settings of [MadgwickFilter]. The defaults are the most accurate single set
- * measured on the BROAD trials (docs/ACCURACY.md); [report] gives the report's own filter.
+ * Immutable, validated settings of [MadgwickFilter]. The defaults are the single set chosen by
+ * cross-validation over the BROAD and the Tyrex phone trials (docs/ACCURACY.md); [report] gives the
+ * report's own filter.
  *
  * @property mode 6D or 9D. Default [FilterMode.MARG].
  * @property beta β, gain of the normalised gradient step (eq. 42), rad/s: β = √(3/4)·ω̃_β (eq. 50)
  *   with ω̃_β the gyroscope measurement error; the correction turns the estimate at up to 2β rad/s.
- *   ≥ 0. Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the rest estimate removes most gyroscope bias.
+ *   ≥ 0. Default 0.03 (ω̃_β ≈ 2°/s), possible because the bias estimates remove most gyroscope bias.
  * @property zeta ζ, gain of the report's gyroscope bias drift compensation (eq. 48), rad/s²:
- *   ζ = √(3/4)·ω̃_ζ (eq. 51) with ω̃_ζ the gyroscope drift rate. Acts in MARG steps, as in the report.
+ *   ζ = √(3/4)·ω̃_ζ (eq. 51) with ω̃_ζ the gyroscope drift rate. Acts in the report's MARG steps (headingGain 0), as in the report.
  *   0 disables it. ≥ 0. Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate
  *   replaces it.
  * @property initialisation [Initialisation.FIRST_SAMPLE] by default.
@@ -53,7 +54,9 @@ public enum class Initialisation {
  * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began, for up to
  *   this long, then a moving average with this time constant, s. Default 2 s.
  * @property magDisturbanceRejection ignore the magnetometer while its magnitude or dip angle
- *   departs from a learned reference (the gyroscope then holds heading).
+ *   departs from a learned reference (the gyroscope then holds heading). Default off: indoors a
+ *   phone's field varies by more than the tolerances and the rejection then costs more heading
+ *   than it saves (docs/ACCURACY.md); on for a sensor with a magnet near it.
  * @property magNormTolerance allowed relative deviation of the field magnitude from the reference.
  *   Default 0.1 (10 %).
  * @property magDipTolerance allowed deviation of the dip angle from the reference, rad. Default 10°.
@@ -71,12 +74,38 @@ public enum class Initialisation {
  *   again (recovery from a wrong estimate), s. Default 5 s.
  * @property outputFrame earth frame of [MadgwickFilter.orientation]. Default [WorldFrame.ENU] (Android's
  *   world); [WorldFrame.NWU] is the report's, [WorldFrame.NED] the aerospace one.
+ * @property headingGain heading correction apart from inclination, 1/s: with a magnetometer the
+ *   estimate turns about the vertical towards magnetic north at this fraction of the heading error
+ *   per second (time constant 1/headingGain), and the accelerometer alone corrects inclination with
+ *   β. 0 gives the report's MARG step, where one normalised gradient corrects both. ≥ 0. Default
+ *   0.03 (33 s).
+ * @property motionBiasGain gyroscope bias estimation during motion (needs headingGain > 0), rad/s
+ *   per unit heading error and second: the heading error sin δ, a rate about the estimated vertical,
+ *   is integrated into the bias (a PI observer), so a bias is learnt without rest. 0 disables it.
+ *   ≥ 0. Default 0.003.
+ * @property motionBiasRestTime after the rest estimate has acted, the motion estimate's gain ramps
+ *   up from 0 to motionBiasGain over this time, s: a bias measured at rest is better than one
+ *   inferred from heading errors until it may have drifted. 0: full gain at once. Default 300 s.
+ * @property motionBiasLimit each axis of the bias stays within ±this, rad/s. Default 2°/s.
+ * @property headingRecoveryTime for this long after the start and after the magnetometer gets a new
+ *   reference, while the heading error is large (from above 2° until below 0.5°), the heading gain is
+ *   at least 1/t (t the time since then, s), so a wrong first heading converges within seconds. 0
+ *   disables it. Default 10 s.
+ * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
+ *   tolerances of its own running mean for this long is trusted as the new reference, s. 0 disables
+ *   it (then only magMaxRejectionTime ends a rejection). Default 0.
+ * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: once
+ *   the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
+ *   accTrustTime, and while its direction is further than accAngleTolerance from the estimated up,
+ *   the step gain is this instead of β (at most 2× this rad/s of correction). 0 disables it. ≥ 0.
+ *   Default 0.
+ * @property accTrustTime see inclinationRecoveryBeta, s. Default 0.5 s.
  * @property maxGap longest accepted time between samples, s: a longer gyroscope gap is not
  *   integrated, and an accelerometer or magnetometer sample older than this is not used. Default 0.5 s.
  */
 public data class FilterSettings(
     val mode: FilterMode = FilterMode.MARG,
-    val beta: Double = 0.02,
+    val beta: Double = 0.03,
     val zeta: Double = 0.0,
     val initialisation: Initialisation = Initialisation.FIRST_SAMPLE,
     val restBiasEstimation: Boolean = true,
@@ -84,15 +113,23 @@ public data class FilterSettings(
     val restAccThreshold: Double = 0.5,
     val restMinTime: Double = 1.5,
     val restBiasTime: Double = 2.0,
-    val magDisturbanceRejection: Boolean = true,
+    val magDisturbanceRejection: Boolean = false,
     val magNormTolerance: Double = 0.1,
     val magDipTolerance: Double = 10.0 * DEG,
     val magMaxRejectionTime: Double = 60.0,
     val magReferenceTime: Double = 20.0,
+    val magNewFieldTime: Double = 0.0,
     val accRejection: Boolean = false,
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
     val accMaxRejectionTime: Double = 5.0,
+    val inclinationRecoveryBeta: Double = 0.0,
+    val accTrustTime: Double = 0.5,
+    val headingGain: Double = 0.03,
+    val headingRecoveryTime: Double = 10.0,
+    val motionBiasGain: Double = 0.003,
+    val motionBiasRestTime: Double = 300.0,
+    val motionBiasLimit: Double = 2.0 * DEG,
     val outputFrame: WorldFrame = WorldFrame.ENU,
     val maxGap: Double = 0.5,
 ) {
@@ -111,6 +148,14 @@ public data class FilterSettings(
         require(accAngleTolerance > 0.0 && accAngleTolerance < PI) { "accAngleTolerance must be in (0, π) rad: $accAngleTolerance" }
         requirePositive("accMaxRejectionTime", accMaxRejectionTime)
         requirePositive("maxGap", maxGap)
+        requireFinite("headingGain", headingGain, min = 0.0)
+        requireFinite("motionBiasGain", motionBiasGain, min = 0.0)
+        requireFinite("headingRecoveryTime", headingRecoveryTime, min = 0.0)
+        requireFinite("magNewFieldTime", magNewFieldTime, min = 0.0)
+        requireFinite("inclinationRecoveryBeta", inclinationRecoveryBeta, min = 0.0)
+        requirePositive("accTrustTime", accTrustTime)
+        requirePositive("motionBiasLimit", motionBiasLimit)
+        requireFinite("motionBiasRestTime", motionBiasRestTime, min = 0.0)
     }
 
     public companion object {
@@ -128,6 +173,11 @@ public data class FilterSettings(
             restBiasEstimation = false,
             magDisturbanceRejection = false,
             accRejection = false,
+            headingGain = 0.0,
+            motionBiasGain = 0.0,
+            headingRecoveryTime = 0.0,
+            magNewFieldTime = 0.0,
+            inclinationRecoveryBeta = 0.0,
         )
 
         private const val DEG = PI / 180.0

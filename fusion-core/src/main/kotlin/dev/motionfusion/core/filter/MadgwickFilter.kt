@@ -18,20 +18,24 @@
  *
  * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
  * with neither: gyroscope integration. The report's equations hold exactly with
- * FilterSettings.report(); the additions (rest bias, magnetic disturbance, accelerometer
- * rejection) only decide which readings enter and what bias is removed.
+ * FilterSettings.report(). The additions decide which readings enter (magnetic disturbance,
+ * accelerometer rejection), what bias is removed (rest and motion bias estimates) and the gain of a
+ * step (inclination recovery); with headingGain > 0 the magnetometer corrects heading in a step of its
+ * own after the IMU step, instead of entering the report's MARG gradient.
  */
 package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.WorldFrame
 import kotlin.math.sqrt
 
 /**
  * The Madgwick filter of the report (IMU and MARG gradient-descent updates, normalised gradient,
- * magnetic distortion compensation, gyroscope bias drift compensation ζ) with rest bias
- * estimation, magnetic disturbance rejection and accelerometer rejection as settings.
+ * magnetic distortion compensation, gyroscope bias drift compensation ζ) with, as settings: a heading
+ * correction apart from inclination, gyroscope bias estimation at rest and in motion, fast heading
+ * convergence, magnetic disturbance rejection, accelerometer rejection and inclination recovery.
  *
  * Not thread-safe: call from one thread (e.g. the sensor HandlerThread). The update methods
  * allocate nothing.
@@ -46,6 +50,31 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val restMinTime = settings.restMinTime
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
+    private val headingGain = settings.headingGain
+    private val motionBiasGain = settings.motionBiasGain
+    private val biasLimit = settings.motionBiasLimit
+
+    private val headingRecoveryTime = settings.headingRecoveryTime
+    private val motionBiasRestTime = settings.motionBiasRestTime
+    private val recoveryBeta = settings.inclinationRecoveryBeta
+    private val accTrustTime = settings.accTrustTime
+    private val accNormTolerance = settings.accNormTolerance
+    private val cosAccAngleTolerance = kotlin.math.cos(settings.accAngleTolerance)
+
+    // β of the current step (β, or inclinationRecoveryBeta while inclination re-converges).
+    private var stepBeta = beta
+
+    // How long the accelerometer magnitude has stayed near gravity, s (inclination recovery).
+    private var accTrusted = 0.0
+
+    // Time since the rest estimate last acted, s (infinite before it has).
+    private var sinceRest = Double.POSITIVE_INFINITY
+
+    // Time since the start or the last new magnetic reference, s (fast heading convergence).
+    private var headingClock = 0.0
+
+    // Whether the fast convergence acts: from a heading error above 2° until it is below 0.5°.
+    private var headingOff = true
     private val scratch = DoubleArray(4)
 
     // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
@@ -149,6 +178,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             // Mean of the readings since rest began, then a moving average over restBiasTime.
             val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
             wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
+            sinceRest = 0.0
+        } else if (motionBiasGain != 0.0) {
+            sinceRest += dt
         }
 
         var useAcc = accOk
@@ -165,11 +197,23 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
             useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw)
             if (!useMag) magRejections++
+            if (magDetector.newReference) headingClock = 0.0
         }
+        if (recoveryBeta != 0.0) stepBeta = recoveringBeta(dt, useAcc)
         when {
-            useMag -> margStep(dt, x, y, z, useAcc)
+            useMag && headingGain == 0.0 -> margStep(dt, x, y, z, useAcc)
             useAcc -> imuStep(dt, x, y, z)
             else -> gyroStep(dt, x, y, z)
+        }
+        if (useMag && headingGain != 0.0) {
+            // Fast convergence (headingRecoveryTime): for that long after the start and after a new
+            // magnetic reference, while the heading is off, the gain is at least 1/t, t the time since
+            // then (the mean of the errors).
+            headingClock += dt
+            val k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
+            val sinDelta = headingStep(dt * k)
+            headingOff = kotlin.math.abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
+            if (motionBiasGain != 0.0) motionBias(dt, sinDelta)
         }
     }
 
@@ -245,7 +289,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
         val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0)
         own.copyInto(d)
         var at = DOUBLES
         at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
@@ -268,6 +312,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         q1 = d[0]; q2 = d[1]; q3 = d[2]; q4 = d[3]; bx = d[4]; bz = d[5]
         wbx = d[6]; wby = d[7]; wbz = d[8]
         ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
+        headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]; headingOff = d[18] != 0.0
         var at = DOUBLES
         at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
         at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
@@ -388,6 +433,67 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         )
     }
 
+    /**
+     * Heading correction apart from inclination (beyond the report; headingGain > 0): the measured
+     * field in the earth frame, h = q̂ ⊗ m ⊗ q̂*, should point north (+x of NWU). The estimate is
+     * turned about the earth's vertical towards that, by the fraction [k] of the heading error δ
+     * (sin δ for |δ| < 90°, a quarter turn beyond), so inclination is left as the accelerometer made it.
+     */
+    private fun headingStep(k: Double): Double {
+        val hx = earthX(q1, q2, q3, q4, mx, my, mz)
+        val hy = earthY(q1, q2, q3, q4, mx, my, mz)
+        val hn2 = hx * hx + hy * hy
+        if (!(hn2 > 0.0)) return 0.0
+        val sinDelta = if (hx > 0.0) hy * invSqrt(hn2) else if (hy >= 0.0) 1.0 else -1.0
+        // q̂ ← [cos(a/2), 0, 0, sin(a/2)] ⊗ q̂ with a = −k·sin δ (small: cos ≈ 1, then normalised).
+        val s = -0.5 * minOf(k, 1.0) * sinDelta
+        val n1 = q1 - s * q4
+        val n2 = q2 - s * q3
+        val n3 = q3 + s * q2
+        val n4 = q4 + s * q1
+        val inv = invSqrt(n1 * n1 + n2 * n2 + n3 * n3 + n4 * n4)
+        q1 = n1 * inv; q2 = n2 * inv; q3 = n3 * inv; q4 = n4 * inv
+        return sinDelta
+    }
+
+    /**
+     * Inclination recovery after violent motion (inclinationRecoveryBeta > 0): the accelerometer is
+     * trusted again once its magnitude has stayed within accNormTolerance of standard gravity for
+     * accTrustTime; while a trusted reading is further than accAngleTolerance from the estimated up,
+     * the step gain is inclinationRecoveryBeta, else β.
+     */
+    private fun recoveringBeta(dt: Double, withAcc: Boolean): Double {
+        if (!withAcc) {
+            accTrusted = 0.0
+            return beta
+        }
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        if (kotlin.math.abs(n - STANDARD_GRAVITY) > accNormTolerance) {
+            accTrusted = 0.0
+            return beta
+        }
+        accTrusted += dt
+        if (accTrusted < accTrustTime) return beta
+        return if (ax * upX() + ay * upY() + az * upZ() < cosAccAngleTolerance * n) recoveryBeta else beta
+    }
+
+    /**
+     * Gyroscope bias estimation during motion (beyond the report; motionBiasGain > 0 with
+     * headingGain > 0): the heading error the heading step removes, as a rotation rate about the
+     * estimated up in the sensor frame, e = −sin δ·v̂, is integrated into the bias, as the integral
+     * term of a PI observer: ω_b −= k·e·Δt, each axis limited to ±motionBiasLimit. (The same with
+     * the accelerometer's error, â × v̂, was measured and hurts: linear acceleration leaks into it.)
+     */
+    private fun motionBias(dt: Double, sinDelta: Double) {
+        // After a rest estimate, the gain ramps up from 0 over motionBiasRestTime: the rest estimate
+        // is the better one until the bias may have drifted away from it.
+        val ramp = if (sinceRest < motionBiasRestTime) sinceRest / motionBiasRestTime else 1.0
+        val k = motionBiasGain * ramp * dt * sinDelta
+        wbx = (wbx + k * upX()).coerceIn(-biasLimit, biasLimit)
+        wby = (wby + k * upY()).coerceIn(-biasLimit, biasLimit)
+        wbz = (wbz + k * upZ()).coerceIn(-biasLimit, biasLimit)
+    }
+
     /** Gyroscope integration only (no usable accelerometer): eq. 12 with the bias removed. */
     private fun gyroStep(dt: Double, gx: Double, gy: Double, gz: Double) {
         correct(dt, gx, gy, gz, 0.0, 0.0, 0.0, 0.0, 0.0, false, 0.0, 0.0, 0.0)
@@ -421,7 +527,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val e3 = d3 * s
         val e4 = d4 * s
         // q̂ += (½ q̂ ⊗ [0, ω − ω_b] − β q̇_ε) Δt (eqs. 12, 42–43).
-        var c1 = beta * dt
+        var c1 = stepBeta * dt
         var c2 = 0.0
         if (z != 0.0) {
             // ω_ε = 2 q̂* ⊗ q̇_ε (eq. 47); ω_b += ζ ω_ε Δt (eq. 48). The bias change Δω_b = ζΔt ω_ε enters
@@ -455,19 +561,26 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * with q̂ = p/|p| given as p = (p1..p4) and [s] = 1/|p|² (h is quadratic in q̂).
      */
     private fun updateFluxReference(p1: Double, p2: Double, p3: Double, p4: Double, m1: Double, m2: Double, m3: Double, s: Double) {
-        val w2 = p1 * p1
-        val x2 = p2 * p2
-        val y2 = p3 * p3
-        val z2 = p4 * p4
-        val hx = m1 * (w2 + x2 - y2 - z2) + 2.0 * (m2 * (p2 * p3 - p1 * p4) + m3 * (p2 * p4 + p1 * p3))
-        val hy = m2 * (w2 - x2 + y2 - z2) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
-        val hz = m3 * (w2 - x2 - y2 + z2) + 2.0 * (m1 * (p2 * p4 - p1 * p3) + m2 * (p3 * p4 + p1 * p2))
+        val hx = earthX(p1, p2, p3, p4, m1, m2, m3)
+        val hy = earthY(p1, p2, p3, p4, m1, m2, m3)
+        val hz = m3 * (p1 * p1 - p2 * p2 - p3 * p3 + p4 * p4) + 2.0 * (m1 * (p2 * p4 - p1 * p3) + m2 * (p3 * p4 + p1 * p2))
         bx = sqrt(hx * hx + hy * hy) * s
         bz = hz * s
     }
 
+    // x and y of p ⊗ [0, m] ⊗ p* (|p|² times the rotated vector): the horizontal part of m in the earth frame.
+    private fun earthX(p1: Double, p2: Double, p3: Double, p4: Double, m1: Double, m2: Double, m3: Double) =
+        m1 * (p1 * p1 + p2 * p2 - p3 * p3 - p4 * p4) + 2.0 * (m2 * (p2 * p3 - p1 * p4) + m3 * (p2 * p4 + p1 * p3))
+
+    private fun earthY(p1: Double, p2: Double, p3: Double, p4: Double, m1: Double, m2: Double, m3: Double) =
+        m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
+
     private companion object {
-        const val DOUBLES = 15
+        const val DOUBLES = 19
+
+        /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
+        val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)
+        val SIN_RECOVERY_DONE = kotlin.math.sin(0.5 * Math.PI / 180.0)
 
         /** 1/√x as √x · (1/x): the square root and the division run in parallel (shorter latency than 1/√x). */
         fun invSqrt(x: Double): Double = sqrt(x) * (1.0 / x)

@@ -19,6 +19,13 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val cosDipTolerance = cos(settings.magDipTolerance)
     private val maxRejectionTime = settings.magMaxRejectionTime
     private val referenceRate = 1.0 / settings.magReferenceTime
+    private val newFieldTime = settings.magNewFieldTime
+
+    // A disturbed field's own running mean (the candidate for a new reference) and how long the
+    // field has stayed within the tolerances of it.
+    private var candNorm = 0.0
+    private var candSinDip = 0.0
+    private var steadyTime = 0.0
 
     private var hasReference = false
     private var refNorm = 0.0
@@ -26,6 +33,10 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private var disturbedTime = 0.0
 
     var disturbed = false
+        private set
+
+    /** True when the last reading made a new reference (a new environment, not the first reading). */
+    var newReference = false
         private set
 
     /** True when the next reading will become the reference (so its raw dip is needed). */
@@ -36,10 +47,13 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
      * component of the unit field along the estimated down direction), or [sinDipRaw] measured
      * against the accelerometer, after [dt] s. Returns true when the reading may be used. The first
      * reading, and a field disturbed for longer than magMaxRejectionTime, become the reference; an
-     * undisturbed field slowly updates it.
+     * undisturbed field slowly updates it. With magNewFieldTime > 0, a disturbed field that stays
+     * within the tolerances of its own running mean for that long becomes the reference too.
      */
     fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double): Boolean {
+        newReference = false
         if (needsReference) {
+            newReference = hasReference
             refNorm = norm
             refSinDip = sinDipRaw
             hasReference = true
@@ -47,13 +61,30 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             disturbed = false
             return true
         }
-        // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
-        val cosDiff = sqrt((1.0 - sinDip * sinDip) * (1.0 - refSinDip * refSinDip)) + sinDip * refSinDip
-        disturbed = kotlin.math.abs(norm - refNorm) > normTolerance * refNorm || cosDiff < cosDipTolerance
+        disturbed = !matches(norm, sinDip, refNorm, refSinDip)
+        if (disturbed && newFieldTime > 0.0) {
+            if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
+                steadyTime += dt
+                val k = minOf(1.0, dt / steadyTime)
+                candNorm += k * (norm - candNorm)
+                candSinDip += k * (sinDip - candSinDip)
+            } else {
+                candNorm = norm
+                candSinDip = sinDip
+                steadyTime = dt
+            }
+            if (steadyTime >= newFieldTime) {
+                refNorm = candNorm
+                refSinDip = candSinDip
+                disturbed = false
+                newReference = true
+            }
+        }
         if (disturbed) {
             disturbedTime += dt
         } else {
             disturbedTime = 0.0
+            steadyTime = 0.0
             val k = minOf(1.0, dt * referenceRate)
             refNorm += k * (norm - refNorm)
             refSinDip += k * (sinDip - refSinDip)
@@ -61,12 +92,20 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         return !disturbed
     }
 
+    // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
+    private fun matches(norm: Double, sinDip: Double, rNorm: Double, rSinDip: Double): Boolean =
+        kotlin.math.abs(norm - rNorm) <= normTolerance * rNorm &&
+            sqrt((1.0 - sinDip * sinDip) * (1.0 - rSinDip * rSinDip)) + sinDip * rSinDip >= cosDipTolerance
+
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = if (hasReference) 1.0 else 0.0
         d[at + 1] = refNorm
         d[at + 2] = refSinDip
         d[at + 3] = disturbedTime
         d[at + 4] = if (disturbed) 1.0 else 0.0
+        d[at + 5] = candNorm
+        d[at + 6] = candSinDip
+        d[at + 7] = steadyTime
         return at + STATE_SIZE
     }
 
@@ -76,10 +115,13 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         refSinDip = d[at + 2]
         disturbedTime = d[at + 3]
         disturbed = d[at + 4] != 0.0
+        candNorm = d[at + 5]
+        candSinDip = d[at + 6]
+        steadyTime = d[at + 7]
         return at + STATE_SIZE
     }
 
     companion object {
-        const val STATE_SIZE = 5
+        const val STATE_SIZE = 8
     }
 }

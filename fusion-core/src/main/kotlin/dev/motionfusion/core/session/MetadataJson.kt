@@ -6,10 +6,8 @@
  */
 package dev.motionfusion.core.session
 
-import dev.motionfusion.core.WorldFrame
-import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.filter.Initialisation
+import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
 
@@ -100,28 +98,7 @@ internal object MetadataJson {
 
     private fun anchor(a: ClockAnchor) = linkedMapOf("wall_clock_ms" to a.wallClockMs, "elapsed_realtime_ns" to a.elapsedRealtimeNs)
 
-    fun settings(s: FilterSettings): Map<String, Any?> = linkedMapOf(
-        "mode" to s.mode.name,
-        "beta" to s.beta,
-        "zeta" to s.zeta,
-        "initialisation" to s.initialisation.name,
-        "rest_bias_estimation" to s.restBiasEstimation,
-        "rest_gyro_threshold_rad_s" to s.restGyroThreshold,
-        "rest_acc_threshold_m_s2" to s.restAccThreshold,
-        "rest_min_time_s" to s.restMinTime,
-        "rest_bias_time_s" to s.restBiasTime,
-        "mag_disturbance_rejection" to s.magDisturbanceRejection,
-        "mag_norm_tolerance" to s.magNormTolerance,
-        "mag_dip_tolerance_rad" to s.magDipTolerance,
-        "mag_max_rejection_time_s" to s.magMaxRejectionTime,
-        "mag_reference_time_s" to s.magReferenceTime,
-        "acc_rejection" to s.accRejection,
-        "acc_norm_tolerance_m_s2" to s.accNormTolerance,
-        "acc_angle_tolerance_rad" to s.accAngleTolerance,
-        "acc_max_rejection_time_s" to s.accMaxRejectionTime,
-        "output_frame" to s.outputFrame.name,
-        "max_gap_s" to s.maxGap,
-    )
+    fun settings(s: FilterSettings): Map<String, Any?> = FilterSettingDescriptors.all.associateTo(LinkedHashMap()) { it.jsonKey to it.value(s) }
 
     fun parse(text: String, sourceName: String): SessionMetadata {
         val root = Json.parse(text, sourceName) as? Map<*, *> ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
@@ -174,41 +151,25 @@ internal object MetadataJson {
 
     private fun parseAnchor(o: Obj) = ClockAnchor(o.long("wall_clock_ms", 0L), o.long("elapsed_realtime_ns", 0L))
 
+    /** Members missing from stored settings take the value of their time ([FilterSettingDescriptor.valueWhenAbsent]) or the default. */
     private fun parseSettings(o: Obj): FilterSettings {
-        val d = FilterSettings()
-        return try {
-            FilterSettings(
-                mode = o.enum("mode", d.mode) { FilterMode.valueOf(it) },
-                beta = o.double("beta", d.beta),
-                zeta = o.double("zeta", d.zeta),
-                initialisation = o.enum("initialisation", d.initialisation) { Initialisation.valueOf(it) },
-                restBiasEstimation = o.bool("rest_bias_estimation", d.restBiasEstimation),
-                restGyroThreshold = o.double("rest_gyro_threshold_rad_s", d.restGyroThreshold),
-                restAccThreshold = o.double("rest_acc_threshold_m_s2", d.restAccThreshold),
-                restMinTime = o.double("rest_min_time_s", d.restMinTime),
-                restBiasTime = o.double("rest_bias_time_s", d.restBiasTime),
-                magDisturbanceRejection = o.bool("mag_disturbance_rejection", d.magDisturbanceRejection),
-                magNormTolerance = o.double("mag_norm_tolerance", d.magNormTolerance),
-                magDipTolerance = o.double("mag_dip_tolerance_rad", d.magDipTolerance),
-                magMaxRejectionTime = o.double("mag_max_rejection_time_s", d.magMaxRejectionTime),
-                magReferenceTime = o.double("mag_reference_time_s", d.magReferenceTime),
-                accRejection = o.bool("acc_rejection", d.accRejection),
-                accNormTolerance = o.double("acc_norm_tolerance_m_s2", d.accNormTolerance),
-                accAngleTolerance = o.double("acc_angle_tolerance_rad", d.accAngleTolerance),
-                accMaxRejectionTime = o.double("acc_max_rejection_time_s", d.accMaxRejectionTime),
-                outputFrame = o.enum("output_frame", d.outputFrame) { WorldFrame.valueOf(it) },
-                maxGap = o.double("max_gap_s", d.maxGap),
-            )
-        } catch (e: IllegalArgumentException) {
-            throw o.error("", "invalid filter settings: ${e.message}")
+        var s = FilterSettings()
+        for (d in FilterSettingDescriptors.all) {
+            val v = o.raw(d.jsonKey) ?: d.valueWhenAbsent ?: continue
+            s = try {
+                d.with(s, v)
+            } catch (e: IllegalArgumentException) {
+                throw o.error(d.jsonKey, "invalid filter setting: ${e.message}")
+            }
         }
+        return s
     }
 
     /** Typed access to a JSON object, with errors naming the member's path. */
     private class Obj(val map: Map<*, *>, val path: String, val source: String) {
         fun error(key: String, reason: String) = DataFormatException(source, 0, 0, "${path}$key: $reason")
         fun keys(): List<String> = map.keys.map { it.toString() }
-        private fun raw(key: String): Any? = map[key]
+        fun raw(key: String): Any? = map[key]
 
         fun string(key: String): String = when (val v = raw(key)) {
             null -> ""
@@ -242,16 +203,6 @@ internal object MetadataJson {
             null -> default
             is Boolean -> v
             else -> throw error(key, "expected true or false")
-        }
-
-        fun <E> enum(key: String, default: E, parse: (String) -> E): E {
-            val s = string(key)
-            if (s.isEmpty()) return default
-            return try {
-                parse(s)
-            } catch (e: IllegalArgumentException) {
-                throw error(key, "unknown value '$s'")
-            }
         }
 
         fun objOrNull(key: String): Obj? = when (val v = raw(key)) {

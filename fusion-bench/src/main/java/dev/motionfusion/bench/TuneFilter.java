@@ -1,0 +1,297 @@
+package dev.motionfusion.bench;
+
+import dev.motionfusion.core.eval.BroadMetric;
+import dev.motionfusion.core.eval.ErrorRmse;
+import dev.motionfusion.core.eval.Evaluation;
+import dev.motionfusion.core.filter.FilterSettingDescriptors;
+import dev.motionfusion.core.eval.Trial;
+import dev.motionfusion.core.filter.FilterMode;
+import dev.motionfusion.core.filter.FilterSettings;
+import dev.motionfusion.core.filter.MadgwickFilter;
+import dev.motionfusion.core.io.QuaternionTable;
+
+import java.io.File;
+import java.io.IOException;
+import java.nio.charset.StandardCharsets;
+import java.nio.file.Files;
+import java.util.ArrayList;
+import java.util.LinkedHashMap;
+import java.util.List;
+import java.util.Locale;
+import java.util.Map;
+import java.util.concurrent.ExecutorService;
+import java.util.concurrent.Executors;
+import java.util.concurrent.Future;
+
+/**
+ * Tuning and cross-validation harness for the filter settings (a development tool, not part of
+ * the library): loads every trial once into primitive arrays (through the library's trial reader),
+ * runs many setting sets over them in memory and scores each with BROAD's metric.
+ *
+ * <pre>
+ * java -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.TuneFilter [options] DIR... SET...
+ *   DIR          a trial folder or a folder of trial folders; the folder of trial folders names the group
+ *   SET          "defaults", "report", or comma-separated name=value overrides of the defaults
+ *                ("report:" prefix: overrides of FilterSettings.report()); a label may precede as LABEL@SET
+ *   --sets FILE  more sets, one per line (# comments)
+ *   --threads N  worker threads (default: available processors)
+ *   --trials     print per-trial total/heading/inclination for every set (default: group means only)
+ *   --rv         also score each trial's rotation_vector.csv[.gz] (the phone's own orientation)
+ *   --cv         cross-validation over the sets: leave one trial out, and tune on one group, test on the other
+ * </pre>
+ */
+public final class TuneFilter {
+    private TuneFilter() {
+    }
+
+    /** One trial in primitive arrays. */
+    static final class Loaded {
+        final String name;
+        final String group;
+        final long[] tNs;
+        final double[] rows; // 9 per row
+        final boolean hasMag;
+        final double[][] truth;
+        final boolean[] movement;
+        final double[][] rotationVector; // null without one
+
+        Loaded(File dir, boolean withRv) throws IOException {
+            Trial t = Trial.Companion.load(dir);
+            name = t.getName();
+            group = dir.getParentFile().getName();
+            int n = t.getSize();
+            tNs = new long[n];
+            rows = new double[9 * n];
+            for (int i = 0; i < n; i++) {
+                tNs[i] = Math.round(t.getTimeS()[i] * 1e9);
+                System.arraycopy(t.getImu()[i], 0, rows, 9 * i, 9);
+            }
+            hasMag = t.getHasMag();
+            truth = t.getTruth();
+            movement = t.getMovement();
+            File rv = new File(dir, "rotation_vector.csv.gz");
+            if (!rv.isFile()) rv = new File(dir, "rotation_vector.csv");
+            if (withRv && rv.isFile()) {
+                QuaternionTable q = QuaternionTable.read(rv.toPath());
+                if (q.getSize() != n) throw new IllegalArgumentException(rv + ": " + q.getSize() + " rows, input has " + n);
+                rotationVector = q.getQ();
+            } else {
+                rotationVector = null;
+            }
+        }
+
+        ErrorRmse run(FilterSettings s) {
+            MadgwickFilter f = new MadgwickFilter(s);
+            int n = tNs.length;
+            double[][] est = new double[n][4];
+            double[] r = rows;
+            for (int i = 0; i < n; i++) {
+                int k = 9 * i;
+                if (hasMag) {
+                    f.update(tNs[i], r[k], r[k + 1], r[k + 2], r[k + 3], r[k + 4], r[k + 5], r[k + 6], r[k + 7], r[k + 8]);
+                } else {
+                    f.update(tNs[i], r[k], r[k + 1], r[k + 2], r[k + 3], r[k + 4], r[k + 5]);
+                }
+                f.orientationInto(est[i], 0);
+            }
+            boolean sixD = s.getMode() == FilterMode.IMU || !hasMag;
+            return BroadMetric.INSTANCE.rmse(est, truth, movement, sixD);
+        }
+    }
+
+    static FilterSettings parse(String spec) {
+        String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
+        FilterSettings s = new FilterSettings();
+        if (body.equals("defaults")) return s;
+        if (body.startsWith("report")) {
+            s = FilterSettings.report();
+            body = body.substring("report".length());
+            if (body.startsWith(":")) body = body.substring(1);
+        }
+        for (String a : body.split(",")) {
+            if (!a.isBlank()) s = FilterSettingDescriptors.apply(s, a.trim());
+        }
+        return s;
+    }
+
+    static String label(String spec) {
+        return spec.contains("@") ? spec.substring(0, spec.indexOf('@')) : spec;
+    }
+
+    public static void main(String[] args) throws Exception {
+        List<File> dirs = new ArrayList<>();
+        List<String> specs = new ArrayList<>();
+        int threads = Runtime.getRuntime().availableProcessors();
+        boolean perTrial = false;
+        boolean rv = false;
+        boolean cv = false;
+        for (int i = 0; i < args.length; i++) {
+            String a = args[i];
+            switch (a) {
+                case "--threads" -> threads = Integer.parseInt(args[++i]);
+                case "--trials" -> perTrial = true;
+                case "--rv" -> rv = true;
+                case "--cv" -> cv = true;
+                case "--sets" -> {
+                    for (String line : Files.readAllLines(new File(args[++i]).toPath(), StandardCharsets.UTF_8)) {
+                        String l = line.strip();
+                        if (!l.isEmpty() && !l.startsWith("#")) specs.add(l);
+                    }
+                }
+                default -> {
+                    if (new File(a).isDirectory()) dirs.add(new File(a));
+                    else specs.add(a);
+                }
+            }
+        }
+        if (dirs.isEmpty()) throw new IllegalArgumentException("no trial folder given");
+        if (specs.isEmpty()) specs.add("defaults");
+        List<FilterSettings> settings = new ArrayList<>();
+        for (String s : specs) settings.add(parse(s));
+
+        long t0 = System.nanoTime();
+        List<File> trialDirs = Evaluation.INSTANCE.findTrials(dirs);
+        ExecutorService pool = Executors.newFixedThreadPool(threads);
+        final boolean withRv = rv;
+        List<Future<Loaded>> lf = new ArrayList<>();
+        for (File d : trialDirs) lf.add(pool.submit(() -> new Loaded(d, withRv)));
+        List<Loaded> trials = new ArrayList<>();
+        for (Future<Loaded> f : lf) trials.add(f.get());
+        System.err.printf(Locale.ROOT, "loaded %d trials in %.1f s%n", trials.size(), (System.nanoTime() - t0) * 1e-9);
+
+        t0 = System.nanoTime();
+        ErrorRmse[][] res = new ErrorRmse[settings.size()][trials.size()];
+        List<Future<?>> jobs = new ArrayList<>();
+        for (int si = 0; si < settings.size(); si++) {
+            for (int ti = 0; ti < trials.size(); ti++) {
+                final int a = si;
+                final int b = ti;
+                jobs.add(pool.submit(() -> {
+                    res[a][b] = trials.get(b).run(settings.get(a));
+                }));
+            }
+        }
+        for (Future<?> j : jobs) j.get();
+        System.err.printf(Locale.ROOT, "ran %d sets in %.1f s%n", settings.size(), (System.nanoTime() - t0) * 1e-9);
+
+        Map<String, List<Integer>> groups = new LinkedHashMap<>();
+        for (int ti = 0; ti < trials.size(); ti++) groups.computeIfAbsent(trials.get(ti).group, k -> new ArrayList<>()).add(ti);
+
+        if (rv) {
+            System.out.println("## rotation vector (the phone's own orientation)");
+            System.out.println("| trial | total | heading | inclination |");
+            for (Map.Entry<String, List<Integer>> g : groups.entrySet()) {
+                double[] sum = new double[3];
+                int count = 0;
+                for (int ti : g.getValue()) {
+                    Loaded t = trials.get(ti);
+                    if (t.rotationVector == null) continue;
+                    ErrorRmse e = BroadMetric.INSTANCE.rmse(t.rotationVector, t.truth, t.movement, false);
+                    System.out.printf(Locale.ROOT, "| %s | %.2f | %.2f | %.2f |%n", t.name, e.getTotalDeg(), e.getHeadingDeg(), e.getInclinationDeg());
+                    sum[0] += e.getTotalDeg();
+                    sum[1] += e.getHeadingDeg();
+                    sum[2] += e.getInclinationDeg();
+                    count++;
+                }
+                if (count > 0) System.out.printf(Locale.ROOT, "| **%s mean** | %.2f | %.2f | %.2f |%n", g.getKey(), sum[0] / count, sum[1] / count, sum[2] / count);
+            }
+        }
+
+        for (int si = 0; si < settings.size(); si++) {
+            StringBuilder line = new StringBuilder(label(specs.get(si)));
+            for (Map.Entry<String, List<Integer>> g : groups.entrySet()) {
+                double[] m = mean(res[si], g.getValue());
+                line.append(String.format(Locale.ROOT, " | %s %.2f (h %.2f, i %.2f)", g.getKey(), m[0], m[1], m[2]));
+            }
+            System.out.println(line);
+            if (perTrial) {
+                for (int ti = 0; ti < trials.size(); ti++) {
+                    ErrorRmse e = res[si][ti];
+                    System.out.printf(Locale.ROOT, "    %-40s %6.2f %6.2f %6.2f%n", trials.get(ti).name, e.getTotalDeg(), e.getHeadingDeg(), e.getInclinationDeg());
+                }
+            }
+        }
+        if (cv) crossValidate(specs, trials, groups, res);
+        pool.shutdown();
+    }
+
+    /** Mean total, heading, inclination over the trials [idx]. */
+    static double[] mean(ErrorRmse[] row, List<Integer> idx) {
+        double[] m = new double[3];
+        for (int ti : idx) {
+            m[0] += row[ti].getTotalDeg();
+            m[1] += row[ti].getHeadingDeg();
+            m[2] += row[ti].getInclinationDeg();
+        }
+        for (int k = 0; k < 3; k++) m[k] /= idx.size();
+        return m;
+    }
+
+    /**
+     * Objective of a set on the trials not excluded: the mean over groups of each group's mean
+     * total RMSE (so a group with more trials does not dominate).
+     */
+    static double objective(ErrorRmse[] row, Map<String, List<Integer>> groups, int excluded) {
+        double sum = 0;
+        int ng = 0;
+        for (List<Integer> g : groups.values()) {
+            double s = 0;
+            int c = 0;
+            for (int ti : g) {
+                if (ti == excluded) continue;
+                s += row[ti].getTotalDeg();
+                c++;
+            }
+            if (c > 0) {
+                sum += s / c;
+                ng++;
+            }
+        }
+        return sum / ng;
+    }
+
+    static int best(ErrorRmse[][] res, Map<String, List<Integer>> groups, int excluded) {
+        int b = 0;
+        for (int si = 1; si < res.length; si++) {
+            if (objective(res[si], groups, excluded) < objective(res[b], groups, excluded)) b = si;
+        }
+        return b;
+    }
+
+    static void crossValidate(List<String> specs, List<Loaded> trials, Map<String, List<Integer>> groups, ErrorRmse[][] res) {
+        System.out.println("## leave one trial out (choose the set best on the other trials, score it on the one left out)");
+        int all = best(res, groups, -1);
+        System.out.println("set chosen on all trials: " + label(specs.get(all)));
+        int[] chosenCount = new int[specs.size()];
+        for (Map.Entry<String, List<Integer>> g : groups.entrySet()) {
+            double held = 0;
+            double inSample = 0;
+            for (int ti : g.getValue()) {
+                int b = best(res, groups, ti);
+                chosenCount[b]++;
+                held += res[b][ti].getTotalDeg();
+                inSample += res[all][ti].getTotalDeg();
+                System.out.printf(Locale.ROOT, "    %-40s chosen %-30s held-out %6.2f (set chosen on all: %6.2f)%n",
+                    trials.get(ti).name, label(specs.get(b)), res[b][ti].getTotalDeg(), res[all][ti].getTotalDeg());
+            }
+            System.out.printf(Locale.ROOT, "%s: leave-one-out mean %.2f, chosen-on-all mean %.2f%n", g.getKey(), held / g.getValue().size(), inSample / g.getValue().size());
+        }
+        for (int si = 0; si < specs.size(); si++) {
+            if (chosenCount[si] > 0) System.out.println("    chosen " + chosenCount[si] + "×: " + label(specs.get(si)));
+        }
+        if (groups.size() == 2) {
+            System.out.println("## tune on one group, test on the other");
+            List<String> names = new ArrayList<>(groups.keySet());
+            for (int k = 0; k < 2; k++) {
+                String train = names.get(k);
+                String test = names.get(1 - k);
+                int b = 0;
+                for (int si = 1; si < res.length; si++) {
+                    if (mean(res[si], groups.get(train))[0] < mean(res[b], groups.get(train))[0]) b = si;
+                }
+                System.out.printf(Locale.ROOT, "tuned on %s: %s → %s %.2f, %s %.2f%n", train, label(specs.get(b)),
+                    train, mean(res[b], groups.get(train))[0], test, mean(res[b], groups.get(test))[0]);
+            }
+        }
+    }
+}

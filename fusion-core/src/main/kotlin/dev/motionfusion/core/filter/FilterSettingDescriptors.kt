@@ -1,0 +1,138 @@
+/*
+ * The one table of FilterSettings by name: the command line's `--set NAME=VALUE` and `name=value`
+ * overrides, the session metadata's `filter_settings` object and the app's stored settings all go
+ * through it, so a new setting is added here once.
+ */
+package dev.motionfusion.core.filter
+
+import dev.motionfusion.core.WorldFrame
+
+/** What kind of value a setting holds. */
+public enum class SettingKind {
+    /** A finite number in the setting's [FilterSettingDescriptor.unit]. */
+    NUMBER,
+
+    /** true or false. */
+    BOOLEAN,
+
+    /** One of [FilterSettingDescriptor.choices], by name. */
+    CHOICE,
+}
+
+/**
+ * One property of [FilterSettings].
+ *
+ * @property name the Kotlin property name, as `--set NAME=VALUE` takes it.
+ * @property jsonKey the member name in a session's metadata (`filter_settings`).
+ * @property unit SI unit of a number ("" for a ratio, a flag or a choice).
+ * @property kind number, flag or choice; [choices] lists the names of a choice.
+ */
+public class FilterSettingDescriptor internal constructor(
+    public val name: String,
+    public val jsonKey: String,
+    public val unit: String,
+    public val kind: SettingKind,
+    public val choices: List<String>,
+    private val read: (FilterSettings) -> Any,
+    private val write: (FilterSettings, Any) -> FilterSettings,
+    private val absent: Any?,
+) {
+    /** The value in [s]: a Double, a Boolean, or the name of a choice. */
+    public fun value(s: FilterSettings): Any = read(s)
+
+    /**
+     * [s] with this setting set to [value] (Double or other Number, Boolean, or a choice's name).
+     * @throws IllegalArgumentException for a value of the wrong kind or one the settings reject.
+     */
+    public fun with(s: FilterSettings, value: Any): FilterSettings {
+        val v: Any = when (kind) {
+            SettingKind.NUMBER -> (value as? Number)?.toDouble() ?: throw IllegalArgumentException("$name expects a number, got $value")
+            SettingKind.BOOLEAN -> value as? Boolean ?: throw IllegalArgumentException("$name expects true or false, got $value")
+            SettingKind.CHOICE -> (value as? String)?.takeIf { it in choices } ?: throw IllegalArgumentException("$name expects one of ${choices.joinToString()}, got $value")
+        }
+        return write(s, v)
+    }
+
+    /**
+     * [s] with this setting parsed from [text] (a number, true/false, or a choice's name).
+     * @throws IllegalArgumentException for text that does not parse or a value the settings reject.
+     */
+    public fun withText(s: FilterSettings, text: String): FilterSettings = with(
+        s,
+        when (kind) {
+            SettingKind.NUMBER -> text.trim().toDoubleOrNull() ?: throw IllegalArgumentException("$name expects a number, got '$text'")
+            SettingKind.BOOLEAN -> text.trim().toBooleanStrictOrNull() ?: throw IllegalArgumentException("$name expects true or false, got '$text'")
+            SettingKind.CHOICE -> text.trim()
+        },
+    )
+
+    /**
+     * The value to assume when stored settings lack this member: settings added after a session
+     * was recorded take the value that reproduces the filter of that time (the mechanism off);
+     * null means the current default.
+     */
+    public val valueWhenAbsent: Any? get() = absent
+
+    override fun toString(): String = name
+}
+
+/** All properties of [FilterSettings], in declaration order. */
+public object FilterSettingDescriptors {
+    public val all: List<FilterSettingDescriptor> = listOf(
+        choice("mode", "mode", FilterMode.entries.map { it.name }, { it.mode.name }) { s, v -> s.copy(mode = FilterMode.valueOf(v)) },
+        number("beta", "beta", "rad/s", { it.beta }) { s, v -> s.copy(beta = v) },
+        number("zeta", "zeta", "rad/s²", { it.zeta }) { s, v -> s.copy(zeta = v) },
+        choice("initialisation", "initialisation", Initialisation.entries.map { it.name }, { it.initialisation.name }) { s, v -> s.copy(initialisation = Initialisation.valueOf(v)) },
+        flag("restBiasEstimation", "rest_bias_estimation", { it.restBiasEstimation }) { s, v -> s.copy(restBiasEstimation = v) },
+        number("restGyroThreshold", "rest_gyro_threshold_rad_s", "rad/s", { it.restGyroThreshold }) { s, v -> s.copy(restGyroThreshold = v) },
+        number("restAccThreshold", "rest_acc_threshold_m_s2", "m/s²", { it.restAccThreshold }) { s, v -> s.copy(restAccThreshold = v) },
+        number("restMinTime", "rest_min_time_s", "s", { it.restMinTime }) { s, v -> s.copy(restMinTime = v) },
+        number("restBiasTime", "rest_bias_time_s", "s", { it.restBiasTime }) { s, v -> s.copy(restBiasTime = v) },
+        flag("magDisturbanceRejection", "mag_disturbance_rejection", { it.magDisturbanceRejection }) { s, v -> s.copy(magDisturbanceRejection = v) },
+        number("magNormTolerance", "mag_norm_tolerance", "", { it.magNormTolerance }) { s, v -> s.copy(magNormTolerance = v) },
+        number("magDipTolerance", "mag_dip_tolerance_rad", "rad", { it.magDipTolerance }) { s, v -> s.copy(magDipTolerance = v) },
+        number("magMaxRejectionTime", "mag_max_rejection_time_s", "s", { it.magMaxRejectionTime }) { s, v -> s.copy(magMaxRejectionTime = v) },
+        number("magReferenceTime", "mag_reference_time_s", "s", { it.magReferenceTime }) { s, v -> s.copy(magReferenceTime = v) },
+        number("magNewFieldTime", "mag_new_field_time_s", "s", { it.magNewFieldTime }, absent = 0.0) { s, v -> s.copy(magNewFieldTime = v) },
+        flag("accRejection", "acc_rejection", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
+        number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
+        number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },
+        number("accMaxRejectionTime", "acc_max_rejection_time_s", "s", { it.accMaxRejectionTime }) { s, v -> s.copy(accMaxRejectionTime = v) },
+        number("inclinationRecoveryBeta", "inclination_recovery_beta", "rad/s", { it.inclinationRecoveryBeta }, absent = 0.0) { s, v -> s.copy(inclinationRecoveryBeta = v) },
+        number("accTrustTime", "acc_trust_time_s", "s", { it.accTrustTime }) { s, v -> s.copy(accTrustTime = v) },
+        number("headingGain", "heading_gain_1_s", "1/s", { it.headingGain }, absent = 0.0) { s, v -> s.copy(headingGain = v) },
+        number("headingRecoveryTime", "heading_recovery_time_s", "s", { it.headingRecoveryTime }, absent = 0.0) { s, v -> s.copy(headingRecoveryTime = v) },
+        number("motionBiasGain", "motion_bias_gain_rad_s2", "rad/s²", { it.motionBiasGain }, absent = 0.0) { s, v -> s.copy(motionBiasGain = v) },
+        number("motionBiasRestTime", "motion_bias_rest_time_s", "s", { it.motionBiasRestTime }) { s, v -> s.copy(motionBiasRestTime = v) },
+        number("motionBiasLimit", "motion_bias_limit_rad_s", "rad/s", { it.motionBiasLimit }) { s, v -> s.copy(motionBiasLimit = v) },
+        choice("outputFrame", "output_frame", WorldFrame.entries.map { it.name }, { it.outputFrame.name }) { s, v -> s.copy(outputFrame = WorldFrame.valueOf(v)) },
+        number("maxGap", "max_gap_s", "s", { it.maxGap }) { s, v -> s.copy(maxGap = v) },
+    )
+
+    private val byName = all.associateBy { it.name }
+
+    /** The setting called [name] (the property name), or null. */
+    @JvmStatic
+    public fun named(name: String): FilterSettingDescriptor? = byName[name]
+
+    /**
+     * [s] with the assignment "name=value" applied.
+     * @throws IllegalArgumentException for a missing '=', an unknown name, or a value the settings reject.
+     */
+    @JvmStatic
+    public fun apply(s: FilterSettings, assignment: String): FilterSettings {
+        require('=' in assignment) { "expected name=value: $assignment" }
+        val (name, value) = assignment.split('=', limit = 2)
+        val d = named(name.trim()) ?: throw IllegalArgumentException("unknown setting $name (known: ${all.joinToString()})")
+        return d.withText(s, value)
+    }
+
+    private fun number(name: String, key: String, unit: String, get: (FilterSettings) -> Double, absent: Double? = null, set: (FilterSettings, Double) -> FilterSettings) =
+        FilterSettingDescriptor(name, key, unit, SettingKind.NUMBER, emptyList(), get, { s, v -> set(s, v as Double) }, absent)
+
+    private fun flag(name: String, key: String, get: (FilterSettings) -> Boolean, set: (FilterSettings, Boolean) -> FilterSettings) =
+        FilterSettingDescriptor(name, key, "", SettingKind.BOOLEAN, emptyList(), get, { s, v -> set(s, v as Boolean) }, null)
+
+    private fun choice(name: String, key: String, choices: List<String>, get: (FilterSettings) -> String, set: (FilterSettings, String) -> FilterSettings) =
+        FilterSettingDescriptor(name, key, "", SettingKind.CHOICE, choices, get, { s, v -> set(s, v as String) }, null)
+}
