@@ -25,8 +25,9 @@ import kotlinx.coroutines.launch
 /**
  * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
  * surviving configuration changes); this activity keeps it running while visible
- * (onStart..onStop), collects its state while started and draws its latest state at most once per display frame: each new state
- * or display change asks for the next frame, and the frame draws whatever is newest then.
+ * (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
+ * state at most once per display frame: each new state or display change asks for the next
+ * frame, and the frame draws whatever is newest then.
  */
 class MainActivity : AppCompatActivity() {
     private lateinit var engine: FusionEngine

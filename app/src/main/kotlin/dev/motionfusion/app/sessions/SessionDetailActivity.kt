@@ -27,7 +27,6 @@ import java.io.File
  * (Downloads, Save as…, Share).
  */
 class SessionDetailActivity : AppCompatActivity() {
-    private val scope get() = lifecycleScope
     private lateinit var dir: File
     private val message: TextView get() = findViewById(R.id.detail_message)
 
@@ -59,7 +58,7 @@ class SessionDetailActivity : AppCompatActivity() {
             }
         }
         findViewById<Button>(R.id.detail_share).setOnClickListener {
-            scope.launch {
+            lifecycleScope.launch {
                 try {
                     val intent = withContext(SessionsDeps.io) { Exporter.shareIntent(this@SessionDetailActivity, dir) }
                     startActivity(intent)
@@ -74,7 +73,7 @@ class SessionDetailActivity : AppCompatActivity() {
     private fun load() {
         findViewById<TextView>(R.id.detail_name).text = dir.name
         title = dir.name
-        scope.launch {
+        lifecycleScope.launch {
             val library = SessionsDeps.library
             try {
                 val (summary, angles) = withContext(SessionsDeps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
@@ -94,7 +93,7 @@ class SessionDetailActivity : AppCompatActivity() {
     }
 
     private fun export(action: () -> String) {
-        scope.launch {
+        lifecycleScope.launch {
             message.text = try {
                 withContext(SessionsDeps.io) { action() }
             } catch (e: Exception) {

@@ -20,6 +20,7 @@ import dev.motionfusion.app.sessions.SessionDetailActivity
 import dev.motionfusion.app.sessions.SessionsActivity
 import dev.motionfusion.app.settings.SettingsActivity
 import org.junit.Assert.assertEquals
+import org.junit.Assert.assertTrue
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.annotation.Config
@@ -41,25 +42,37 @@ class SystemBarsTest {
     private val navigationBar = 126
     private val cutout = 40
 
+    private companion object {
+        const val WIDTH = 1080
+        const val HEIGHT = 1920
+    }
+
     private fun <A : AppCompatActivity> check(scenario: ActivityScenario<A>, rootId: Int, screenshot: String, dark: Boolean = false) {
         scenario.use { it.onActivity { a ->
             assertEquals("status bar transparent", Color.TRANSPARENT, a.window.statusBarColor)
             val surface = MaterialColors.getColor(a, com.google.android.material.R.attr.colorSurface, Color.MAGENTA)
             assertEquals("Material 3 surface of the ${if (dark) "dark" else "light"} theme: ${Integer.toHexString(surface)}", dark, Color.luminance(surface) < 0.5f)
-            val root = a.findViewById<View>(rootId)
-            val before = listOf(root.paddingLeft, root.paddingTop, root.paddingRight, root.paddingBottom)
+            // As the system does: the insets go to the window's decor view, twice (they must not add up).
             val insets = WindowInsetsCompat.Builder()
                 .setInsets(WindowInsetsCompat.Type.systemBars(), Insets.of(0, statusBar, 0, navigationBar))
                 .setInsets(WindowInsetsCompat.Type.displayCutout(), Insets.of(cutout, 0, 0, 0))
                 .build()
-            repeat(2) {
-                ViewCompat.dispatchApplyWindowInsets(root, insets)
-                assertEquals(
-                    listOf(before[0] + cutout, before[1] + statusBar, before[2], before[3] + navigationBar),
-                    listOf(root.paddingLeft, root.paddingTop, root.paddingRight, root.paddingBottom),
-                )
+            repeat(2) { ViewCompat.dispatchApplyWindowInsets(a.window.decorView, insets) }
+            Screenshots.capture(a, screenshot, width = WIDTH, height = HEIGHT, systemBars = statusBar to navigationBar)
+            // Nothing under the bars: the action bar's title (AppCompat places it) and the screen's content,
+            // which is also kept clear of the cutout.
+            val xy = IntArray(2)
+            a.findViewById<View>(androidx.appcompat.R.id.action_bar)?.let { bar ->
+                bar.getLocationInWindow(xy)
+                assertTrue("action bar at ${xy[1]} under the status bar", xy[1] + bar.paddingTop >= statusBar)
             }
-            Screenshots.capture(a, screenshot, systemBars = statusBar to navigationBar)
+            val root = a.findViewById<View>(rootId)
+            root.getLocationInWindow(xy)
+            assertTrue("content top ${xy[1] + root.paddingTop} under the status bar", xy[1] + root.paddingTop >= statusBar)
+            assertTrue("content left ${xy[0] + root.paddingLeft} under the cutout", xy[0] + root.paddingLeft >= cutout)
+            val bottom = xy[1] + root.height - root.paddingBottom
+            assertTrue("content bottom $bottom under the navigation bar", bottom <= HEIGHT - navigationBar)
+            assertTrue("content does not leave a gap above the navigation bar: $bottom", bottom >= HEIGHT - navigationBar - 1)
         } }
     }
 
