@@ -3,7 +3,7 @@
 # (everything else comes through Maven). Needs root or sudo for the install.
 set -euo pipefail
 missing=()
-for tool in aapt2:aapt zipalign:zipalign apksigner:apksigner zip:zip unzip:unzip java:openjdk-17-jdk-headless mvn:maven; do
+for tool in aapt2:aapt zipalign:zipalign apksigner:apksigner zip:zip unzip:unzip perl:perl-base java:openjdk-17-jdk-headless mvn:maven; do
   command -v "${tool%%:*}" >/dev/null 2>&1 || missing+=("${tool##*:}")
 done
 [ ${#missing[@]} -eq 0 ] && exit 0

@@ -1,6 +1,5 @@
 package dev.motionfusion.app
 
-import android.app.Activity
 import android.content.Intent
 import android.content.res.Configuration
 import android.hardware.display.DisplayManager
@@ -10,29 +9,29 @@ import android.os.Looper
 import android.view.Choreographer
 import android.view.Surface
 import android.view.View
+import androidx.appcompat.app.AppCompatActivity
+import androidx.lifecycle.Lifecycle
+import androidx.lifecycle.lifecycleScope
+import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.FusionState
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.record.RecordBar
-import kotlinx.coroutines.CoroutineScope
-import kotlinx.coroutines.Job
-import kotlinx.coroutines.MainScope
-import kotlinx.coroutines.cancel
+import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
 /**
  * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
  * surviving configuration changes); this activity keeps it running while visible
- * (onStart..onStop) and draws its latest state at most once per display frame: each new state
- * or display change asks for the next frame, and the frame draws whatever is newest then.
+ * (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
+ * state at most once per display frame: each new state or display change asks for the next
+ * frame, and the frame draws whatever is newest then.
  */
-class MainActivity : Activity() {
+class MainActivity : AppCompatActivity() {
     private lateinit var engine: FusionEngine
     private lateinit var screen: LiveScreen
-    private val scope: CoroutineScope = MainScope()
-    private var watch: Job? = null
     private var shown: FusionState? = null
     private var shownRotation = -1
     private var framePending = false
@@ -51,12 +50,16 @@ class MainActivity : Activity() {
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
+        fitToSystemBars(findViewById(R.id.live_root))
         engine = LiveEngines.get(this)
         screen = LiveScreen(this, engine.sensorInfo)
         findViewById<View>(R.id.open_settings).setOnClickListener {
             startActivity(Intent(this, SettingsActivity::class.java))
         }
         RecordBar.attach(this, findViewById(R.id.record_bar))
+        lifecycleScope.launch {
+            repeatOnLifecycle(Lifecycle.State.STARTED) { engine.state.collect { requestFrame() } }
+        }
         render()
     }
 
@@ -64,22 +67,14 @@ class MainActivity : Activity() {
         super.onStart()
         engine.start()
         getSystemService(DisplayManager::class.java).registerDisplayListener(displays, Handler(Looper.getMainLooper()))
-        watch = scope.launch { engine.state.collect { requestFrame() } }
     }
 
     override fun onStop() {
-        watch?.cancel()
-        watch = null
         getSystemService(DisplayManager::class.java).unregisterDisplayListener(displays)
         Choreographer.getInstance().removeFrameCallback(frame)
         framePending = false
         engine.stop()
         super.onStop()
-    }
-
-    override fun onDestroy() {
-        scope.cancel()
-        super.onDestroy()
     }
 
     override fun onConfigurationChanged(newConfig: Configuration) {

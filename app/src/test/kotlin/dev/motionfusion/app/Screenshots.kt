@@ -14,7 +14,12 @@ import java.io.File
  * checks the picture is not blank.
  */
 object Screenshots {
-    fun capture(activity: Activity, name: String, width: Int = 1080, height: Int = 1920): Bitmap {
+    /**
+     * [systemBars]: the status bar's height (top) and the navigation bar's (bottom) the screen was
+     * given as insets; they are painted over the picture as the phone would, so the picture shows
+     * whether anything lies under them.
+     */
+    fun capture(activity: Activity, name: String, width: Int = 1080, height: Int = 1920, systemBars: Pair<Int, Int>? = null): Bitmap {
         val root: View = activity.window.decorView
         root.measure(
             View.MeasureSpec.makeMeasureSpec(width, View.MeasureSpec.EXACTLY),
@@ -22,7 +27,13 @@ object Screenshots {
         )
         root.layout(0, 0, width, height)
         val bitmap = Bitmap.createBitmap(width, height, Bitmap.Config.ARGB_8888)
-        root.draw(Canvas(bitmap))
+        val canvas = Canvas(bitmap)
+        root.draw(canvas)
+        if (systemBars != null) {
+            val bar = android.graphics.Paint().apply { color = Color.argb(0xE0, 0, 0, 0) }
+            canvas.drawRect(0f, 0f, width.toFloat(), systemBars.first.toFloat(), bar)
+            canvas.drawRect(0f, (height - systemBars.second).toFloat(), width.toFloat(), height.toFloat(), bar)
+        }
         val dir = File(System.getProperty("screenshots.dir") ?: "target/screenshots")
         dir.mkdirs()
         File(dir, "$name.png").outputStream().use { bitmap.compress(Bitmap.CompressFormat.PNG, 100, it) }

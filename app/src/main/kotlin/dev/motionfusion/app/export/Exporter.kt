@@ -6,6 +6,7 @@ import android.content.Context
 import android.content.Intent
 import android.net.Uri
 import android.os.Build
+import androidx.annotation.RequiresApi
 import android.os.Environment
 import android.provider.MediaStore
 import dev.motionfusion.app.R
@@ -54,6 +55,7 @@ internal object Exporter {
     val downloadsAvailable: Boolean get() = Build.VERSION.SDK_INT >= 29
 
     /** Saves to Downloads: inserted pending, written, then published. Returns the display name. */
+    @RequiresApi(29)
     @Throws(IOException::class)
     fun toDownloads(context: Context, dir: File): String {
         check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
@@ -79,11 +81,6 @@ internal object Exporter {
     }
 
     /** The intent that asks the user where to save the zip (result: a document URI for [toDocument]). */
-    fun createDocumentIntent(dir: File): Intent =
-        Intent(Intent.ACTION_CREATE_DOCUMENT)
-            .addCategory(Intent.CATEGORY_OPENABLE)
-            .setType(ExportProvider.MIME_ZIP)
-            .putExtra(Intent.EXTRA_TITLE, zipName(dir))
 
     /** Writes the zip into the document the user created. */
     @Throws(IOException::class)

@@ -1,7 +1,6 @@
 package dev.motionfusion.app.record
 
 import android.Manifest
-import android.app.Activity
 import android.content.Intent
 import android.content.pm.PackageManager
 import android.content.res.ColorStateList
@@ -15,6 +14,9 @@ import android.view.View
 import android.view.ViewGroup
 import android.widget.Button
 import android.widget.TextView
+import androidx.activity.ComponentActivity
+import androidx.activity.result.contract.ActivityResultContracts
+import androidx.core.content.ContextCompat
 import dev.motionfusion.app.R
 import dev.motionfusion.app.sessions.SessionsActivity
 
@@ -24,7 +26,7 @@ import dev.motionfusion.app.sessions.SessionsActivity
  * [RecordingStatus] twice a second while attached to a window; the recording itself lives in
  * [RecordingService] and does not depend on this view or its activity.
  */
-internal class RecordBar private constructor(private val activity: Activity, private val root: View) {
+internal class RecordBar private constructor(private val activity: ComponentActivity, private val root: View) {
     private val toggle: Button = root.findViewById(R.id.record_toggle)
     private val status: TextView = root.findViewById(R.id.record_status)
     private val handler = Handler(Looper.getMainLooper())
@@ -34,6 +36,9 @@ internal class RecordBar private constructor(private val activity: Activity, pri
             handler.postDelayed(this, 500)
         }
     }
+
+    /** Registered while the activity is created, as the Activity Result API requires. */
+    private val notificationPermission = activity.registerForActivityResult(ActivityResultContracts.RequestPermission()) { }
 
     init {
         toggle.setOnClickListener { onToggle() }
@@ -56,7 +61,7 @@ internal class RecordBar private constructor(private val activity: Activity, pri
             RecordingService.stop(activity)
         } else {
             requestNotificationPermission()
-            RecordingService.start(activity)
+            RecordingService.start(activity)?.let { RecordingStatus.state = RecordingStatus.State.NotStarted(it) }
         }
         // The service changes the state when it runs; show the intent at once.
         handler.postDelayed(::refresh, 100)
@@ -65,9 +70,9 @@ internal class RecordBar private constructor(private val activity: Activity, pri
     /** API 33+: ask once for the notification; recording goes on whatever the answer. */
     private fun requestNotificationPermission() {
         if (Build.VERSION.SDK_INT >= 33 &&
-            activity.checkSelfPermission(Manifest.permission.POST_NOTIFICATIONS) != PackageManager.PERMISSION_GRANTED
+            ContextCompat.checkSelfPermission(activity, Manifest.permission.POST_NOTIFICATIONS) != PackageManager.PERMISSION_GRANTED
         ) {
-            activity.requestPermissions(arrayOf(Manifest.permission.POST_NOTIFICATIONS), REQUEST_NOTIFICATIONS)
+            notificationPermission.launch(Manifest.permission.POST_NOTIFICATIONS)
         }
     }
 
@@ -84,20 +89,18 @@ internal class RecordBar private constructor(private val activity: Activity, pri
                 toggle.setText(R.string.record_start)
                 toggle.contentDescription = activity.getString(R.string.record_start_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_idle))
-                status.text = if (s is RecordingStatus.State.Ended) {
-                    RecordingService.endMessage(activity, s.result)
-                } else {
-                    activity.getString(R.string.record_idle)
+                status.text = when (s) {
+                    is RecordingStatus.State.Ended -> RecordingService.endMessage(activity, s.result)
+                    is RecordingStatus.State.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
+                    else -> activity.getString(R.string.record_idle)
                 }
             }
         }
     }
 
     companion object {
-        internal const val REQUEST_NOTIFICATIONS = 7
-
         /** Inflates the bar into [container] of [activity]. */
-        fun attach(activity: Activity, container: ViewGroup): RecordBar {
+        fun attach(activity: ComponentActivity, container: ViewGroup): RecordBar {
             val root = LayoutInflater.from(activity).inflate(R.layout.record_bar, container, false)
             container.addView(root)
             return RecordBar(activity, root)

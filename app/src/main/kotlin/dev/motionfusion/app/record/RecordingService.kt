@@ -17,6 +17,9 @@ import android.os.Looper
 import android.os.PowerManager
 import android.os.SystemClock
 import android.text.format.DateUtils
+import androidx.core.app.NotificationCompat
+import androidx.core.app.ServiceCompat
+import androidx.core.content.ContextCompat
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.core.filter.FilterSettings
@@ -67,7 +70,12 @@ class RecordingService : Service() {
         startedWallMs = System.currentTimeMillis()
         startedElapsedMs = SystemClock.elapsedRealtime()
         // Foreground first: startForegroundService() must be answered within a few seconds.
-        goForeground()
+        goForeground()?.let { reason ->
+            RecordingStatus.state = RecordingStatus.State.NotStarted(reason)
+            notificationManager().notify(END_NOTIFICATION_ID, alertNotification(getString(R.string.record_not_started, reason)))
+            stopSelf()
+            return
+        }
 
         val format = RecordingDeps.format
         InterruptedSessions.recoverAll(this, format)
@@ -109,13 +117,20 @@ class RecordingService : Service() {
         main.post(tick)
     }
 
-    private fun goForeground() {
-        val n = ongoingNotification()
-        if (Build.VERSION.SDK_INT >= 34) {
-            startForeground(NOTIFICATION_ID, n, ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH)
-        } else {
-            startForeground(NOTIFICATION_ID, n)
-        }
+    /**
+     * Enters the foreground, as a `health` service on Android 14+ (the type the manifest declares;
+     * earlier versions do not know it). Returns why the system refused, or null: Android 12+ refuses
+     * a start from the background (ForegroundServiceStartNotAllowedException, an
+     * IllegalStateException), Android 14+ one whose type's permission is missing (SecurityException).
+     */
+    private fun goForeground(): String? = try {
+        val type = if (Build.VERSION.SDK_INT >= 34) FOREGROUND_SERVICE_TYPE else 0
+        RecordingDeps.startForeground(this, NOTIFICATION_ID, ongoingNotification(), type)
+        null
+    } catch (e: IllegalStateException) {
+        e.message ?: e.javaClass.simpleName
+    } catch (e: SecurityException) {
+        e.message ?: e.javaClass.simpleName
     }
 
     /** Stop button or notification action: sensors first, then the writer drains and finishes. */
@@ -152,8 +167,8 @@ class RecordingService : Service() {
         wakeLock?.let { if (it.isHeld) it.release() }
         wakeLock = null
         RecordingStatus.state = RecordingStatus.State.Ended(dir, result)
-        stopForeground(STOP_FOREGROUND_REMOVE)
-        if (result.end.isFailure) notificationManager().notify(END_NOTIFICATION_ID, endNotification(result))
+        ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
+        if (result.end.isFailure) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result)))
         stopSelf()
     }
 
@@ -184,7 +199,7 @@ class RecordingService : Service() {
             this, 1, Intent(this, RecordingService::class.java).setAction(ACTION_STOP),
             PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
         )
-        return Notification.Builder(this, CHANNEL_RECORDING)
+        return NotificationCompat.Builder(this, CHANNEL_RECORDING)
             .setSmallIcon(R.drawable.ic_record)
             .setContentTitle(getString(R.string.record_notification_title))
             .setContentText(getString(R.string.record_notification_text, DateUtils.formatElapsedTime(elapsedS), rows))
@@ -193,18 +208,19 @@ class RecordingService : Service() {
             .setShowWhen(true)
             .setWhen(startedWallMs)
             .setUsesChronometer(true)
-            .setCategory(Notification.CATEGORY_SERVICE)
+            .setCategory(NotificationCompat.CATEGORY_SERVICE)
+            .setForegroundServiceBehavior(NotificationCompat.FOREGROUND_SERVICE_IMMEDIATE)
             .setContentIntent(openApp())
-            .addAction(Notification.Action.Builder(null, getString(R.string.record_stop), stop).build())
+            .addAction(0, getString(R.string.record_stop), stop)
             .build()
     }
 
-    private fun endNotification(result: RecorderResult): Notification =
-        Notification.Builder(this, CHANNEL_ALERTS)
+    private fun alertNotification(text: String): Notification =
+        NotificationCompat.Builder(this, CHANNEL_ALERTS)
             .setSmallIcon(R.drawable.ic_record)
             .setContentTitle(getString(R.string.record_failed_title))
-            .setContentText(endMessage(this, result))
-            .setStyle(Notification.BigTextStyle().bigText(endMessage(this, result)))
+            .setContentText(text)
+            .setStyle(NotificationCompat.BigTextStyle().bigText(text))
             .setAutoCancel(true)
             .setContentIntent(openApp())
             .build()
@@ -229,9 +245,18 @@ class RecordingService : Service() {
         internal const val CHANNEL_RECORDING = "recording"
         internal const val CHANNEL_ALERTS = "recording-alerts"
 
-        /** Starts a recording; call from a user action (Android 12+ forbids it from the background). */
-        fun start(context: Context) {
-            context.startForegroundService(Intent(context, RecordingService::class.java).setAction(ACTION_START))
+        /** The manifest's android:foregroundServiceType; its permission is FOREGROUND_SERVICE_HEALTH (ForegroundServiceTest). */
+        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH
+
+        /**
+         * Starts a recording; call from a user action (Android 12+ forbids it from the background).
+         * Returns why the system refused to start the service, or null.
+         */
+        fun start(context: Context): String? = try {
+            ContextCompat.startForegroundService(context, Intent(context, RecordingService::class.java).setAction(ACTION_START))
+            null
+        } catch (e: IllegalStateException) {
+            e.message ?: e.javaClass.simpleName
         }
 
         fun stop(context: Context) {

@@ -1,5 +1,8 @@
 package dev.motionfusion.app.record
 
+import android.app.Notification
+import android.app.Service
+import androidx.core.app.ServiceCompat
 import java.io.File
 
 /**
@@ -18,6 +21,9 @@ internal object RecordingStatus {
         ) : State
 
         data class Ended(val session: File, val result: RecorderResult) : State
+
+        /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
+        data class NotStarted(val reason: String) : State
     }
 
     @Volatile var state: State = State.Idle
@@ -26,9 +32,12 @@ internal object RecordingStatus {
     val isRecording: Boolean get() = state is State.Active
 }
 
-/** Seams for tests: the session format and the queue size the service uses. */
+/** Seams for tests: the session format, the queue size and the way into the foreground the service uses. */
 internal object RecordingDeps {
     @Volatile var format: SessionFormat = CoreSessionFormat
+
+    /** Enters the foreground (ServiceCompat.startForeground); tests make it refuse as the system can. */
+    @Volatile var startForeground: (Service, Int, Notification, Int) -> Unit = ::enterForeground
 
     /** Slots in the queue between sensors and writer (36 bytes each): 2^17 ≈ 4.7 MB, ~37 s of 7 streams at 500 Hz. */
     @Volatile var ringCapacity: Int = 1 shl 17
@@ -40,5 +49,9 @@ internal object RecordingDeps {
         format = CoreSessionFormat
         ringCapacity = 1 shl 17
         minFreeBytes = 32L * 1024 * 1024
+        startForeground = ::enterForeground
     }
+
+    private fun enterForeground(service: Service, id: Int, notification: Notification, type: Int) =
+        ServiceCompat.startForeground(service, id, notification, type)
 }

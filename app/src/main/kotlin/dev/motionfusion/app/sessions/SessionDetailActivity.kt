@@ -1,20 +1,22 @@
 package dev.motionfusion.app.sessions
 
-import android.app.Activity
-import android.app.AlertDialog
 import android.content.ActivityNotFoundException
-import android.content.Intent
 import android.os.Bundle
 import android.text.InputType
 import android.view.View
 import android.widget.Button
 import android.widget.EditText
 import android.widget.TextView
+import androidx.activity.result.contract.ActivityResultContracts
+import androidx.appcompat.app.AlertDialog
+import androidx.appcompat.app.AppCompatActivity
+import androidx.lifecycle.lifecycleScope
+import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.record.SessionFolders
-import kotlinx.coroutines.MainScope
-import kotlinx.coroutines.cancel
+import dev.motionfusion.app.export.ExportProvider
+import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.withContext
 import java.io.File
@@ -24,8 +26,7 @@ import java.io.File
  * plot of the fused orientation's angles, rename, delete (after confirmation) and export
  * (Downloads, Save as…, Share).
  */
-class SessionDetailActivity : Activity() {
-    private val scope = MainScope()
+class SessionDetailActivity : AppCompatActivity() {
     private lateinit var dir: File
     private val message: TextView get() = findViewById(R.id.detail_message)
 
@@ -36,6 +37,7 @@ class SessionDetailActivity : Activity() {
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_session_detail)
+        fitToSystemBars(findViewById(R.id.detail_root))
         val name = intent.getStringExtra(EXTRA_SESSION)
         dir = File(SessionFolders.root(this), name ?: "")
         if (name.isNullOrEmpty() || !dir.isDirectory) {
@@ -50,13 +52,13 @@ class SessionDetailActivity : Activity() {
         }
         findViewById<Button>(R.id.detail_save_as).setOnClickListener {
             try {
-                startActivityForResult(Exporter.createDocumentIntent(dir), REQUEST_SAVE_AS)
+                saveAs.launch(Exporter.zipName(dir))
             } catch (e: ActivityNotFoundException) {
                 message.text = getString(R.string.export_failed, e.message)
             }
         }
         findViewById<Button>(R.id.detail_share).setOnClickListener {
-            scope.launch {
+            lifecycleScope.launch {
                 try {
                     val intent = withContext(SessionsDeps.io) { Exporter.shareIntent(this@SessionDetailActivity, dir) }
                     startActivity(intent)
@@ -71,7 +73,7 @@ class SessionDetailActivity : Activity() {
     private fun load() {
         findViewById<TextView>(R.id.detail_name).text = dir.name
         title = dir.name
-        scope.launch {
+        lifecycleScope.launch {
             val library = SessionsDeps.library
             try {
                 val (summary, angles) = withContext(SessionsDeps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
@@ -91,7 +93,7 @@ class SessionDetailActivity : Activity() {
     }
 
     private fun export(action: () -> String) {
-        scope.launch {
+        lifecycleScope.launch {
             message.text = try {
                 withContext(SessionsDeps.io) { action() }
             } catch (e: Exception) {
@@ -100,12 +102,9 @@ class SessionDetailActivity : Activity() {
         }
     }
 
-    @Deprecated("Framework API; no AndroidX Activity Result API here")
-    override fun onActivityResult(requestCode: Int, resultCode: Int, data: Intent?) {
-        @Suppress("DEPRECATION")
-        super.onActivityResult(requestCode, resultCode, data)
-        val uri = data?.data
-        if (requestCode == REQUEST_SAVE_AS && resultCode == RESULT_OK && uri != null) {
+    /** Save as…: the system's document picker creates the zip's document, then it is written there. */
+    private val saveAs = registerForActivityResult(ActivityResultContracts.CreateDocument(ExportProvider.MIME_ZIP)) { uri ->
+        if (uri != null) {
             export {
                 Exporter.toDocument(this, dir, uri)
                 getString(R.string.export_done_document)
@@ -121,7 +120,7 @@ class SessionDetailActivity : Activity() {
             inputType = InputType.TYPE_CLASS_TEXT
             id = R.id.detail_rename_input
         }
-        dialog = AlertDialog.Builder(this)
+        dialog = MaterialAlertDialogBuilder(this)
             .setTitle(R.string.session_rename)
             .setView(input)
             .setNegativeButton(R.string.cancel, null)
@@ -141,7 +140,7 @@ class SessionDetailActivity : Activity() {
     }
 
     private fun askDelete() {
-        dialog = AlertDialog.Builder(this)
+        dialog = MaterialAlertDialogBuilder(this)
             .setMessage(getString(R.string.session_delete_confirm, dir.name))
             .setNegativeButton(R.string.cancel, null)
             .setPositiveButton(R.string.session_delete) { _, _ ->
@@ -155,14 +154,8 @@ class SessionDetailActivity : Activity() {
             .show()
     }
 
-    override fun onDestroy() {
-        scope.cancel()
-        super.onDestroy()
-    }
-
     internal companion object {
         const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
-        const val REQUEST_SAVE_AS = 71
         const val PLOT_POINTS = 1500
     }
 }

@@ -1,6 +1,6 @@
 package dev.motionfusion.app.sessions
 
-import android.app.Activity
+import android.content.Context
 import android.content.Intent
 import android.os.Bundle
 import android.text.format.DateUtils
@@ -10,12 +10,13 @@ import android.view.ViewGroup
 import android.widget.BaseAdapter
 import android.widget.ListView
 import android.widget.TextView
+import androidx.appcompat.app.AppCompatActivity
+import androidx.lifecycle.lifecycleScope
 import dev.motionfusion.app.R
 import dev.motionfusion.app.record.SessionFolders
 import dev.motionfusion.app.record.InterruptedSessions
+import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.Job
-import kotlinx.coroutines.MainScope
-import kotlinx.coroutines.cancel
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.withContext
 import java.io.File
@@ -26,8 +27,7 @@ import java.util.Date
  * The recorded sessions, newest first: name, start date, duration, size, samples and each
  * stream's achieved rate. Interrupted sessions are repaired before listing. Tap for detail.
  */
-class SessionsActivity : Activity() {
-    private val scope = MainScope()
+class SessionsActivity : AppCompatActivity() {
     private var loading: Job? = null
     private val adapter = Adapter()
 
@@ -37,6 +37,7 @@ class SessionsActivity : Activity() {
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_sessions)
+        fitToSystemBars(findViewById(R.id.sessions_root))
         val list = findViewById<ListView>(R.id.sessions_list)
         list.adapter = adapter
         list.setOnItemClickListener { _, _, position, _ ->
@@ -51,7 +52,7 @@ class SessionsActivity : Activity() {
 
     internal fun reload() {
         loading?.cancel()
-        loading = scope.launch {
+        loading = lifecycleScope.launch {
             val items = withContext(SessionsDeps.io) { load() }
             adapter.items = items
             adapter.notifyDataSetChanged()
@@ -71,10 +72,6 @@ class SessionsActivity : Activity() {
         }
     }
 
-    override fun onDestroy() {
-        scope.cancel()
-        super.onDestroy()
-    }
 
     internal val items: List<Item> get() = adapter.items
 
@@ -104,7 +101,7 @@ class SessionsActivity : Activity() {
 
     internal companion object {
         /** "date · duration · size", then samples, and whether recovered or recording now. */
-        fun describe(activity: Activity, s: SessionSummary, dir: File): String {
+        fun describe(activity: Context, s: SessionSummary, dir: File): String {
             val date = s.startWallClockMs?.let { DateFormat.getDateTimeInstance(DateFormat.MEDIUM, DateFormat.SHORT).format(Date(it)) } ?: "—"
             val duration = DateUtils.formatElapsedTime(s.durationNs / 1_000_000_000L)
             val size = Formatter.formatShortFileSize(activity, s.sizeBytes)

@@ -1,23 +1,24 @@
 package dev.motionfusion.app.settings
 
-import android.app.Activity
 import android.os.Bundle
 import android.widget.EditText
 import android.widget.RadioGroup
 import android.widget.Switch
 import android.widget.TextView
+import androidx.appcompat.app.AppCompatActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.app.ui.fitToSystemBars
 
 /**
  * Filter, display and rate settings. "Apply" validates the form ([SettingsForm]), marks the
  * fields in error, or persists the settings and hands them to the running engine at once.
  */
-class SettingsActivity : Activity() {
+class SettingsActivity : AppCompatActivity() {
     private lateinit var engine: FusionEngine
     private lateinit var beta: EditText
     private lateinit var zeta: EditText
@@ -27,6 +28,7 @@ class SettingsActivity : Activity() {
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_settings)
+        fitToSystemBars(findViewById(R.id.settings_root))
         engine = LiveEngines.get(this)
         beta = findViewById(R.id.beta)
         zeta = findViewById(R.id.zeta)

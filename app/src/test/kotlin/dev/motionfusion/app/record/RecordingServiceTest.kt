@@ -156,6 +156,32 @@ class RecordingServiceTest {
     }
 
     @Test
+    fun `a foreground start the system refuses is shown to the user and records nothing`() {
+        for (refusal in listOf(
+            SecurityException("Starting FGS with type health requires permissions"),
+            IllegalStateException("startForeground() not allowed due to mAllowStartForeground false"),
+        )) {
+            RecordingDeps.startForeground = { _, _, _, _ -> throw refusal }
+            val before = SessionFolders.root(app).list()?.size ?: 0
+            val c = startService()
+            val state = RecordingStatus.state
+            assertTrue(state.toString(), state is RecordingStatus.State.NotStarted && state.reason == refusal.message)
+            assertTrue(shadowOf(c.get()).isStoppedBySelf)
+            assertTrue(sensors.listeners.isEmpty())
+            assertEquals(before, SessionFolders.root(app).list()?.size ?: 0)
+            val nm = app.getSystemService(NotificationManager::class.java)
+            val text = shadowOf(nm).getNotification(RecordingService.END_NOTIFICATION_ID).extras.getCharSequence(Notification.EXTRA_TEXT).toString()
+            assertEquals(app.getString(R.string.record_not_started, refusal.message), text)
+        }
+        // The main screen says it too (built last: its live view listens to the sensors).
+        val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        assertEquals(
+            app.getString(R.string.record_not_started, "startForeground() not allowed due to mAllowStartForeground false"),
+            main.findViewById<android.widget.TextView>(R.id.record_status).text.toString(),
+        )
+    }
+
+    @Test
     fun `storage failure stops cleanly, keeps what was written and tells the user`() {
         RecordingDeps.format = LineFormat(failAfterBytes = 20_000)
         startService()

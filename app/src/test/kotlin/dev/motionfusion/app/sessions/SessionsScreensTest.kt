@@ -1,7 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import android.app.Activity
-import android.app.AlertDialog
+import androidx.appcompat.app.AlertDialog
 import android.content.Intent
 import android.hardware.Sensor
 import android.hardware.SensorManager
@@ -181,7 +181,7 @@ class SessionsScreensTest {
         val a = detail(dir)
         a.findViewById<Button>(R.id.detail_delete).performClick()
         val dialog = ShadowDialog.getLatestDialog() as AlertDialog
-        assertTrue(shadowOf(dialog).message.toString().contains("to delete"))
+        assertTrue(dialog.findViewById<TextView>(android.R.id.message)!!.text.contains("to delete"))
         dialog.getButton(AlertDialog.BUTTON_NEGATIVE).performClick()
         idle()
         assertTrue("cancel keeps it", dir.exists())

@@ -10,6 +10,7 @@ import java.io.InputStream
 import java.nio.file.Files
 import java.nio.file.NoSuchFileException
 import java.nio.file.Path
+import java.util.stream.Collectors
 import java.util.zip.ZipException
 import java.util.zip.ZipFile
 
@@ -33,7 +34,7 @@ internal abstract class InputFiles : Closeable {
     private class Folder(private val dir: Path) : InputFiles() {
         override val name = dir.fileName?.toString() ?: dir.toString()
         override val paths: List<String> = Files.walk(dir, 2).use { s ->
-            s.filter { Files.isRegularFile(it) }.map { dir.relativize(it).toString().replace('\\', '/') }.toList()
+            s.filter { Files.isRegularFile(it) }.map { dir.relativize(it).toString().replace('\\', '/') }.collect(Collectors.toList())
         }
         override fun open(path: String): InputStream = Files.newInputStream(dir.resolve(path))
         override fun displayName(path: String) = dir.resolve(path).toString()

@@ -18,6 +18,7 @@ import java.io.Closeable
 import java.nio.file.Files
 import java.nio.file.NoSuchFileException
 import java.nio.file.Path
+import java.nio.file.Paths
 
 /** The kinds of input `fusion` understands. */
 public enum class RecordingFormat(public val description: String) {
@@ -82,7 +83,7 @@ public class Recording internal constructor(
             }
             val header = Files.newInputStream(path).use { s -> Inputs.reader(s).readLine()?.removePrefix("\uFEFF") }
                 ?: throw DataFormatException(path.toString(), 1, 0, "empty file")
-            if (PhyphoxImport.recognises(header)) return export(path.parent ?: Path.of("."), only = path)
+            if (PhyphoxImport.recognises(header)) return export(path.parent ?: Paths.get("."), only = path)
             if (header.split(',').any { it.trim().removeSurrounding("\"") == "t_s" }) return table(path)
             throw DataFormatException(path.toString(), 1, 1,
                 "not a recognised input: expected a session (folder or zip with meta.json), an IMU table (t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]), " +
@@ -91,7 +92,9 @@ public class Recording internal constructor(
 
         private fun isZip(path: Path): Boolean = Files.newInputStream(path).use { s ->
             val b = ByteArray(4)
-            s.readNBytes(b, 0, 4) == 4 && b[0] == 'P'.code.toByte() && b[1] == 'K'.code.toByte() && b[2].toInt() == 3 && b[3].toInt() == 4
+            var n = 0
+            while (n < 4) n += s.read(b, n, 4 - n).takeIf { it > 0 } ?: break
+            n == 4 && b[0] == 'P'.code.toByte() && b[1] == 'K'.code.toByte() && b[2].toInt() == 3 && b[3].toInt() == 4
         }
 
         private fun session(path: Path): Recording {

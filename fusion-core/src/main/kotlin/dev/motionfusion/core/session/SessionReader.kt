@@ -13,6 +13,7 @@ import java.io.InputStream
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files
 import java.nio.file.Path
+import java.util.stream.Collectors
 import java.util.zip.ZipException
 import java.util.zip.ZipFile
 
@@ -104,7 +105,7 @@ internal abstract class SessionFiles : Closeable {
         override fun exists(file: String) = Files.isRegularFile(dir.resolve(file))
         override fun open(file: String): InputStream = Files.newInputStream(dir.resolve(file))
         override fun displayName(file: String) = dir.resolve(file).toString()
-        override fun list(): List<String> = Files.list(dir).use { s -> s.map { it.fileName.toString() }.toList() }
+        override fun list(): List<String> = Files.list(dir).use { s -> s.map { it.fileName.toString() }.collect(Collectors.toList()) }
         override fun close() {}
     }
 

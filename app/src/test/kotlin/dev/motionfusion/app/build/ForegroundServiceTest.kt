@@ -1,0 +1,45 @@
+package dev.motionfusion.app.build
+
+import android.content.pm.ServiceInfo
+import dev.motionfusion.app.build.BuildFiles.androidName
+import dev.motionfusion.app.build.BuildFiles.child
+import dev.motionfusion.app.build.BuildFiles.children
+import dev.motionfusion.app.record.RecordingService
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+
+/**
+ * The recording service's foreground-service type, the permission Android 14+ requires for that
+ * type, and the type the service passes to startForeground belong together: this test fails
+ * when one of them changes without the others.
+ */
+class ForegroundServiceTest {
+    private val manifest = BuildFiles.parse(BuildFiles.manifest)
+    private val permissions = manifest.children("uses-permission").map { it.androidName() }.toSet()
+
+    /** Manifest type name → the ServiceInfo constant and the permission it needs (Android 14 ServiceInfo docs). */
+    private val types = mapOf(
+        "health" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH to "android.permission.FOREGROUND_SERVICE_HEALTH"),
+        "dataSync" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_DATA_SYNC to "android.permission.FOREGROUND_SERVICE_DATA_SYNC"),
+        "specialUse" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE to "android.permission.FOREGROUND_SERVICE_SPECIAL_USE"),
+        "location" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_LOCATION to "android.permission.FOREGROUND_SERVICE_LOCATION"),
+    )
+
+    @Test
+    fun `the manifest's type, its permission and the type passed to startForeground agree`() {
+        val service = manifest.child("application")!!.children("service").single { it.androidName().endsWith(".record.RecordingService") }
+        val declared = service.getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")
+        val (constant, permission) = types[declared] ?: error("foregroundServiceType '$declared' not known to this test")
+        assertEquals(constant, RecordingService.FOREGROUND_SERVICE_TYPE, "type passed to startForeground")
+        assertTrue(permission in permissions, "$permission missing for type $declared")
+        assertTrue("android.permission.FOREGROUND_SERVICE" in permissions)
+    }
+
+    @Test
+    fun `the health type has one of the sensor permissions Android 14 requires with it`() {
+        // FOREGROUND_SERVICE_HEALTH also needs ACTIVITY_RECOGNITION, BODY_SENSORS or HIGH_SAMPLING_RATE_SENSORS.
+        val anyOf = setOf("android.permission.ACTIVITY_RECOGNITION", "android.permission.BODY_SENSORS", "android.permission.HIGH_SAMPLING_RATE_SENSORS")
+        assertTrue(permissions.any { it in anyOf }, "$permissions")
+    }
+}

@@ -1,0 +1,25 @@
+// fusion-core: pure Kotlin on the JVM, no android.* (fusion-core/pom.xml).
+plugins {
+    alias(libs.plugins.kotlin.jvm)
+}
+
+kotlin {
+    jvmToolchain(17)
+}
+
+sourceSets {
+    main { kotlin.srcDirs("src/main/kotlin") }
+    test { kotlin.srcDirs("src/test/kotlin") }
+}
+
+dependencies {
+    implementation(libs.kotlin.stdlib)
+    testImplementation(platform(libs.junit.bom))
+    testImplementation(libs.junit.jupiter)
+    // The real SensorManager, to test the ports against.
+    testImplementation(libs.android.all)
+}
+
+tasks.test {
+    useJUnitPlatform()
+}
