@@ -1,12 +1,10 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.recording.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.Replayer
 import java.io.BufferedOutputStream
 import java.io.PrintStream
 import java.nio.file.Files
-import java.nio.file.Path
 import java.util.zip.GZIPOutputStream
 
 /** `fusion replay INPUT [-o OUT] [filter settings]`. */
@@ -38,19 +36,20 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
         |  --quiet              no summary on standard error
         |${FilterOptions.HELP}
+        |${InputOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
         |Exit codes: 0 ok, 1 malformed input (FILE:LINE:COLUMN: reason), 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         val settings = FilterOptions.settings(o)
         val output = o.value("-o") ?: o.value("--output")
-        Recording.open(Path.of(input)).use { rec ->
+        InputOptions.open(input, o, err, name).use { rec ->
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
-            val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(Files.newOutputStream(Path.of(output)), 1 shl 16).let {
+            val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(Files.newOutputStream(InputOptions.path(output)), 1 shl 16).let {
                 if (output.endsWith(".gz")) GZIPOutputStream(it, 1 shl 16) else it
             }
             val writer = ReplayCsvWriter(stream, closeStream = output != null)

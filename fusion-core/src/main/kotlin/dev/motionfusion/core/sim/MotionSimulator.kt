@@ -52,14 +52,20 @@ public class MotionSimulator(public val settings: SimulationSettings) {
         return Vector3(a * sin(2.0 * PI * 1.3 * t), a * cos(2.0 * PI * 0.7 * t), a * sin(2.0 * PI * 0.9 * t))
     }
 
-    /** Runs the whole simulation. */
+    /** Runs the whole simulation into a list (for short runs; [forEach] streams). */
     public fun run(): List<SimulatedSample> {
+        val out = ArrayList<SimulatedSample>((settings.durationS * settings.rateHz).toInt())
+        forEach { out.add(it) }
+        return out
+    }
+
+    /** Runs the whole simulation, handing each sample to [emit] as it is made: memory does not grow with the duration. */
+    public fun forEach(emit: (SimulatedSample) -> Unit) {
         val s = settings
         val period = 1.0 / s.rateHz
         val n = (s.durationS * s.rateHz).toInt()
         val field = Vector3(0.0, s.fieldStrength * cos(s.dip), -s.fieldStrength * sin(s.dip))
         val up = Vector3(0.0, 0.0, s.gravity)
-        val out = ArrayList<SimulatedSample>(n)
         var q = s.initialOrientation
         var bias = s.gyroBias
         var tPrev = 0.0
@@ -77,9 +83,8 @@ public class MotionSimulator(public val settings: SimulationSettings) {
             val acc = q.inverseRotate(up + linearAcceleration(t)) + gaussianVector(s.accNoise)
             val mag = q.inverseRotate(field) + hardIron + gaussianVector(s.magNoise)
             val dropped = s.dropProbability > 0.0 && random.nextDouble() < s.dropProbability
-            if (!dropped || k == 0) out.add(SimulatedSample((t * 1e9).roundToLong(), gyro, acc, mag, q))
+            if (!dropped || k == 0) emit(SimulatedSample((t * 1e9).roundToLong(), gyro, acc, mag, q))
         }
-        return out
     }
 
     private fun gaussianVector(sigma: Double): Vector3 =

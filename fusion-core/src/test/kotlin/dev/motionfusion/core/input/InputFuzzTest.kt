@@ -1,7 +1,6 @@
-package dev.motionfusion.core.recording
+package dev.motionfusion.core.input
 
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.io.QuaternionTable
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionMetadata
@@ -59,6 +58,8 @@ class InputFuzzTest {
 
     private val table = ("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},0.01,-0.02,0.03,0.1,0.2,9.8,20,0,-40\n" }).toByteArray()
     private val phyphoxGyro = ("\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" + (0 until 40).joinToString("") { row3(it) + "\n" }).toByteArray()
+    private val phyphoxCombined = ("\"Time (s)\",\"Acceleration x (m/s^2)\",\"Acceleration y (m/s^2)\",\"Acceleration z (m/s^2)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" +
+        (0 until 40).joinToString("") { row3(it) + ",0.01,0.02,-0.03\n" }).toByteArray()
     private val phyphoxAcc = ("\"Time (s)\";\"Acceleration x (m/s^2)\";\"Acceleration y (m/s^2)\";\"Acceleration z (m/s^2)\"\n" +
         (0 until 40).joinToString("") { row3(it).replace(',', ';').replace('.', ',') + "\n" }).toByteArray()
     private fun logger(order: String) = ("time,seconds_elapsed,$order\n" + (0 until 40).joinToString("") { t -> "${1_700_000_000_000_000_000L + t * 10_000_000L},${0.01 * t},0.1,-0.2,9.8\n" }).toByteArray()
@@ -115,8 +116,8 @@ class InputFuzzTest {
         repeat(rounds) {
             check("table") { drain(write("t.csv", mutate(table))) }
             check("table.gz") { drain(write("t.csv.gz", if (random.nextBoolean()) mutate(gzip(table)) else gzip(mutate(table)))) }
-            check("truth") { QuaternionTable.read(write("truth.csv", mutate(truth))) }
-            check("phyphox csv") { drain(write("Gyroscope.csv", mutate(phyphoxGyro))) }
+            check("truth") { QuaternionTableReader.open(write("truth.csv", mutate(truth))).use { r -> while (r.next()) r.q } }
+            check("phyphox csv") { drain(write("Raw Data.csv", mutate(phyphoxCombined))) }
             check("phyphox zip") {
                 val entries = if (random.nextBoolean()) mapOf("Gyroscope.csv" to mutate(phyphoxGyro), "Accelerometer.csv" to phyphoxAcc)
                 else mapOf("Gyroscope.csv" to phyphoxGyro, "Accelerometer.csv" to mutate(phyphoxAcc))
