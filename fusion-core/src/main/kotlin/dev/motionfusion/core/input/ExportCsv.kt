@@ -61,6 +61,8 @@ internal class ColumnMap(
     val valueIndex: IntArray,
     /** Factor from each column's unit (and sign convention) to the stream's. */
     val valueScale: DoubleArray,
+    /** The end of the recording where the export states it (phyphox meta/time.csv), s; later rows belong to another. */
+    val endS: Double = Double.POSITIVE_INFINITY,
 ) {
     fun open(files: FileSet): StreamCursor = ExportCsvCursor(this, files.csv(path, dialect.separator.code.toByte(), dialect.decimalComma))
 }
@@ -97,6 +99,9 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
             } else {
                 val t = csv.parseDouble(field)
                 if (!(kotlin.math.abs(t) < ImuTableReader.MAX_TIME_S)) throw FieldError("time '${csv.excerpt(field)}' is not a finite time")
+                if (t > map.endS + END_TOLERANCE_S) {
+                    throw FieldError("time $t s is after the end of the experiment (${map.endS} s, meta/time.csv): this file belongs to another recording")
+                }
                 timestampNs = (t * 1e9).roundToLong()
             }
             for (k in map.valueIndex.indices) {
@@ -111,6 +116,10 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
     }
 
     override fun close(): Unit = csv.close()
+
+    private companion object {
+        const val END_TOLERANCE_S = 1.0
+    }
 }
 
 /**

@@ -88,8 +88,34 @@ internal object PhyphoxImport {
 
     private fun isCsv(path: String) = path.endsWith(".csv", ignoreCase = true)
 
+    /**
+     * The experiment's end from meta/time.csv (the experiment time of the last event, when that is
+     * a PAUSE), s; +∞ when not stated. Rows after it come from another recording put beside.
+     */
+    private fun experimentEnd(files: FileSet, dir: String): Double {
+        val path = files.find(dir, "meta/time.csv") ?: return Double.POSITIVE_INFINITY
+        val header = files.firstLine(path) ?: return Double.POSITIVE_INFINITY
+        val dialect = Dialect.detect(header)
+        files.csv(path, dialect.separator.code.toByte(), dialect.decimalComma).use { csv ->
+            if (!csv.nextLine()) return Double.POSITIVE_INFINITY
+            val names = csv.names()
+            val event = names.indexOf("event")
+            val time = names.indexOf("experiment time")
+            if (event < 0 || time < 0) return Double.POSITIVE_INFINITY
+            var last = ""
+            var end = Double.POSITIVE_INFINITY
+            while (csv.nextLine()) {
+                if (csv.count <= maxOf(event, time)) return Double.POSITIVE_INFINITY
+                last = csv.text(event).trim()
+                end = try { csv.parseDouble(time) } catch (e: dev.motionfusion.core.io.FieldError) { return Double.POSITIVE_INFINITY }
+            }
+            return if (last == "PAUSE" && end.isFinite()) end else Double.POSITIVE_INFINITY
+        }
+    }
+
     fun plan(files: FileSet, dir: String): ImportPlan {
         val notes = ArrayList<String>()
+        val endS = experimentEnd(files, dir)
         val chosen = LinkedHashMap<Quantity, Pair<String, ColumnMap>>()
         val unusable = ArrayList<String>()
         for (path in files.filesIn(dir).filter(::isCsv)) {
@@ -106,7 +132,7 @@ internal object PhyphoxImport {
                         "column '${ByteCsvReader.escapedExcerpt(header.names[set.columns[k]])}': unit '${ByteCsvReader.escapedExcerpt(set.units[k])}' not understood " +
                             "(expected ${set.quantity.units.keys.filter { it.isNotEmpty() }.joinToString(" or ")})")
                 }
-                val map = ColumnMap(stream, path, header.dialect, header.time, false, set.columns, scale)
+                val map = ColumnMap(stream, path, header.dialect, header.time, false, set.columns, scale, endS)
                 val previous = chosen[set.quantity]
                 if (previous == null) {
                     chosen[set.quantity] = path to map

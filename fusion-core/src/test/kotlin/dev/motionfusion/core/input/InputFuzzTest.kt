@@ -156,4 +156,52 @@ class InputFuzzTest {
         // The mutations must exercise both outcomes of every reader, or the test proves little.
         for ((f, o) in outcomes) assertTrue(o[0] > 0 && o[1] > 0, "$f: ${o.toList()}")
     }
+
+    /** [read] must fail with a DataFormatException whose message contains [fragment] and stays short. */
+    private fun rejects(fragment: String, read: () -> Unit) {
+        case++
+        try {
+            read()
+            fail<Unit>("case $case: read fine, expected an error with '$fragment'")
+        } catch (e: DataFormatException) {
+            assertTrue(e.message!!.contains(fragment), "case $case: ${e.message}")
+            assertTrue(e.message!!.length < 600, "case $case: message of ${e.message!!.length} characters")
+        }
+    }
+
+    @Test
+    fun `hostile files are clear errors, never a crash or unbounded memory`() {
+        val zeros = ByteArray(8 shl 20) // 8 MiB without a newline: compresses to a few KiB
+        val header = "t_s,gx,gy,gz,ax,ay,az\n".toByteArray()
+        rejects("longer than") { drain(write("long.csv", header + ByteArray(3 shl 20) { 'x'.code.toByte() })) }
+        rejects("longer than") { drain(write("bomb.csv.gz", gzip(header + zeros))) }
+        rejects("longer than") { drain(write("bomb.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x") + zeros, "TotalAcceleration.csv" to logger("z,y,x"))))) }
+        val big = ByteArrayOutputStream().also { o -> o.write(header); repeat(100_000) { o.write("0.01,0,0,0,0,0,9.8\n".toByteArray()) } }.toByteArray()
+        val small = ImportOptions(dev.motionfusion.core.io.InputLimits.perFile(1 shl 20))
+        rejects("limit for one file") { Recording.open(write("big.csv.gz", gzip(big)), small).use { r -> r.events().use { e -> while (e.next()) Unit } } }
+        rejects("in total") {
+            Recording.open(write("big.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x"), "TotalAcceleration.csv" to logger("z,y,x")))),
+                ImportOptions(dev.motionfusion.core.io.InputLimits(maxEntryBytes = 2000, maxTotalBytes = 3000))).use { r -> r.events().use { e -> while (e.next()) Unit } }
+        }
+        rejects("3 fields") { drain(write("short.csv", "t_s,gx,gy,gz,ax,ay,az\n1,2,3\n".toByteArray())) }
+        rejects("has 7") { drain(write("extra2.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8,1\n".toByteArray())) }
+        rejects("decimal comma") { drain(write("comma.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9,8\n".toByteArray())) }
+        rejects("integer nanoseconds") {
+            drain(write("float.zip", zip(mapOf("Gyroscope.csv" to "time,seconds_elapsed,z,y,x\n1.7e18,0,0,0,0\n".toByteArray(), "TotalAcceleration.csv" to logger("z,y,x")))))
+        }
+        rejects("not a finite time") { drain(write("nan.csv", "t_s,gx,gy,gz,ax,ay,az\nNaN,0,0,0,0,0,9.8\n".toByteArray())) }
+        rejects("larger than") {
+            val dir = Files.createDirectories(tmp.resolve("bigmeta"))
+            Files.write(dir.resolve("meta.json"), ByteArray(2 shl 20) { ' '.code.toByte() })
+            drain(dir)
+        }
+        rejects("without gyroscope") { drain(write("Accelerometer.csv", phyphoxAcc)) }
+        rejects("without accelerometer") { drain(write("Gyroscope.csv", phyphoxGyro)) }
+        rejects("holds 2 recordings") {
+            val dir = Files.createDirectories(tmp.resolve("two"))
+            for (n in listOf("a", "b")) Files.write(Files.createDirectories(dir.resolve(n)).resolve("t.csv"), table)
+            drain(dir)
+        }
+        println("hostile: $case cases, each a DataFormatException with the expected reason")
+    }
 }
