@@ -99,15 +99,16 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         InputOptions.open(input, o, err, name).use { rec ->
             if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(input, 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
             val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
-            fun pass(add: (DoubleArray, DoubleArray, Boolean) -> Unit): Long {
+            var steps = 0L
+            val e = BroadMetric.streamed(sixD) { add ->
                 val lastTruth = DoubleArray(4) { Double.NaN }
                 var lastTruthT = Long.MIN_VALUE
-                var n = 0L
+                steps = 0L
                 val listener = object : ReplayListener {
                     override fun step(step: ReplayStep) {
                         if (lastTruthT != step.timestampNs) return
                         add(step.orientation, lastTruth, true)
-                        n++
+                        steps++
                     }
 
                     override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {
@@ -117,25 +118,18 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                     }
                 }
                 rec.events().use { Replayer(settings).run(it, rec.originNs, listener) }
-                return n
             }
-            var offset = 0.0
-            if (sixD) {
-                val h = BroadMetric.HeadingOffset()
-                pass(h::add)
-                offset = h.offsetRad
-            }
-            val acc = BroadMetric.Accumulator(offset)
-            if (pass(acc::add) == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
-            return TrialResult(rec.name, acc.result())
+            if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
+            return TrialResult(rec.name, e)
         }
     }
 
     /** Scores the orientation table [estimate] against [truthPath], both streamed and matched by t_s (to 1 µs). */
     private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean, o: Options): TrialResult {
         val limits = InputOptions.limits(o)
-        fun pass(add: (DoubleArray, DoubleArray, Boolean) -> Unit): Long {
-            var matched = 0L
+        var matched = 0L
+        val r = BroadMetric.streamed(sixD) { add ->
+            matched = 0L
             QuaternionTableReader.open(estimate, limits).use { est ->
                 QuaternionTableReader.open(truthPath, limits).use { truth ->
                     var more = est.next()
@@ -149,17 +143,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                     }
                 }
             }
-            return matched
         }
-        var offset = 0.0
-        if (sixD) {
-            val h = BroadMetric.HeadingOffset()
-            pass(h::add)
-            offset = h.offsetRad
-        }
-        val acc = BroadMetric.Accumulator(offset)
-        if (pass(acc::add) == 0L) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
-        val r = acc.result()
+        if (matched == 0L) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
         if (r.samples == 0) throw DataFormatException(truthPath.toString(), 0, 0, "no scored sample with both orientations known")
         return TrialResult(estimate.fileName.toString(), r)
     }

@@ -29,8 +29,10 @@ internal class ReplayCommand(private val err: PrintStream) : Command {
         |  a session folder or zip (docs/SESSION_FORMAT.md)
         |  a plain IMU table t_s,gx,gy,gz,ax,ay,az[,mx,my,mz] (s, rad/s, m/s², µT; .csv or .csv.gz),
         |    or a folder holding input.csv[.gz] (a BROAD trial)
-        |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder);
-        |    see docs/IMPORT.md
+        |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder),
+        |    Android or iOS (sign and units from Metadata.csv, else --platform); see docs/IMPORT.md
+        |One input is one recording: a folder holding several is an error that lists them.
+        |What an import assumed (a platform, a file left out) is printed as a note.
         |
         |Options:
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output

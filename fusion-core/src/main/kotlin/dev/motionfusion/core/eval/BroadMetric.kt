@@ -41,6 +41,23 @@ public object BroadMetric {
         return acc.result()
     }
 
+    /**
+     * The RMSEs of samples streamed by [pass], which calls its argument with (estimate, truth,
+     * scored) for each sample and may be called twice: with [removeHeadingOffset] a first pass
+     * finds the offset. Memory does not grow with the number of samples.
+     */
+    public fun streamed(removeHeadingOffset: Boolean, pass: (add: (DoubleArray, DoubleArray, Boolean) -> Unit) -> Unit): ErrorRmse {
+        var offset = 0.0
+        if (removeHeadingOffset) {
+            val h = HeadingOffset()
+            pass(h::add)
+            offset = h.offsetRad
+        }
+        val acc = Accumulator(offset)
+        pass(acc::add)
+        return acc.result()
+    }
+
     /** The circular mean of the signed heading errors of the samples [add]ed (first pass of a 6D score). */
     public class HeadingOffset {
         private val e = DoubleArray(4)

@@ -43,15 +43,7 @@ public object Evaluation {
      */
     public fun evaluate(trial: Trial, settings: FilterSettings): TrialResult {
         val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
-        var offset = 0.0
-        if (sixD) {
-            val h = BroadMetric.HeadingOffset()
-            run(trial, settings, h::add)
-            offset = h.offsetRad
-        }
-        val acc = BroadMetric.Accumulator(offset)
-        run(trial, settings, acc::add)
-        return TrialResult(trial.name, acc.result())
+        return TrialResult(trial.name, BroadMetric.streamed(sixD) { add -> run(trial, settings, add) })
     }
 
     /** Scores every trial under [paths] (see [findTrials]), in name order. */

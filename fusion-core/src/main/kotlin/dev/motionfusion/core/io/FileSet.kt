@@ -44,8 +44,12 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
     /** Files directly in [dir]. */
     fun filesIn(dir: String): List<String> = paths.filter { it.startsWith(dir) && it.indexOf('/', dir.length) < 0 }
 
-    /** The first line of [path] (at most [maxBytes]), or null when it is empty or its first line is longer. */
+    /**
+     * The first line of [path] (at most [maxBytes]), or null when it is empty, unreadable or its
+     * first line is longer. Sniffing does not count toward the total of a reading ([CompressionGuard.reset]).
+     */
     fun firstLine(path: String, maxBytes: Int = SNIFF_BYTES): String? = try {
+        guard.reset()
         csv(path, maxLineBytes = maxBytes).use { if (it.nextLine()) it.lineText() else null }
     } catch (e: DataFormatException) {
         null
