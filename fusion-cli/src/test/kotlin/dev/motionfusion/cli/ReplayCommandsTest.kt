@@ -186,7 +186,7 @@ class ReplayCommandsTest {
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))
         val bad = fusion("replay", p("logger-linear.zip"))
         assertEquals(ExitCode.DATA_ERROR, bad.code)
-        assertTrue(bad.err.contains("TotalAcceleration.csv"), bad.err)
+        assertTrue(bad.err.contains("WITHOUT gravity") && bad.err.contains("Gravity.csv"), bad.err)
     }
 
     @Test
