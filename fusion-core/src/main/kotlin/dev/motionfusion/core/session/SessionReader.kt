@@ -28,7 +28,7 @@ public class SessionReader private constructor(
 ) : Closeable {
 
     /** The session's name: folder or zip name. */
-    public val name: String = if (dir.isEmpty()) Paths.get(files.name).fileName.toString() else dir.removeSuffix("/").substringAfterLast('/')
+    public val name: String = Paths.get(files.name).fileName.toString()
 
     /** The streams that have a file in the session. */
     public val streams: Set<SessionStream> =
