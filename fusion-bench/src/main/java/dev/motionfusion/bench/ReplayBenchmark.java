@@ -8,7 +8,7 @@
 package dev.motionfusion.bench;
 
 import dev.motionfusion.core.filter.FilterSettings;
-import dev.motionfusion.core.recording.Recording;
+import dev.motionfusion.core.input.Recording;
 import dev.motionfusion.core.replay.ReplayCounts;
 import dev.motionfusion.core.replay.ReplayCsvWriter;
 import dev.motionfusion.core.replay.ReplayListener;

@@ -8,13 +8,16 @@ import dev.motionfusion.core.eval.Trial;
 import dev.motionfusion.core.filter.FilterMode;
 import dev.motionfusion.core.filter.FilterSettings;
 import dev.motionfusion.core.filter.MadgwickFilter;
-import dev.motionfusion.core.io.QuaternionTable;
+import dev.motionfusion.core.eval.PhoneComparison;
+import dev.motionfusion.core.eval.TrialReader;
+import dev.motionfusion.core.input.QuaternionTableReader;
 
 import java.io.File;
 import java.io.IOException;
 import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
 import java.util.ArrayList;
+import java.util.Arrays;
 import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Locale;
@@ -59,22 +62,40 @@ public final class TuneFilter {
             Trial t = Trial.Companion.load(dir);
             name = t.getName();
             group = dir.getParentFile().getName();
-            int n = t.getSize();
-            tNs = new long[n];
-            rows = new double[9 * n];
-            for (int i = 0; i < n; i++) {
-                tNs[i] = Math.round(t.getTimeS()[i] * 1e9);
-                System.arraycopy(t.getImu()[i], 0, rows, 9 * i, 9);
+            long[] times = new long[1 << 16];
+            double[] imu = new double[9 << 16];
+            List<double[]> truthRows = new ArrayList<>();
+            List<Boolean> scored = new ArrayList<>();
+            int n = 0;
+            boolean mag;
+            try (TrialReader r = t.open()) {
+                mag = r.getHasMag();
+                while (r.next()) {
+                    if (n == times.length) {
+                        times = Arrays.copyOf(times, 2 * n);
+                        imu = Arrays.copyOf(imu, 18 * n);
+                    }
+                    times[n] = Math.round(r.getTimeS() * 1e9);
+                    System.arraycopy(r.getImu(), 0, imu, 9 * n, 9);
+                    truthRows.add(r.getTruth().clone());
+                    scored.add(r.getScored());
+                    n++;
+                }
             }
-            hasMag = t.getHasMag();
-            truth = t.getTruth();
-            movement = t.getMovement();
-            File rv = new File(dir, "rotation_vector.csv.gz");
-            if (!rv.isFile()) rv = new File(dir, "rotation_vector.csv");
-            if (withRv && rv.isFile()) {
-                QuaternionTable q = QuaternionTable.read(rv.toPath());
-                if (q.getSize() != n) throw new IllegalArgumentException(rv + ": " + q.getSize() + " rows, input has " + n);
-                rotationVector = q.getQ();
+            tNs = Arrays.copyOf(times, n);
+            rows = Arrays.copyOf(imu, 9 * n);
+            hasMag = mag;
+            truth = truthRows.toArray(new double[0][]);
+            movement = new boolean[n];
+            for (int i = 0; i < n; i++) movement[i] = scored.get(i);
+            File rv = PhoneComparison.rotationVectorFile(dir);
+            if (withRv && rv != null) {
+                List<double[]> q = new ArrayList<>();
+                try (QuaternionTableReader r = QuaternionTableReader.open(rv.toPath())) {
+                    while (r.next()) q.add(r.getQ().clone());
+                }
+                if (q.size() != n) throw new IllegalArgumentException(rv + ": " + q.size() + " rows, input has " + n);
+                rotationVector = q.toArray(new double[0][]);
             } else {
                 rotationVector = null;
             }

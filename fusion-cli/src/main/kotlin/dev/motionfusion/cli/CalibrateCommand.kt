@@ -6,7 +6,7 @@ import dev.motionfusion.core.calib.CalibrationSettings
 import dev.motionfusion.core.calib.Calibrator
 import dev.motionfusion.core.calib.EllipsoidModel
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.input.Recording
 import java.io.PrintStream
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files

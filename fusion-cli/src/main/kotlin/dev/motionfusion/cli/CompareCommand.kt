@@ -2,7 +2,6 @@ package dev.motionfusion.cli
 
 import dev.motionfusion.core.io.AsciiNumbers
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.recording.Recording
 import dev.motionfusion.core.replay.ErrorStatistics
 import dev.motionfusion.core.replay.OrientationComparison
 import dev.motionfusion.core.replay.ReplayListener
@@ -13,7 +12,6 @@ import java.io.BufferedOutputStream
 import java.io.OutputStream
 import java.io.PrintStream
 import java.nio.file.Files
-import java.nio.file.Path
 import java.util.Locale
 
 /** `fusion compare`: the replayed Madgwick orientation against the phone's rotation vector. */
@@ -37,16 +35,17 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
         |  --live               compare the live orientation recorded by the app (orientation.csv)
         |                       instead of replaying
         |
-        |${FilterOptions.HELP}""".trimMargin()
+        |${FilterOptions.HELP}
+        |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED, setOf("--game", "--live") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--game", "--live") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException("compare needs one INPUT")
         val settings = FilterOptions.settings(o)
         val refStream = if (o.has("--game")) SessionStream.GAME_ROTATION_VECTOR else SessionStream.ROTATION_VECTOR
         val live = o.has("--live")
         val output = o.value("-o") ?: o.value("--output")
-        Recording.open(Path.of(input)).use { rec ->
+        InputOptions.open(input, o, err, name).use { rec ->
             if (refStream !in rec.streams) {
                 throw DataFormatException(input, 0, 0, "no ${refStream.fileName} in this ${rec.format.description}: nothing to compare with")
             }

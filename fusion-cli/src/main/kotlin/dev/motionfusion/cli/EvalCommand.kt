@@ -9,8 +9,8 @@ import dev.motionfusion.core.eval.TrialResult
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.io.QuaternionTable
-import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.input.QuaternionTableReader
+import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
@@ -49,15 +49,19 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |  --truth FILE         the truth table
         |  --6d                 remove one constant heading offset before scoring
         |
-        |${FilterOptions.HELP}""".trimMargin()
+        |All inputs are streamed: memory does not grow with their length. Scoring a 6D filter
+        |reads each input twice (the first pass finds the heading offset).
+        |
+        |${FilterOptions.HELP}
+        |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("--truth") + FilterOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("--truth") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
         val truthFile = o.value("--truth")
         if (truthFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --truth give exactly one ORIENTATION file")
-            val r = scoreTables(Path.of(est), Path.of(truthFile), o.has("--6d"))
+            val r = scoreTables(InputOptions.path(est), InputOptions.path(truthFile), o.has("--6d"), o)
             out.print(Evaluation.table(listOf(r)))
             return ExitCode.OK
         }
@@ -65,7 +69,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val results = ArrayList<TrialResult>()
         val rotationVector = HashMap<String, ErrorRmse>()
         for (p in o.positional) {
-            val path = Path.of(p)
+            val path = InputOptions.path(p)
             if (!Files.exists(path)) throw java.nio.file.NoSuchFileException(p)
             val isTrialSet = Files.isDirectory(path) &&
                 (!Files.exists(path.resolve("meta.json")) || Trial.isTrial(path.toFile()))
@@ -81,7 +85,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                 }
                 if (System.console() != null) err.print("\r" + " ".repeat(60) + "\r")
             } else {
-                results += evaluateSession(path, settings)
+                results += evaluateSession(p, settings, o)
             }
         }
         out.println("Filter: ${describe(settings)}")
@@ -96,59 +100,64 @@ internal class EvalCommand(private val err: PrintStream) : Command {
             Trial.load(d).also { t -> PhoneComparison.rotationVector(d, t)?.let { rotationVector[t.name] = it } }
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
-        } catch (e: NumberFormatException) {
-            throw DataFormatException(d.path, 0, 0, "malformed number: ${e.message}")
         }
         return Evaluation.evaluate(trial, settings)
     }
 
-    /** Replays a session with a truth stream and scores every gyroscope step that has truth at its instant. */
-    private fun evaluateSession(path: Path, settings: FilterSettings): TrialResult {
-        Recording.open(path).use { rec ->
-            if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(path.toString(), 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
-            val est = ArrayList<DoubleArray>()
-            val truth = ArrayList<DoubleArray>()
-            val lastTruth = DoubleArray(4) { Double.NaN }
-            var lastTruthT = Long.MIN_VALUE
-            val listener = object : ReplayListener {
-                override fun step(step: ReplayStep) {
-                    if (lastTruthT != step.timestampNs) return
-                    est += step.orientation.copyOf()
-                    truth += lastTruth.copyOf()
-                }
-
-                override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {
-                    if (stream != SessionStream.TRUTH) return
-                    values.copyInto(lastTruth, 0, 0, 4)
-                    lastTruthT = timestampNs
-                }
-            }
-            rec.events().use { Replayer(settings).run(it, rec.originNs, listener) }
-            if (est.isEmpty()) throw DataFormatException(path.toString(), 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
+    /**
+     * Replays a session with a truth stream and scores every gyroscope step that has truth at its
+     * instant; for a 6D score a first replay finds the heading offset.
+     */
+    private fun evaluateSession(input: String, settings: FilterSettings, o: Options): TrialResult {
+        InputOptions.open(input, o, err, name).use { rec ->
+            if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(input, 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
             val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
-            val e = BroadMetric.rmse(est.toTypedArray(), truth.toTypedArray(), BooleanArray(est.size) { true }, removeHeadingOffset = sixD)
+            var steps = 0L
+            val e = BroadMetric.streamed(sixD) { add ->
+                val lastTruth = DoubleArray(4) { Double.NaN }
+                var lastTruthT = Long.MIN_VALUE
+                steps = 0L
+                val listener = object : ReplayListener {
+                    override fun step(step: ReplayStep) {
+                        if (lastTruthT != step.timestampNs) return
+                        add(step.orientation, lastTruth, true)
+                        steps++
+                    }
+
+                    override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) {
+                        if (stream != SessionStream.TRUTH) return
+                        values.copyInto(lastTruth, 0, 0, 4)
+                        lastTruthT = timestampNs
+                    }
+                }
+                rec.events().use { Replayer(settings).run(it, rec.originNs, listener) }
+            }
+            if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
             return TrialResult(rec.name, e)
         }
     }
 
-    private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean): TrialResult {
-        val est = QuaternionTable.read(estimate)
-        val truth = QuaternionTable.read(truthPath)
-        val e = ArrayList<DoubleArray>()
-        val t = ArrayList<DoubleArray>()
-        val scored = ArrayList<Boolean>()
-        var j = 0
-        for (i in 0 until truth.size) {
-            val ti = truth.timeS[i]
-            while (j < est.size && est.timeS[j] < ti - 1e-6) j++
-            if (j < est.size && abs(est.timeS[j] - ti) <= 1e-6) {
-                e += est.q[j]
-                t += truth.q[i]
-                scored += truth.scored[i]
+    /** Scores the orientation table [estimate] against [truthPath], both streamed and matched by t_s (to 1 µs). */
+    private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean, o: Options): TrialResult {
+        val limits = InputOptions.limits(o)
+        var matched = 0L
+        val r = BroadMetric.streamed(sixD) { add ->
+            matched = 0L
+            QuaternionTableReader.open(estimate, limits).use { est ->
+                QuaternionTableReader.open(truthPath, limits).use { truth ->
+                    var more = est.next()
+                    while (truth.next()) {
+                        val ti = truth.timeS
+                        while (more && est.timeS < ti - 1e-6) more = est.next()
+                        if (more && abs(est.timeS - ti) <= 1e-6) {
+                            add(est.q, truth.q, truth.scored)
+                            matched++
+                        }
+                    }
+                }
             }
         }
-        if (e.isEmpty()) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
-        val r = BroadMetric.rmse(e.toTypedArray(), t.toTypedArray(), scored.toBooleanArray(), removeHeadingOffset = sixD)
+        if (matched == 0L) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
         if (r.samples == 0) throw DataFormatException(truthPath.toString(), 0, 0, "no scored sample with both orientations known")
         return TrialResult(estimate.fileName.toString(), r)
     }

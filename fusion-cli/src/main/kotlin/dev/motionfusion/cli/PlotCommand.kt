@@ -1,8 +1,7 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.io.QuaternionTable
-import dev.motionfusion.core.recording.Recording
-import dev.motionfusion.core.recording.RecordingFormat
+import dev.motionfusion.core.input.QuaternionTableReader
+import dev.motionfusion.core.input.RecordingFormat
 import dev.motionfusion.core.replay.OrientationComparison
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
@@ -11,7 +10,6 @@ import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.session.SessionStream
 import java.io.PrintStream
 import java.nio.file.Files
-import java.nio.file.Path
 import java.util.Locale
 import kotlin.math.roundToLong
 
@@ -35,10 +33,11 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
         |  --angles KIND        android: azimuth, pitch, roll (default); aerospace: yaw, pitch, roll
         |  --truth FILE         the truth table to draw the error against
         |
-        |${FilterOptions.HELP}""".trimMargin()
+        |${FilterOptions.HELP}
+        |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--angles", "--truth") + FilterOptions.VALUED, FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--angles", "--truth") + FilterOptions.VALUED + InputOptions.VALUED, FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException("plot needs one INPUT")
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("plot needs -o FIGURE.svg")
         val aerospace = when (o.value("--angles")?.lowercase() ?: "android") {
@@ -47,12 +46,14 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             else -> throw UsageException("--angles expects android or aerospace")
         }
         val settings = FilterOptions.settings(o)
-        val inputPath = Path.of(input)
-        Recording.open(inputPath).use { rec ->
+        val inputPath = InputOptions.path(input)
+        InputOptions.open(input, o, err, name).use { rec ->
             val besideTable = rec.format == RecordingFormat.IMU_TABLE && Files.isDirectory(inputPath)
-            val truthPath = o.value("--truth")?.let { Path.of(it) }
+            val truthPath = o.value("--truth")?.let { InputOptions.path(it) }
                 ?: if (besideTable) listOf("truth.csv.gz", "truth.csv").map { inputPath.resolve(it) }.firstOrNull { Files.isRegularFile(it) } else null
-            val truthTable = truthPath?.let { QuaternionTable.read(it) }
+            // The truth table is read along with the replay, row by row.
+            val truthTable = truthPath?.let { QuaternionTableReader.open(it, InputOptions.limits(o)) }
+            var truthPending = truthTable?.next() == true
             val reference: SessionStream? = when {
                 truthTable != null -> null
                 SessionStream.TRUTH in rec.streams -> SessionStream.TRUTH
@@ -73,15 +74,14 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 errors[0].add(ts, total); errors[1].add(ts, heading); errors[2].add(ts, incl)
             }
             val derived = DoubleArray(9)
-            var truthIndex = 0
             val listener = object : ReplayListener {
                 override fun step(step: ReplayStep) {
                     if (origin == null) origin = step.timestampNs - (step.timeS * 1e9).roundToLong()
                     if (truthTable != null) {
-                        while (truthIndex < truthTable.size && truthTable.timeS[truthIndex] <= step.timeS + 1e-7) {
-                            val q = truthTable.q[truthIndex]
-                            comparison.reference(origin!! + (truthTable.timeS[truthIndex] * 1e9).roundToLong(), q[0], q[1], q[2], q[3])
-                            truthIndex++
+                        while (truthPending && truthTable.timeS <= step.timeS + 1e-7) {
+                            val q = truthTable.q
+                            comparison.reference(origin!! + (truthTable.timeS * 1e9).roundToLong(), q[0], q[1], q[2], q[3])
+                            truthPending = truthTable.next()
                         }
                     }
                     if (!step.initialised) return
@@ -98,7 +98,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 }
             }
             val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
-            rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update) }
+            truthTable.use { rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update) } }
             progress.finish()
             if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
             val tMax = angles.maxOf { it.lastT }

@@ -1,11 +1,9 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.recording.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.Replayer
 import java.io.BufferedOutputStream
 import java.io.PrintStream
-import java.nio.file.Path
 import java.util.zip.GZIPOutputStream
 
 /** `fusion replay INPUT [-o OUT] [filter settings]`. */
@@ -30,14 +28,17 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |  a session folder or zip (docs/SESSION_FORMAT.md)
         |  a plain IMU table t_s,gx,gy,gz,ax,ay,az[,mx,my,mz] (s, rad/s, m/s², µT; .csv or .csv.gz),
         |    or a folder holding input.csv[.gz] (a BROAD trial)
-        |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder);
-        |    see docs/IMPORT.md
+        |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder),
+        |    Android or iOS (sign and units from Metadata.csv, else --platform); see docs/IMPORT.md
+        |One input is one recording: a folder holding several is an error that lists them.
+        |What an import assumed (a platform, a file left out) is printed as a note.
         |
         |Options:
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
         |  --quiet              no summary on standard error
         |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
         |${FilterOptions.HELP}
+        |${InputOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
         |The output is written aside and moved into place only when the replay succeeds; an
         |output that is the input or lies inside it is refused.
@@ -45,12 +46,12 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         val settings = FilterOptions.settings(o)
         val output = o.value("-o") ?: o.value("--output")
-        val calibration = o.value("--calibration")?.let { CalibrateCommand.read(Path.of(it)) }
-        Recording.open(Path.of(input)).use { rec ->
+        val calibration = o.value("--calibration")?.let { CalibrateCommand.read(InputOptions.path(it)) }
+        InputOptions.open(input, o, err, name).use { rec ->
             CalibrateCommand.requireApplies(rec, calibration, o.value("--calibration"))
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)

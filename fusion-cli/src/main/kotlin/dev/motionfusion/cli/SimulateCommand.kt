@@ -12,13 +12,13 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.sim.MotionSimulator
-import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
 import java.io.BufferedOutputStream
 import java.io.PrintStream
 import java.nio.file.Files
 import java.nio.file.Path
+import java.nio.file.Paths
 import java.util.Random
 import java.util.zip.GZIPOutputStream
 
@@ -62,18 +62,18 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         } catch (e: IllegalArgumentException) {
             throw UsageException(e.message ?: "invalid simulation")
         }
-        val samples = MotionSimulator(settings).run()
-        val path = Path.of(output)
+        val simulator = MotionSimulator(settings)
+        val path = Paths.get(output)
         val lower = output.lowercase()
         val command = "fusion simulate --duration ${fmt(duration)} --rate ${fmt(rate)} --seed $seed"
         when {
-            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(outputs.file(output, emptyList()), samples, lower.endsWith(".gz"))
+            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(outputs.file(output, emptyList()), simulator, lower.endsWith(".gz"))
             lower.endsWith(".zip") -> {
                 val zip = outputs.file(output, emptyList())
                 val tmp = Files.createTempDirectory("fusion-simulate")
                 val dir = tmp.resolve(path.fileName.toString().removeSuffix(".zip").removeSuffix(".ZIP"))
                 try {
-                    writeSession(dir, samples, rate, seed, command)
+                    writeSession(dir, simulator, rate, seed, command)
                     zip.use { SessionArchive.zip(dir, it, entryTimeMs = START_WALL_CLOCK_MS) }
                 } finally {
                     tmp.toFile().deleteRecursively()
@@ -83,13 +83,13 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
                 val dir = outputs.folder(output, emptyList())
                 // Name the session the user asked for, not the folder it is written in aside.
                 try {
-                    writeSession(dir, samples, rate, seed, command)
+                    writeSession(dir, simulator, rate, seed, command)
                 } catch (e: java.io.IOException) {
                     throw java.nio.file.FileSystemException(output, null, dev.motionfusion.core.io.AtomicFiles.reason(e))
                 }
             }
         }
-        out.println("$output: ${samples.size} samples, ${fmt(duration)} s at ${fmt(rate)} Hz ($command)")
+        out.println("$output: $written samples, ${fmt(duration)} s at ${fmt(rate)} Hz ($command)")
         return ExitCode.OK
     }
 
@@ -109,13 +109,17 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         timestampJitter = minOf(0.0002, 0.2 / rate),
     )
 
-    private fun writeTable(file: java.io.OutputStream, samples: List<SimulatedSample>, gzip: Boolean) {
+    /** Samples written by the last run (the simulation streams to the output, never held in memory). */
+    private var written = 0L
+
+    private fun writeTable(file: java.io.OutputStream, simulator: MotionSimulator, gzip: Boolean) {
         val raw = BufferedOutputStream(file, 1 shl 16)
         val stream = if (gzip) GZIPOutputStream(raw, 1 shl 16) else raw
         stream.use { s ->
             s.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n".toByteArray())
             val buf = ByteArray(512)
-            for (x in samples) {
+            simulator.forEach { x ->
+                written++
                 var p = AsciiNumbers.fixed(buf, 0, x.timestampNs * 1e-9, 9)
                 for (v in listOf(x.gyro, x.acc, x.mag)) {
                     for (k in 0 until 3) {
@@ -129,7 +133,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         }
     }
 
-    private fun writeSession(dir: Path, samples: List<SimulatedSample>, rate: Double, seed: Long, command: String) {
+    private fun writeSession(dir: Path, simulator: MotionSimulator, rate: Double, seed: Long, command: String) {
         val base = 1_000_000_000_000L // an elapsedRealtimeNanos-like origin (about 17 minutes after boot)
         val period = (1e6 / rate).toInt()
         val meta = SessionMetadata(
@@ -148,13 +152,15 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         val random = Random(seed xor 0x5EED)
         val offset = Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(2.0))
         SessionWriter.create(dir, meta).use { w ->
-            for ((i, s) in samples.withIndex()) {
+            var i = 0L
+            simulator.forEach { s ->
+                written++
                 val t = base + s.timestampNs
                 w.accelerometer(t, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat(), 3)
                 w.magnetometer(t, s.mag.x.toFloat(), s.mag.y.toFloat(), s.mag.z.toFloat(), 3)
                 w.gyroscope(t, s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat(), 3)
                 w.truth(t, s.truth.w, s.truth.x, s.truth.y, s.truth.z)
-                if (i % 4 == 0) {
+                if (i++ % 4 == 0L) {
                     val noise = Vector3(random.nextGaussian(), random.nextGaussian(), random.nextGaussian()) * Math.toRadians(0.3)
                     val rv = (offset * s.truth * Quaternion.fromRotationVector(noise)).normalized().canonical()
                     w.rotationVector(t, rv.x.toFloat(), rv.y.toFloat(), rv.z.toFloat(), rv.w.toFloat(), Math.toRadians(5.0).toFloat(), 3)

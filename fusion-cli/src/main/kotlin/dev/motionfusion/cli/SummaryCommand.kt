@@ -1,9 +1,7 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.io.ImuTableReader
+import dev.motionfusion.core.input.ImuTableReader
 import java.io.PrintStream
-import java.nio.file.Path
 
 /** `fusion summary FILE`: counts, duration, rate and per-axis means of a plain IMU table. */
 internal class SummaryCommand : Command {
@@ -24,14 +22,8 @@ internal class SummaryCommand : Command {
             if (args.isEmpty()) "summary needs a FILE" else "summary takes one FILE, got ${args.size} arguments",
         )
         if (file.startsWith("-")) throw UsageException("unknown option '$file'")
-        val stats = try {
-            ImuTableReader.open(Path.of(file)).use { reader ->
-                TableStats(reader.hasMagnetometer).also { s -> reader.forEach(s::add) }
-            }
-        } catch (e: java.util.zip.ZipException) {
-            throw DataFormatException(file, 0, 0, "corrupt gzip data: ${e.message}")
-        } catch (e: java.io.EOFException) {
-            throw DataFormatException(file, 0, 0, "gzip data ends early")
+        val stats = ImuTableReader.open(InputOptions.path(file)).use { reader ->
+            TableStats(reader.hasMagnetometer).also { s -> while (reader.next()) s.add(reader.timeS, reader.row) }
         }
         out.print(stats.report(file))
         return ExitCode.OK

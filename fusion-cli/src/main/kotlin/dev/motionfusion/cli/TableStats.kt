@@ -1,6 +1,5 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.io.ImuSample
 import java.util.Locale
 
 /**
@@ -18,18 +17,15 @@ internal class TableStats(private val hasMagnetometer: Boolean) {
     private val counts = LongArray(AXES.size)
     private var nonFinite = 0L
 
-    fun add(s: ImuSample) {
-        if (samples == 0L) firstT = s.timeS else {
-            val dt = s.timeS - lastT
+    /** One row: [timeS] and [row] = gx, gy, gz, ax, ay, az, mx, my, mz. */
+    fun add(timeS: Double, row: DoubleArray) {
+        if (samples == 0L) firstT = timeS else {
+            val dt = timeS - lastT
             if (dt < 0) backwards++ else if (dt == 0.0) repeated++
         }
-        lastT = s.timeS
+        lastT = timeS
         samples++
-        accumulate(0, s.gx); accumulate(1, s.gy); accumulate(2, s.gz)
-        accumulate(3, s.ax); accumulate(4, s.ay); accumulate(5, s.az)
-        if (hasMagnetometer) {
-            accumulate(6, s.mx); accumulate(7, s.my); accumulate(8, s.mz)
-        }
+        for (a in 0 until if (hasMagnetometer) 9 else 6) accumulate(a, row[a])
     }
 
     private fun accumulate(axis: Int, v: Double) {

@@ -72,7 +72,7 @@ class CliTest {
         val f = table("bad.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n0.01,0,zz,0,0,0,9.8\n")
         val r = fusion("summary", f)
         assertEquals(ExitCode.DATA_ERROR, r.code)
-        assertEquals("fusion: bad.csv:3:8: column gy: 'zz' is not a number", r.err.trim())
+        assertEquals("fusion: $f:3:8: column gy: 'zz' is not a number", r.err.trim())
     }
 
     @Test

@@ -136,10 +136,10 @@ class ReplayCommandsTest {
         Files.writeString(tabs.resolve("Magnetometer.csv"), phyphox("\t", false, "Magnetic field", "µT") { it.mag })
         assertSameReplay(reference, fusion("replay", tabs.toString()).out, 1e-9)
         // A unit phyphox does not use is refused, naming the column.
-        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "deg/s") { it.gyro })
+        Files.writeString(tabs.resolve("Gyroscope.csv"), phyphox("\t", false, "Gyroscope", "rpm") { it.gyro })
         val unit = fusion("replay", tabs.toString())
         assertEquals(ExitCode.DATA_ERROR, unit.code)
-        assertTrue(unit.err.contains("deg/s"), unit.err)
+        assertTrue(unit.err.contains("rpm"), unit.err)
 
         fun logger(pick: (SimulatedSample) -> dev.motionfusion.core.Vector3): String = buildString {
             append("time,seconds_elapsed,z,y,x\n")
@@ -186,7 +186,7 @@ class ReplayCommandsTest {
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))
         val bad = fusion("replay", p("logger-linear.zip"))
         assertEquals(ExitCode.DATA_ERROR, bad.code)
-        assertTrue(bad.err.contains("TotalAcceleration.csv"), bad.err)
+        assertTrue(bad.err.contains("WITHOUT gravity") && bad.err.contains("Gravity.csv"), bad.err)
     }
 
     @Test

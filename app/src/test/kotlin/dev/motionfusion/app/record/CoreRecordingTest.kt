@@ -242,8 +242,8 @@ class CoreRecordingTest {
             assertTrue(worstMeta < 1e-4, "with the settings in meta.json: $worstMeta°")
             // The replay engine of `fusion replay` on the zip itself.
             val cli = ArrayList<DoubleArray>()
-            dev.motionfusion.core.recording.Recording.open(zip.toPath()).use { rec ->
-                assertEquals(dev.motionfusion.core.recording.RecordingFormat.SESSION, rec.format)
+            dev.motionfusion.core.input.Recording.open(zip.toPath()).use { rec ->
+                assertEquals(dev.motionfusion.core.input.RecordingFormat.SESSION, rec.format)
                 rec.events().use { e ->
                     dev.motionfusion.core.replay.Replayer().run(e, rec.originNs, object : dev.motionfusion.core.replay.ReplayListener {
                         override fun step(step: dev.motionfusion.core.replay.ReplayStep) {

@@ -30,29 +30,64 @@ public object BroadMetric {
     public fun rmse(estimate: Array<DoubleArray>, truth: Array<DoubleArray>, scored: BooleanArray, removeHeadingOffset: Boolean): ErrorRmse {
         val n = estimate.size
         require(truth.size == n && scored.size == n) { "length mismatch" }
-        val e = DoubleArray(4)
-        var cw = 1.0
-        var cz = 0.0
+        var offset = 0.0
         if (removeHeadingOffset) {
-            var s = 0.0
-            var c = 0.0
-            for (i in 0 until n) {
-                if (!errorQuaternion(estimate[i], truth[i], scored[i], e)) continue
-                val psi = 2.0 * atan2(e[3], e[0])
-                s += sin(psi)
-                c += cos(psi)
-            }
-            val offset = atan2(s, c)
-            // Pre-multiplying by a rotation of −offset about z removes it: [cos(−o/2), 0, 0, sin(−o/2)].
-            cw = cos(0.5 * offset)
-            cz = -sin(0.5 * offset)
+            val h = HeadingOffset()
+            for (i in 0 until n) h.add(estimate[i], truth[i], scored[i])
+            offset = h.offsetRad
         }
-        var total = 0.0
-        var heading = 0.0
-        var incl = 0.0
-        var count = 0
-        for (i in 0 until n) {
-            if (!errorQuaternion(estimate[i], truth[i], scored[i], e)) continue
+        val acc = Accumulator(offset)
+        for (i in 0 until n) acc.add(estimate[i], truth[i], scored[i])
+        return acc.result()
+    }
+
+    /**
+     * The RMSEs of samples streamed by [pass], which calls its argument with (estimate, truth,
+     * scored) for each sample and may be called twice: with [removeHeadingOffset] a first pass
+     * finds the offset. Memory does not grow with the number of samples.
+     */
+    public fun streamed(removeHeadingOffset: Boolean, pass: (add: (DoubleArray, DoubleArray, Boolean) -> Unit) -> Unit): ErrorRmse {
+        var offset = 0.0
+        if (removeHeadingOffset) {
+            val h = HeadingOffset()
+            pass(h::add)
+            offset = h.offsetRad
+        }
+        val acc = Accumulator(offset)
+        pass(acc::add)
+        return acc.result()
+    }
+
+    /** The circular mean of the signed heading errors of the samples [add]ed (first pass of a 6D score). */
+    public class HeadingOffset {
+        private val e = DoubleArray(4)
+        private var s = 0.0
+        private var c = 0.0
+
+        public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
+            if (!errorQuaternion(estimate, truth, scored, e)) return
+            val psi = 2.0 * atan2(e[3], e[0])
+            s += sin(psi)
+            c += cos(psi)
+        }
+
+        /** The offset, rad (0 before any sample). */
+        public val offsetRad: Double get() = atan2(s, c)
+    }
+
+    /** Streams samples into the three RMSEs, with a constant heading offset [headingOffsetRad] removed first. */
+    public class Accumulator(headingOffsetRad: Double = 0.0) {
+        // Pre-multiplying by a rotation of −offset about z removes it: [cos(−o/2), 0, 0, sin(−o/2)].
+        private val cw = cos(0.5 * headingOffsetRad)
+        private val cz = -sin(0.5 * headingOffsetRad)
+        private val e = DoubleArray(4)
+        private var total = 0.0
+        private var heading = 0.0
+        private var incl = 0.0
+        private var count = 0
+
+        public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
+            if (!errorQuaternion(estimate, truth, scored, e)) return
             val w = cw * e[0] - cz * e[3]
             val x = cw * e[1] - cz * e[2]
             val y = cw * e[2] + cz * e[1]
@@ -68,8 +103,11 @@ public object BroadMetric {
             incl += inc * inc
             count++
         }
-        val deg = 180.0 / Math.PI
-        return ErrorRmse(sqrt(total / count) * deg, sqrt(heading / count) * deg, sqrt(incl / count) * deg, count)
+
+        public fun result(): ErrorRmse {
+            val deg = 180.0 / Math.PI
+            return ErrorRmse(sqrt(total / count) * deg, sqrt(heading / count) * deg, sqrt(incl / count) * deg, count)
+        }
     }
 
     /** e = q ⊗ p* into [e]; false when the sample is not scored or either quaternion is not finite. */

@@ -15,28 +15,38 @@ import kotlin.math.roundToLong
 public data class TrialResult(val trial: String, val error: ErrorRmse)
 
 public object Evaluation {
-    /** The filter's ENU orientation after each row of [trial] (identity rows before initialisation). */
-    public fun run(trial: Trial, settings: FilterSettings): Array<DoubleArray> {
+    /**
+     * Runs the filter over [trial], streaming: [onStep] gets, after each row, the filter's ENU
+     * orientation (identity before initialisation; arrays reused) and the row's truth and scored flag.
+     */
+    public fun run(trial: Trial, settings: FilterSettings, onStep: (estimate: DoubleArray, truth: DoubleArray, scored: Boolean) -> Unit) {
         val filter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.ENU))
-        return Array(trial.size) { i ->
-            val r = trial.imu[i]
-            val t = (trial.timeS[i] * 1e9).roundToLong()
-            if (trial.hasMag) {
-                filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8])
-            } else {
-                filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5])
+        val q = DoubleArray(4)
+        trial.open().use { rows ->
+            val r = rows.imu
+            while (rows.next()) {
+                val t = (rows.timeS * 1e9).roundToLong()
+                if (rows.hasMag) {
+                    filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8])
+                } else {
+                    filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5])
+                }
+                filter.orientationInto(q)
+                onStep(q, rows.truth, rows.scored)
             }
-            DoubleArray(4).also { filter.orientationInto(it) }
         }
     }
 
-    /** Scores [settings] on [trial]; a 6D filter (or a trial without magnetometer) has its heading offset removed. */
+    /**
+     * Scores [settings] on [trial]; a 6D filter (or a trial without magnetometer) has its heading
+     * offset removed, which takes a first pass over the trial to find the offset.
+     */
     public fun evaluate(trial: Trial, settings: FilterSettings): TrialResult {
         val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
-        return TrialResult(trial.name, BroadMetric.rmse(run(trial, settings), trial.truth, trial.movement, removeHeadingOffset = sixD))
+        return TrialResult(trial.name, BroadMetric.streamed(sixD) { add -> run(trial, settings, add) })
     }
 
-    /** Loads and scores every trial under [paths] (see [findTrials]), in name order. */
+    /** Scores every trial under [paths] (see [findTrials]), in name order. */
     public fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
         findTrials(paths).map { evaluate(Trial.load(it), settings) }
 

@@ -6,7 +6,7 @@
  */
 package dev.motionfusion.core.eval
 
-import dev.motionfusion.core.io.QuaternionTable
+import dev.motionfusion.core.input.QuaternionTableReader
 import java.io.File
 import java.util.Locale
 import kotlin.math.abs
@@ -19,22 +19,27 @@ public object PhoneComparison {
 
     /**
      * BROAD's metric of the rotation vector in [dir] against [trial]'s truth (rows matched by t_s to
-     * 1 µs; scored where the truth is), or null without a rotation-vector file.
+     * 1 µs; scored where the truth is), or null without a rotation-vector file. Both tables are
+     * streamed: memory does not grow with the trial.
      * @throws dev.motionfusion.core.io.DataFormatException for a malformed file.
      * @throws IllegalArgumentException when no row matches a scored truth row.
      */
     @JvmStatic
     public fun rotationVector(dir: File, trial: Trial): ErrorRmse? {
         val file = rotationVectorFile(dir) ?: return null
-        val rv = QuaternionTable.read(file.toPath())
         val unknown = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN, Double.NaN)
-        var j = 0
-        val est = Array(trial.size) { i ->
-            val t = trial.timeS[i]
-            while (j < rv.size && rv.timeS[j] < t - 1e-6) j++
-            if (j < rv.size && abs(rv.timeS[j] - t) <= 1e-6) rv.q[j] else unknown
+        val metric = BroadMetric.Accumulator()
+        trial.open().use { t ->
+            QuaternionTableReader.open(file.toPath()).use { rv ->
+                var more = rv.next()
+                while (t.next()) {
+                    while (more && rv.timeS < t.timeS - 1e-6) more = rv.next()
+                    val matched = more && abs(rv.timeS - t.timeS) <= 1e-6
+                    metric.add(if (matched) rv.q else unknown, t.truth, t.scored)
+                }
+            }
         }
-        val e = BroadMetric.rmse(est, trial.truth, trial.movement, removeHeadingOffset = false)
+        val e = metric.result()
         require(e.samples > 0) { "${file.path}: no row at the time of a scored truth row" }
         return e
     }

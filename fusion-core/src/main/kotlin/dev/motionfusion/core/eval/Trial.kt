@@ -2,77 +2,84 @@
  * A recording with optical ground truth, in the layout of the BROAD subset: a folder with
  * input.csv(.gz) (t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]; s, rad/s, m/s², µT, Android device frame)
  * and truth.csv(.gz) (t_s,qw,qx,qy,qz,movement; sensor → ENU, Hamilton, scalar first; empty or
- * NaN while occluded; movement = 1 on scored samples), one truth row per input row.
+ * NaN while occluded; movement = 1 on scored samples), one truth row per input row. Trials are
+ * streamed row by row: memory does not grow with their length.
  */
 package dev.motionfusion.core.eval
 
-import dev.motionfusion.core.io.ImuTableReader
-import dev.motionfusion.core.io.Inputs
+import dev.motionfusion.core.input.ImuTableReader
+import dev.motionfusion.core.input.QuaternionTableReader
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.InputLimits
+import java.io.Closeable
 import java.io.File
 
-/**
- * One trial in memory.
- *
- * @property imu n rows of [gx, gy, gz, ax, ay, az, mx, my, mz] (mx..mz NaN when [hasMag] is false).
- * @property truth n rows of [qw, qx, qy, qz] (sensor → ENU), NaN where unknown.
- */
-public class Trial(
-    public val name: String,
-    public val timeS: DoubleArray,
-    public val imu: Array<DoubleArray>,
-    public val hasMag: Boolean,
-    public val truth: Array<DoubleArray>,
-    public val movement: BooleanArray,
-) {
-    init {
-        val n = timeS.size
-        require(imu.size == n && truth.size == n && movement.size == n) { "$name: inconsistent lengths" }
-    }
+/** One trial folder: [input] and [truth] tables, read by [open]. */
+public class Trial private constructor(public val name: String, public val input: File, public val truth: File) {
+    /** True when the input table has magnetometer columns. */
+    public val hasMag: Boolean by lazy { ImuTableReader.open(input.toPath()).use { it.hasMagnetometer } }
 
-    public val size: Int get() = timeS.size
+    /** The trial's rows from the start; the caller closes the reader. */
+    @JvmOverloads
+    public fun open(limits: InputLimits = InputLimits()): TrialReader {
+        val imu = ImuTableReader.open(input.toPath(), limits)
+        try {
+            return TrialReader(name, imu, QuaternionTableReader.open(truth.toPath(), limits), truth.path)
+        } catch (e: Throwable) {
+            imu.close()
+            throw e
+        }
+    }
 
     public companion object {
         /**
-         * Loads the trial in [dir] (input.csv.gz or input.csv, truth.csv.gz or truth.csv). The input is
-         * an IMU table read by [ImuTableReader]; empty or "nan" truth fields read as NaN.
-         * @throws IllegalArgumentException for missing files, bad headers or misaligned rows.
-         * @throws dev.motionfusion.core.io.DataFormatException for a malformed input table.
+         * The trial in [dir] (input.csv.gz or input.csv, truth.csv.gz or truth.csv).
+         * @throws DataFormatException when a file is missing.
          */
-        public fun load(dir: File): Trial {
-            val input = ImuTableReader.open(locate(dir, "input").toPath()).use { r -> r.asSequence().toList() to r.hasMagnetometer }
-            val rows = input.first
-            val hasMag = input.second
-            val truthFile = locate(dir, "truth")
-            val truth = Inputs.reader(truthFile.toPath()).use { reader ->
-                val header = reader.readLine()?.split(',')?.map { it.trim() }
-                require(header == TRUTH_HEADER) { "${truthFile.path}: header $header, expected $TRUTH_HEADER" }
-                reader.lineSequence().filter { it.isNotBlank() }.map { line ->
-                    val parts = line.split(',')
-                    require(parts.size == TRUTH_HEADER.size) { "${truthFile.path}: ${parts.size} fields in '$line'" }
-                    DoubleArray(parts.size) { k -> parts[k].trim().let { v -> if (v.isEmpty() || v.equals("nan", ignoreCase = true)) Double.NaN else v.toDouble() } }
-                }.toList()
-            }
-            require(rows.size == truth.size) { "${dir.name}: ${rows.size} input rows but ${truth.size} truth rows" }
-            val n = rows.size
-            for (i in 0 until n) require(truth[i][0] == rows[i].timeS) { "${dir.name}: row $i truth time ${truth[i][0]} ≠ input time ${rows[i].timeS}" }
-            return Trial(
-                dir.name,
-                DoubleArray(n) { rows[it].timeS },
-                Array(n) { rows[it].let { r -> doubleArrayOf(r.gx, r.gy, r.gz, r.ax, r.ay, r.az, r.mx, r.my, r.mz) } },
-                hasMag,
-                Array(n) { truth[it].copyOfRange(1, 5) },
-                BooleanArray(n) { truth[it][5] == 1.0 },
-            )
-        }
+        @JvmStatic
+        public fun load(dir: File): Trial = Trial(dir.name, locate(dir, "input"), locate(dir, "truth"))
 
         /** True when [dir] holds a trial (an input and a truth file). */
+        @JvmStatic
         public fun isTrial(dir: File): Boolean =
             listOf("input", "truth").all { File(dir, "$it.csv.gz").isFile || File(dir, "$it.csv").isFile }
 
         private fun locate(dir: File, stem: String): File =
             listOf(File(dir, "$stem.csv.gz"), File(dir, "$stem.csv")).firstOrNull { it.isFile }
-                ?: throw IllegalArgumentException("${dir.path}: no $stem.csv.gz or $stem.csv")
+                ?: throw DataFormatException(dir.path, 0, 0, "no $stem.csv.gz or $stem.csv: not a trial folder")
+    }
+}
 
-        private val TRUTH_HEADER = listOf("t_s", "qw", "qx", "qy", "qz", "movement")
+/**
+ * A trial's rows in lock step: [timeS], [imu] (gx…mz, mx…mz NaN without magnetometer), [truth]
+ * [w, x, y, z] (NaN where unknown) and [scored]; arrays reused by the next call.
+ */
+public class TrialReader internal constructor(
+    private val name: String,
+    private val imuReader: ImuTableReader,
+    private val truthReader: QuaternionTableReader,
+    private val truthName: String,
+) : Closeable {
+    public val hasMag: Boolean get() = imuReader.hasMagnetometer
+    public val timeS: Double get() = imuReader.timeS
+    public val imu: DoubleArray get() = imuReader.row
+    public val truth: DoubleArray get() = truthReader.q
+    public val scored: Boolean get() = truthReader.scored
+    private var row = 0L
+
+    public fun next(): Boolean {
+        val a = imuReader.next()
+        val b = truthReader.next()
+        if (a != b) throw DataFormatException(truthName, 0, 0, "$name: ${if (a) "fewer" else "more"} truth rows than input rows (they must pair up; input row ${row + 1})")
+        if (!a) return false
+        row++
+        if (truthReader.timeS != imuReader.timeS) {
+            throw DataFormatException(truthName, row + 1, 1, "truth time ${truthReader.timeS} ≠ input time ${imuReader.timeS} (row $row; the tables must pair up row by row)")
+        }
+        return true
+    }
+
+    override fun close() {
+        try { imuReader.close() } finally { truthReader.close() }
     }
 }

@@ -1,8 +1,10 @@
 /*
- * A fast, streaming reader of comma-separated ASCII numbers straight from bytes: no String per
- * line, no Double.parseDouble on the common path. Used for the session streams, where replay
- * must read millions of rows per second. Memory is one buffer (64 KiB, grown for long lines up
- * to [MAX_LINE_BYTES]).
+ * The one CSV tokenizer of every text input (sessions, plain tables, truth tables, phyphox,
+ * Sensor Logger): a streaming reader of separated ASCII numbers straight from bytes, no String
+ * per line, no Double.parseDouble on the common path. Fields may be quoted ("Time (s)"); a
+ * UTF-8 byte order mark before the first line is skipped. Memory is one buffer (64 KiB, grown
+ * for long lines up to [maxLineBytes], beyond which the line is an error, never an
+ * OutOfMemoryError). Error texts quote at most a short, escaped excerpt of a field.
  */
 package dev.motionfusion.core.io
 
@@ -13,7 +15,14 @@ internal class ByteCsvReader(
     private val input: InputStream,
     val sourceName: String,
     private val separator: Byte = ','.code.toByte(),
+    /** Numbers may use ',' as decimal mark (only with a separator other than ','). */
+    private val decimalComma: Boolean = false,
+    private val maxLineBytes: Int = MAX_LINE_BYTES,
 ) : Closeable {
+    init {
+        require(!(decimalComma && separator == COMMA)) { "a decimal comma needs another separator" }
+    }
+
     private var buf = ByteArray(1 shl 16)
     private var pos = 0
     private var limit = 0
@@ -60,6 +69,7 @@ internal class ByteCsvReader(
                     lineEnd = if (scan > pos && buf[scan - 1] == CR) scan - 1 else scan
                     pos = scan + 1
                     endedWithNewline = true
+                    if (lineNumber == 1L) skipByteOrderMark()
                     return true
                 }
                 scan++
@@ -71,11 +81,18 @@ internal class ByteCsvReader(
                 lineEnd = if (buf[limit - 1] == CR) limit - 1 else limit
                 pos = limit
                 endedWithNewline = false
+                if (lineNumber == 1L) skipByteOrderMark()
                 return true
             }
             val scanned = scan - pos
             fill()
             scan = pos + scanned
+        }
+    }
+
+    private fun skipByteOrderMark() {
+        if (lineEnd - lineStart >= 3 && buf[lineStart] == 0xEF.toByte() && buf[lineStart + 1] == 0xBB.toByte() && buf[lineStart + 2] == 0xBF.toByte()) {
+            lineStart += 3
         }
     }
 
@@ -85,20 +102,15 @@ internal class ByteCsvReader(
         if (pos > 0) {
             System.arraycopy(buf, pos, buf, 0, unread)
         } else if (unread == buf.size) {
-            if (buf.size >= MAX_LINE_BYTES) {
-                throw DataFormatException(sourceName, lineNumber + 1, 0, "line longer than $MAX_LINE_BYTES bytes: not a CSV text file?")
+            if (buf.size >= maxLineBytes) {
+                throw DataFormatException(sourceName, lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
             }
-            buf = buf.copyOf(buf.size * 2)
+            buf = buf.copyOf(minOf(buf.size * 2, maxLineBytes))
         }
         pos = 0
         limit = unread
-        val n = try {
-            input.read(buf, limit, buf.size - limit)
-        } catch (e: java.util.zip.ZipException) {
-            throw DataFormatException(sourceName, lineNumber + 1, 0, "corrupt compressed data: ${e.message}", e)
-        } catch (e: java.io.EOFException) {
-            throw DataFormatException(sourceName, lineNumber + 1, 0, "compressed data ends early: ${e.message}", e)
-        }
+        // Broken or oversized compressed data is reported by the stream (CompressionGuard).
+        val n = input.read(buf, limit, buf.size - limit)
         if (n < 0) eof = true else limit += n
     }
 
@@ -106,20 +118,35 @@ internal class ByteCsvReader(
         count = 0
         var i = lineStart
         var start = i
+        var quotedEnd = -1
+        if (i < lineEnd && buf[i] == QUOTE) quotedEnd = closingQuote(i)
         while (true) {
-            if (i == lineEnd || buf[i] == separator) {
+            if (i == lineEnd || (buf[i] == separator && i > quotedEnd)) {
                 if (count == starts.size) {
                     starts = starts.copyOf(count * 2)
                     ends = ends.copyOf(count * 2)
                 }
-                starts[count] = start
-                ends[count] = i
+                if (quotedEnd >= 0) {
+                    starts[count] = start + 1
+                    ends[count] = quotedEnd
+                } else {
+                    starts[count] = start
+                    ends[count] = i
+                }
                 count++
                 if (i == lineEnd) return
                 start = i + 1
+                quotedEnd = if (start < lineEnd && buf[start] == QUOTE) closingQuote(start) else -1
             }
             i++
         }
+    }
+
+    /** The closing quote of the field opened at [open], or the line end when there is none. */
+    private fun closingQuote(open: Int): Int {
+        var j = open + 1
+        while (j < lineEnd && buf[j] != QUOTE) j++
+        return j
     }
 
     /** The current line as text (headers, messages). */
@@ -136,26 +163,41 @@ internal class ByteCsvReader(
 
     fun isEmpty(i: Int): Boolean = starts[i] == ends[i]
 
+    /** Field [i] for messages: at most [EXCERPT_CHARS] characters, control characters and quotes escaped. */
+    fun excerpt(i: Int): String = escapedExcerpt(String(buf, starts[i], minOf(ends[i] - starts[i], 4 * EXCERPT_CHARS), Charsets.UTF_8))
+
     /** A [DataFormatException] at field [i] of the current line. */
     fun error(i: Int, reason: String): DataFormatException =
         DataFormatException(sourceName, lineNumber, if (i < count) column(i) else endColumn(), reason)
 
+    /**
+     * Checks that the current line has [expected] fields (the header's count). A comma-separated
+     * row with too many fields often holds decimal commas: the message says so.
+     */
+    fun requireFieldCount(expected: Int) {
+        if (count == expected) return
+        val hint = if (count > expected && separator == COMMA) " (a decimal comma in a comma-separated file? numbers must use '.')" else ""
+        throw error(minOf(count, expected), "row has $count fields, the header has $expected$hint")
+    }
+
     /** Field [i] as a decimal integer (optional sign, digits only). */
     fun parseLong(i: Int): Long {
         var p = starts[i]
-        val e = ends[i]
+        var e = ends[i]
+        while (p < e && buf[p] == SPACE) p++
+        while (e > p && buf[e - 1] == SPACE) e--
         if (p == e) throw FieldError("empty field, expected an integer")
         var negative = false
         if (buf[p] == MINUS || buf[p] == PLUS) {
             negative = buf[p] == MINUS
             p++
-            if (p == e) throw FieldError("'${text(i)}' is not an integer")
+            if (p == e) throw FieldError("'${excerpt(i)}' is not an integer")
         }
         var v = 0L
         while (p < e) {
             val d = buf[p] - ZERO
-            if (d !in 0..9) throw FieldError("'${text(i)}' is not an integer")
-            if (v > (Long.MAX_VALUE - d) / 10L) throw FieldError("'${text(i)}' is out of range")
+            if (d !in 0..9) throw FieldError("'${excerpt(i)}' is not an integer")
+            if (v > (Long.MAX_VALUE - d) / 10L) throw FieldError("'${excerpt(i)}' is out of range")
             v = v * 10L + d
             p++
         }
@@ -170,7 +212,9 @@ internal class ByteCsvReader(
      */
     fun parseDouble(i: Int, emptyIsNaN: Boolean = false): Double {
         var p = starts[i]
-        val e = ends[i]
+        var e = ends[i]
+        while (p < e && buf[p] == SPACE) p++
+        while (e > p && buf[e - 1] == SPACE) e--
         if (p == e) {
             if (emptyIsNaN) return Double.NaN
             throw FieldError("empty field, expected a number")
@@ -197,7 +241,7 @@ internal class ByteCsvReader(
             }
             p++
         }
-        if (p < e && buf[p] == DOT) {
+        if (p < e && (buf[p] == DOT || (decimalComma && buf[p] == COMMA))) {
             p++
             while (p < e && buf[p] - ZERO in 0..9) {
                 sawDigit = true
@@ -219,7 +263,7 @@ internal class ByteCsvReader(
                 expNegative = buf[p] == MINUS
                 p++
             }
-            if (p == e) throw FieldError("'${text(i)}' is not a number")
+            if (p == e) throw FieldError("'${excerpt(i)}' is not a number")
             var x = 0
             while (p < e && buf[p] - ZERO in 0..9) {
                 if (x < 100_000) x = x * 10 + (buf[p] - ZERO)
@@ -227,25 +271,28 @@ internal class ByteCsvReader(
             }
             exp10 += if (expNegative) -x else x
         }
-        if (p != e) throw FieldError("'${text(i)}' is not a decimal number")
+        if (p != e) throw FieldError("'${excerpt(i)}' is not a decimal number")
         if (exact && mantissa < (1L shl 53) && exp10 in -22..22) {
             val m = mantissa.toDouble()
             val v = if (exp10 >= 0) m * POW10[exp10] else m / POW10[-exp10]
             return if (negative) -v else v
         }
         if (mantissa == 0L && exact) return if (negative) -0.0 else 0.0
-        return String(buf, first, e - first, Charsets.US_ASCII).toDouble()
+        return String(buf, first, e - first, Charsets.US_ASCII).replace(',', '.').toDouble()
     }
 
     private fun special(s: Int, e: Int, i: Int): Double {
-        val t = text(i)
-        return when (t) {
+        if (e - s > 9) throw FieldError("'${excerpt(i)}' is not a number")
+        return when (String(buf, s, e - s, Charsets.UTF_8)) {
             "NaN", "nan", "+NaN", "-NaN" -> Double.NaN
             "Infinity", "+Infinity", "inf", "+inf" -> Double.POSITIVE_INFINITY
             "-Infinity", "-inf" -> Double.NEGATIVE_INFINITY
-            else -> throw FieldError(if (s == e) "empty field, expected a number" else "'$t' is not a number")
+            else -> throw FieldError("'${excerpt(i)}' is not a number")
         }
     }
+
+    /** The current line's fields as header names: trimmed, BOM and quotes removed. */
+    fun names(): List<String> = (0 until count).map { text(it).trim().removeSurrounding("\"").trim() }
 
     override fun close(): Unit = input.close()
 
@@ -256,7 +303,29 @@ internal class ByteCsvReader(
         private const val MINUS = '-'.code.toByte()
         private const val PLUS = '+'.code.toByte()
         private const val DOT = '.'.code.toByte()
+        private const val COMMA = ','.code.toByte()
+        private const val QUOTE = '"'.code.toByte()
+        private const val SPACE = ' '.code.toByte()
+        const val EXCERPT_CHARS = 24
+
+        /** [text] cut to [EXCERPT_CHARS] characters with control characters, quotes and backslashes escaped. */
+        fun escapedExcerpt(text: String): String {
+            val cut = text.length > EXCERPT_CHARS
+            val sb = StringBuilder()
+            for (c in text.take(EXCERPT_CHARS)) {
+                when {
+                    c == '\\' || c == '\'' || c == '"' -> sb.append('\\').append(c)
+                    c < ' ' || c == '\u007f' || c == '\ufeff' || c.isSurrogate() -> sb.append("\\u%04x".format(c.code))
+                    else -> sb.append(c)
+                }
+            }
+            if (cut) sb.append("…")
+            return sb.toString()
+        }
         private const val ZERO = '0'.code.toByte()
         private val POW10 = DoubleArray(23) { k -> "1e$k".toDouble() }
     }
 }
+
+/** A field that is not what its column needs; the caller adds the file, line and column. */
+internal class FieldError(val reason: String) : RuntimeException(reason, null, false, false)

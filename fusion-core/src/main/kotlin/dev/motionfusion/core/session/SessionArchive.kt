@@ -6,19 +6,16 @@ package dev.motionfusion.core.session
 
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.FileSet
+import dev.motionfusion.core.io.InputLimits
 import java.io.BufferedOutputStream
 import java.io.OutputStream
 import java.nio.file.Files
 import java.nio.file.Path
 import java.util.zip.ZipEntry
-import java.util.zip.ZipException
-import java.util.zip.ZipFile
 import java.util.zip.ZipOutputStream
 
 public object SessionArchive {
-    /** Largest file accepted by [unzip] (protects against zip bombs): 8 GiB. */
-    public const val MAX_ENTRY_BYTES: Long = 8L shl 30
-
     /**
      * Writes the session folder [dir] as a zip to [zipFile] (deflate), files inside a folder
      * named like [dir]. Only meta.json and the stream files are included. Entries carry the
@@ -55,41 +52,25 @@ public object SessionArchive {
     /**
      * Extracts the session in [zipFile] into the new folder [target] (which must not exist).
      * Only flat files beside meta.json are extracted; paths are never followed out of [target].
-     * @throws DataFormatException when the zip is broken or holds no session.
+     * Decompression is capped by [limits].
+     * @throws DataFormatException when the zip is broken, holds no session or expands beyond the limits.
      */
     @JvmStatic
-    public fun unzip(zipFile: Path, target: Path): Path {
+    @JvmOverloads
+    public fun unzip(zipFile: Path, target: Path, limits: InputLimits = InputLimits()): Path {
         require(!Files.exists(target)) { "$target already exists" }
-        try {
-            ZipFile(zipFile.toFile()).use { zip ->
-                val entries = zip.entries().asSequence().toList()
-                val meta = entries.map { it.name }.filter { it == SessionMetadata.FILE_NAME || it.endsWith("/" + SessionMetadata.FILE_NAME) }
-                    .minByOrNull { it.length } ?: throw DataFormatException(zipFile.toString(), 0, 0, "no meta.json: not a session zip")
-                val prefix = meta.removeSuffix(SessionMetadata.FILE_NAME)
-                Files.createDirectories(target)
-                for (e in entries) {
-                    if (e.isDirectory || !e.name.startsWith(prefix)) continue
-                    val name = e.name.removePrefix(prefix)
-                    if (name.isEmpty() || '/' in name || '\\' in name || name == "." || name == "..") continue
-                    val out = target.resolve(name).normalize()
-                    check(out.parent == target.normalize()) { "unsafe entry ${e.name}" }
-                    zip.getInputStream(e).use { input ->
-                        Files.newOutputStream(out).use { o ->
-                            val buf = ByteArray(1 shl 16)
-                            var total = 0L
-                            while (true) {
-                                val n = input.read(buf)
-                                if (n < 0) break
-                                total += n
-                                if (total > MAX_ENTRY_BYTES) throw DataFormatException("$zipFile!/${e.name}", 0, 0, "entry larger than $MAX_ENTRY_BYTES bytes")
-                                o.write(buf, 0, n)
-                            }
-                        }
-                    }
-                }
+        FileSet.open(zipFile, limits).use { files ->
+            val meta = files.paths.firstOrNull { it == SessionMetadata.FILE_NAME || it.endsWith("/" + SessionMetadata.FILE_NAME) }
+            if (files.isFolder || meta == null) throw DataFormatException(zipFile.toString(), 0, 0, "no meta.json: not a session zip")
+            val prefix = meta.removeSuffix(SessionMetadata.FILE_NAME)
+            Files.createDirectories(target)
+            for (path in files.filesIn(prefix)) {
+                val name = path.removePrefix(prefix)
+                if (name.isEmpty() || '\\' in name || name == "." || name == "..") continue
+                val out = target.resolve(name).normalize()
+                check(out.parent == target.normalize()) { "unsafe entry $path" }
+                files.open(path, gunzip = false).use { input -> Files.newOutputStream(out).use { o -> input.copyTo(o, 1 shl 16) } }
             }
-        } catch (e: ZipException) {
-            throw DataFormatException(zipFile.toString(), 0, 0, "not a readable zip file: ${e.message}", e)
         }
         return target
     }

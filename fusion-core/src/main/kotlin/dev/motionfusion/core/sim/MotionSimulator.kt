@@ -57,7 +57,7 @@ public class MotionSimulator(public val settings: SimulationSettings) {
         return Vector3(a * sin(2.0 * PI * 1.3 * t), a * cos(2.0 * PI * 0.7 * t), a * sin(2.0 * PI * 0.9 * t))
     }
 
-    /** Runs the whole simulation. */
+    /** Runs the whole simulation into a list (for short runs; [forEach] streams). */
     public fun run(): List<SimulatedSample> {
         val out = ArrayList<SimulatedSample>((settings.durationS * settings.rateHz).toInt())
         forEach { out.add(it) }

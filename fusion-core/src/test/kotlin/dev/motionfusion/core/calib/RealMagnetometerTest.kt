@@ -1,10 +1,6 @@
 package dev.motionfusion.core.calib
 
-import dev.motionfusion.core.io.CsvLine
-import dev.motionfusion.core.io.Inputs
-import dev.motionfusion.core.recording.Dialect
-import dev.motionfusion.core.recording.MappedCsvCursor
-import dev.motionfusion.core.recording.Recording
+import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.session.SessionStream
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Assumptions.assumeTrue
@@ -31,15 +27,13 @@ class RealMagnetometerTest {
 
     @Test
     fun `an export of only uncalibrated streams, turned through many orientations, is fitted and its field narrows`() {
-        // Sensor Logger's importer wants a Gyroscope.csv to replay; this export has only the
-        // uncalibrated files, so its magnetometer file is read with the importer's column cursor.
-        val file = folder("sl-ios-simorxb").resolve("MagnetometerUncalibrated.csv")
-        val reader = Inputs.reader(file)
-        val names = CsvLine(',').also { it.split(reader.readLine()) }.let { f -> (0 until f.count).map { f.text(it) } }
+        // The export holds only the uncalibrated streams; the importer reads them as they are.
         val fitter = MagnetometerFitter(CalibrationSettings(), SessionStream.MAGNETOMETER_UNCALIBRATED)
-        MappedCsvCursor(SessionStream.MAGNETOMETER_UNCALIBRATED, reader, file.toString(), Dialect(',', false), names.indexOf("time"), 1.0,
-            intArrayOf(names.indexOf("x"), names.indexOf("y"), names.indexOf("z"), -1, -1, -1), DoubleArray(6) { 1.0 }, firstLineNumber = 1).use { c ->
-            while (c.next()) fitter.add(c.values[0], c.values[1], c.values[2])
+        Recording.open(folder("sl-ios-simorxb")).use { rec ->
+            assertTrue(SessionStream.MAGNETOMETER_UNCALIBRATED in rec.streams, "streams ${rec.streams}")
+            rec.events(setOf(SessionStream.MAGNETOMETER_UNCALIBRATED)).use { e ->
+                while (e.next()) fitter.add(e.values[0], e.values[1], e.values[2])
+            }
         }
         val fit = fitter.fit()
         println("sl-ios-simorxb: $fit")

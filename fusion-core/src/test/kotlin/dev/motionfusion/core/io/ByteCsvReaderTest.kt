@@ -88,4 +88,30 @@ class ByteCsvReaderTest {
         }
         assertFalse(csv.nextLine())
     }
+
+    @Test
+    fun `quoted fields, a byte order mark and the dialects of phyphox`() {
+        val csv = ByteCsvReader(ByteArrayInputStream("\uFEFF\"Time (s)\";\"a;b\";c\n1,5;2.5;-3,25E-1\n".toByteArray()), "p.csv", ';'.code.toByte(), decimalComma = true)
+        assertTrue(csv.nextLine())
+        assertEquals(listOf("Time (s)", "a;b", "c"), csv.names())
+        assertTrue(csv.nextLine())
+        assertEquals(1.5, csv.parseDouble(0))
+        assertEquals(2.5, csv.parseDouble(1))
+        assertEquals(-0.325, csv.parseDouble(2))
+    }
+
+    @Test
+    fun `a float in an integer column is an error`() {
+        val csv = reader("1.7e18,1700000000000000000.0\n")
+        csv.nextLine()
+        assertThrows(FieldError::class.java) { csv.parseLong(0) }
+        assertThrows(FieldError::class.java) { csv.parseLong(1) }
+    }
+
+    @Test
+    fun `the line bound can be set lower`() {
+        val csv = ByteCsvReader(ByteArrayInputStream(ByteArray(200_000) { 'a'.code.toByte() }), "big.csv", maxLineBytes = 1 shl 16)
+        val e = assertThrows(DataFormatException::class.java) { csv.nextLine() }
+        assertTrue(e.reason.contains("longer than 65536"), e.reason)
+    }
 }

@@ -1,7 +1,6 @@
-package dev.motionfusion.core.recording
+package dev.motionfusion.core.input
 
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.io.QuaternionTable
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionMetadata
@@ -59,6 +58,8 @@ class InputFuzzTest {
 
     private val table = ("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},0.01,-0.02,0.03,0.1,0.2,9.8,20,0,-40\n" }).toByteArray()
     private val phyphoxGyro = ("\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" + (0 until 40).joinToString("") { row3(it) + "\n" }).toByteArray()
+    private val phyphoxCombined = ("\"Time (s)\",\"Acceleration x (m/s^2)\",\"Acceleration y (m/s^2)\",\"Acceleration z (m/s^2)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" +
+        (0 until 40).joinToString("") { row3(it) + ",0.01,0.02,-0.03\n" }).toByteArray()
     private val phyphoxAcc = ("\"Time (s)\";\"Acceleration x (m/s^2)\";\"Acceleration y (m/s^2)\";\"Acceleration z (m/s^2)\"\n" +
         (0 until 40).joinToString("") { row3(it).replace(',', ';').replace('.', ',') + "\n" }).toByteArray()
     private fun logger(order: String) = ("time,seconds_elapsed,$order\n" + (0 until 40).joinToString("") { t -> "${1_700_000_000_000_000_000L + t * 10_000_000L},${0.01 * t},0.1,-0.2,9.8\n" }).toByteArray()
@@ -115,8 +116,8 @@ class InputFuzzTest {
         repeat(rounds) {
             check("table") { drain(write("t.csv", mutate(table))) }
             check("table.gz") { drain(write("t.csv.gz", if (random.nextBoolean()) mutate(gzip(table)) else gzip(mutate(table)))) }
-            check("truth") { QuaternionTable.read(write("truth.csv", mutate(truth))) }
-            check("phyphox csv") { drain(write("Gyroscope.csv", mutate(phyphoxGyro))) }
+            check("truth") { QuaternionTableReader.open(write("truth.csv", mutate(truth))).use { r -> while (r.next()) r.q } }
+            check("phyphox csv") { drain(write("Raw Data.csv", mutate(phyphoxCombined))) }
             check("phyphox zip") {
                 val entries = if (random.nextBoolean()) mapOf("Gyroscope.csv" to mutate(phyphoxGyro), "Accelerometer.csv" to phyphoxAcc)
                 else mapOf("Gyroscope.csv" to phyphoxGyro, "Accelerometer.csv" to mutate(phyphoxAcc))
@@ -154,5 +155,53 @@ class InputFuzzTest {
         println("fuzz: $case cases; per format [read fine, DataFormatException]: " + outcomes.entries.joinToString { "${it.key} ${it.value.toList()}" })
         // The mutations must exercise both outcomes of every reader, or the test proves little.
         for ((f, o) in outcomes) assertTrue(o[0] > 0 && o[1] > 0, "$f: ${o.toList()}")
+    }
+
+    /** [read] must fail with a DataFormatException whose message contains [fragment] and stays short. */
+    private fun rejects(fragment: String, read: () -> Unit) {
+        case++
+        try {
+            read()
+            fail<Unit>("case $case: read fine, expected an error with '$fragment'")
+        } catch (e: DataFormatException) {
+            assertTrue(e.message!!.contains(fragment), "case $case: ${e.message}")
+            assertTrue(e.message!!.length < 600, "case $case: message of ${e.message!!.length} characters")
+        }
+    }
+
+    @Test
+    fun `hostile files are clear errors, never a crash or unbounded memory`() {
+        val zeros = ByteArray(8 shl 20) // 8 MiB without a newline: compresses to a few KiB
+        val header = "t_s,gx,gy,gz,ax,ay,az\n".toByteArray()
+        rejects("longer than") { drain(write("long.csv", header + ByteArray(3 shl 20) { 'x'.code.toByte() })) }
+        rejects("longer than") { drain(write("bomb.csv.gz", gzip(header + zeros))) }
+        rejects("longer than") { drain(write("bomb.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x") + zeros, "TotalAcceleration.csv" to logger("z,y,x"))))) }
+        val big = ByteArrayOutputStream().also { o -> o.write(header); repeat(100_000) { o.write("0.01,0,0,0,0,0,9.8\n".toByteArray()) } }.toByteArray()
+        val small = ImportOptions(dev.motionfusion.core.io.InputLimits.perFile(1 shl 20))
+        rejects("limit for one file") { Recording.open(write("big.csv.gz", gzip(big)), small).use { r -> r.events().use { e -> while (e.next()) Unit } } }
+        rejects("in total") {
+            Recording.open(write("big.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x"), "TotalAcceleration.csv" to logger("z,y,x")))),
+                ImportOptions(dev.motionfusion.core.io.InputLimits(maxEntryBytes = 2000, maxTotalBytes = 3000))).use { r -> r.events().use { e -> while (e.next()) Unit } }
+        }
+        rejects("3 fields") { drain(write("short.csv", "t_s,gx,gy,gz,ax,ay,az\n1,2,3\n".toByteArray())) }
+        rejects("has 7") { drain(write("extra2.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8,1\n".toByteArray())) }
+        rejects("decimal comma") { drain(write("comma.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9,8\n".toByteArray())) }
+        rejects("integer nanoseconds") {
+            drain(write("float.zip", zip(mapOf("Gyroscope.csv" to "time,seconds_elapsed,z,y,x\n1.7e18,0,0,0,0\n".toByteArray(), "TotalAcceleration.csv" to logger("z,y,x")))))
+        }
+        rejects("not a finite time") { drain(write("nan.csv", "t_s,gx,gy,gz,ax,ay,az\nNaN,0,0,0,0,0,9.8\n".toByteArray())) }
+        rejects("larger than") {
+            val dir = Files.createDirectories(tmp.resolve("bigmeta"))
+            Files.write(dir.resolve("meta.json"), ByteArray(2 shl 20) { ' '.code.toByte() })
+            drain(dir)
+        }
+        rejects("without gyroscope") { drain(write("Accelerometer.csv", phyphoxAcc)) }
+        rejects("without accelerometer") { drain(write("Gyroscope.csv", phyphoxGyro)) }
+        rejects("holds 2 recordings") {
+            val dir = Files.createDirectories(tmp.resolve("two"))
+            for (n in listOf("a", "b")) Files.write(Files.createDirectories(dir.resolve(n)).resolve("t.csv"), table)
+            drain(dir)
+        }
+        println("hostile: $case cases, each a DataFormatException with the expected reason")
     }
 }

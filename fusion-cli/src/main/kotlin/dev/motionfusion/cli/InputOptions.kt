@@ -1,0 +1,49 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.input.ImportOptions
+import dev.motionfusion.core.input.Platform
+import dev.motionfusion.core.input.Recording
+import dev.motionfusion.core.io.InputLimits
+import java.io.PrintStream
+import java.nio.file.Path
+import java.nio.file.Paths
+
+/** The input options shared by every command that reads recordings, and the one way they open an input. */
+internal object InputOptions {
+    val VALUED = setOf("--platform", "--max-uncompressed")
+
+    val HELP = """
+        |Input options:
+        |  --platform android|ios   the phone of a Sensor Logger export whose Metadata.csv does not say
+        |                       (iOS exports have the opposite acceleration sign); default: inferred, else android
+        |  --max-uncompressed SIZE  largest decompressed size of one compressed file (.gz, zip entry), e.g. 40G;
+        |                       four times that in total (default 16G, a day of recording)
+        |""".trimMargin()
+
+    fun limits(o: Options): InputLimits {
+        val v = o.value("--max-uncompressed") ?: return InputLimits()
+        val m = Regex("""^(\d+)([kKmMgGtT]?)[bB]?$""").matchEntire(v) ?: throw UsageException("--max-uncompressed expects a size like 500M or 40G, got '$v'")
+        val shift = when (m.groupValues[2].lowercase()) { "k" -> 10; "m" -> 20; "g" -> 30; "t" -> 40; else -> 0 }
+        val n = m.groupValues[1].toLongOrNull()?.takeIf { it > 0 && it <= (Long.MAX_VALUE shr shift) } ?: throw UsageException("--max-uncompressed: '$v' is out of range")
+        return InputLimits.perFile(n shl shift)
+    }
+
+    fun options(o: Options): ImportOptions {
+        val platform = when (o.value("--platform")?.lowercase()) {
+            null -> null
+            "android" -> Platform.ANDROID
+            "ios" -> Platform.IOS
+            else -> throw UsageException("--platform expects android or ios")
+        }
+        return ImportOptions(limits(o), platform)
+    }
+
+    /** Opens [input] with the options of [o]; what the import assumed goes to [err] as notes. */
+    fun open(input: String, o: Options, err: PrintStream, command: String): Recording {
+        val rec = Recording.open(Paths.get(input), options(o))
+        for (n in rec.notes) err.println("fusion $command: note: ${rec.name}: $n")
+        return rec
+    }
+
+    fun path(p: String): Path = Paths.get(p)
+}

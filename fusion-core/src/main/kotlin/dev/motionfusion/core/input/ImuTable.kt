@@ -1,0 +1,158 @@
+/*
+ * The plain IMU table: one CSV row per instant with every sensor sampled together.
+ *
+ *     t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]
+ *
+ * t_s in seconds, gyroscope in rad/s, accelerometer in m/s² (specific force: +9.81 on the
+ * up axis at rest, as Android's TYPE_ACCELEROMETER), magnetometer in µT, all in the device
+ * frame. Columns are found by name, so their order is free and extra columns are ignored; every
+ * row has the header's number of fields. A magnetometer field may be empty (no reading at that
+ * instant); other fields may not. Numbers use '.' as decimal separator; NaN and Infinity are
+ * read as such (the filter skips them), but t_s must be finite. The file may be
+ * gzip-compressed. Reading streams: memory does not grow with the file.
+ */
+package dev.motionfusion.core.input
+
+import dev.motionfusion.core.io.ByteCsvReader
+import dev.motionfusion.core.io.CompressionGuard
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.FieldError
+import dev.motionfusion.core.io.InputLimits
+import dev.motionfusion.core.io.Inputs
+import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.session.SessionStream
+import java.io.Closeable
+import java.io.InputStream
+import java.nio.file.Files
+import java.nio.file.Path
+import kotlin.math.roundToLong
+
+/**
+ * A cursor over the rows of an IMU table: call [next] and, while it returns true, read [timeS]
+ * and [row] (reused by the next call). Malformed content throws [DataFormatException] naming the
+ * source, line and column.
+ */
+public class ImuTableReader internal constructor(private val csv: ByteCsvReader) : Closeable {
+    /** True when the table has magnetometer columns. */
+    public val hasMagnetometer: Boolean
+
+    /** Time of the current row, s. */
+    public var timeS: Double = Double.NaN
+        private set
+
+    /** The current row: gx, gy, gz (rad/s), ax, ay, az (m/s²), mx, my, mz (µT; NaN when absent). */
+    public val row: DoubleArray = DoubleArray(9) { Double.NaN }
+
+    private val index = IntArray(COLUMNS.size) { -1 }
+    private val fieldCount: Int
+
+    init {
+        try {
+            if (!csv.nextLine()) throw DataFormatException(csv.sourceName, 1, 0, "empty file: expected a header ${COLUMNS.joinToString(",")}")
+            val names = csv.names().map { it.lowercase() }
+            fieldCount = names.size
+            for ((i, n) in names.withIndex()) {
+                val c = COLUMNS.indexOf(n)
+                if (c >= 0) {
+                    if (index[c] >= 0) throw DataFormatException(csv.sourceName, 1, csv.column(i), "column $n appears twice")
+                    index[c] = i
+                }
+            }
+            val missing = COLUMNS.take(REQUIRED).filterIndexed { c, _ -> index[c] < 0 }
+            if (missing.isNotEmpty()) {
+                throw DataFormatException(csv.sourceName, 1, 1,
+                    "header lacks column(s) ${missing.joinToString(",")}; expected ${COLUMNS.joinToString(",")} (magnetometer optional)")
+            }
+            val magPresent = (REQUIRED until COLUMNS.size).count { index[it] >= 0 }
+            if (magPresent in 1 until COLUMNS.size - REQUIRED) {
+                throw DataFormatException(csv.sourceName, 1, 1, "header has only some of mx,my,mz: give all three or none")
+            }
+            hasMagnetometer = magPresent > 0
+        } catch (e: Throwable) {
+            csv.close()
+            throw e
+        }
+    }
+
+    /** Advances to the next row; false at the end. */
+    public fun next(): Boolean {
+        if (!csv.nextLine()) return false
+        csv.requireFieldCount(fieldCount)
+        var c = 0
+        try {
+            val t = csv.parseDouble(index[0])
+            if (!(kotlin.math.abs(t) < MAX_TIME_S)) throw FieldError("time '${csv.excerpt(index[0])}' is not a finite time (or beyond ±292 years)")
+            timeS = t
+            c = 1
+            while (c < COLUMNS.size) {
+                val i = index[c]
+                if (i >= 0) row[c - 1] = csv.parseDouble(i, emptyIsNaN = c >= REQUIRED)
+                c++
+            }
+        } catch (e: FieldError) {
+            throw csv.error(index[c], "column ${COLUMNS[c]}: ${e.reason}")
+        }
+        return true
+    }
+
+    override fun close(): Unit = csv.close()
+
+    public companion object {
+        /** Column names in canonical order; the first [REQUIRED] are mandatory. */
+        public val COLUMNS: List<String> = listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az", "mx", "my", "mz")
+        private const val REQUIRED = 7
+
+        /** Times beyond this (s) do not fit a nanosecond Long. */
+        internal const val MAX_TIME_S = 9.2e9
+
+        /** True when [header] (a first line) names the required columns of an IMU table. */
+        internal fun recognises(header: String): Boolean {
+            val names = header.split(',').map { it.trim().removeSurrounding("\"").lowercase() }
+            return COLUMNS.take(REQUIRED).all { it in names }
+        }
+
+        /** Opens [path] (plain or gzip). The caller closes the reader. */
+        @JvmStatic
+        @JvmOverloads
+        public fun open(path: Path, limits: InputLimits = InputLimits()): ImuTableReader =
+            open(Files.newInputStream(path), path.toString(), limits)
+
+        /** Reads from [input] (plain or gzip); [sourceName] names it in errors. */
+        @JvmStatic
+        @JvmOverloads
+        public fun open(input: InputStream, sourceName: String, limits: InputLimits = InputLimits()): ImuTableReader =
+            ImuTableReader(ByteCsvReader(Inputs.maybeGunzip(input, sourceName, CompressionGuard(limits)), sourceName))
+    }
+}
+
+/** The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope, all at t_s. */
+internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents {
+    private var phase = 3
+    override var stream: SessionStream = SessionStream.ACCELEROMETER
+        private set
+    override var timestampNs: Long = 0L
+        private set
+    override val values: DoubleArray = DoubleArray(3)
+    override val accuracy: Int get() = SessionEvents.NO_ACCURACY
+    private val r = table.row
+
+    override fun next(): Boolean {
+        while (true) {
+            when (phase) {
+                0 -> { phase = 1; stream = SessionStream.ACCELEROMETER; values[0] = r[3]; values[1] = r[4]; values[2] = r[5]; return true }
+                1 -> {
+                    phase = 2
+                    if (table.hasMagnetometer) { stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true }
+                }
+                2 -> { phase = 3; stream = SessionStream.GYROSCOPE; values[0] = r[0]; values[1] = r[1]; values[2] = r[2]; return true }
+                else -> {
+                    if (!table.next()) return false
+                    timestampNs = (table.timeS * 1e9).roundToLong()
+                    phase = 0
+                }
+            }
+        }
+    }
+
+    override fun close(): Unit = table.close()
+}

@@ -1,0 +1,97 @@
+/*
+ * A table of orientations over time: `t_s,qw,qx,qy,qz[,movement]` (columns found by name, others
+ * ignored, gzip detected by its magic bytes). Both the output of `fusion replay` and BROAD's
+ * truth.csv.gz are such tables. Quaternions sensor → world, Hamilton, scalar first; an empty
+ * or NaN quaternion means "unknown" (occluded markers). movement 1 marks scored samples.
+ */
+package dev.motionfusion.core.input
+
+import dev.motionfusion.core.io.ByteCsvReader
+import dev.motionfusion.core.io.CompressionGuard
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.FieldError
+import dev.motionfusion.core.io.InputLimits
+import dev.motionfusion.core.io.Inputs
+import java.io.Closeable
+import java.nio.file.Files
+import java.nio.file.Path
+
+/**
+ * A cursor over an orientation table: call [next] and, while it returns true, read [timeS], [q]
+ * (reused) and [scored]. Streams: memory does not grow with the table.
+ */
+public class QuaternionTableReader private constructor(private val csv: ByteCsvReader) : Closeable {
+    private val cols: IntArray
+    private val movement: Int
+    private val fieldCount: Int
+    private val names: List<String>
+
+    /** True when the table has a movement column. */
+    public val hasMovement: Boolean get() = movement >= 0
+
+    /** Time of the current row, s. */
+    public var timeS: Double = Double.NaN
+        private set
+
+    /** The current orientation [w, x, y, z]; NaN when unknown. */
+    public val q: DoubleArray = DoubleArray(4)
+
+    /** True when the current row is scored (movement = 1, or there is no movement column). */
+    public var scored: Boolean = true
+        private set
+
+    init {
+        try {
+            val name = csv.sourceName
+            if (!csv.nextLine()) throw DataFormatException(name, 1, 0, "empty file: expected a header t_s,qw,qx,qy,qz")
+            names = csv.names()
+            fieldCount = names.size
+            cols = IntArray(5) { k ->
+                val c = COLUMNS[k]
+                names.indexOf(c).also { if (it < 0) throw DataFormatException(name, 1, 1, "header lacks column '$c'; expected t_s,qw,qx,qy,qz[,movement]") }
+            }
+            movement = names.indexOf("movement")
+        } catch (e: Throwable) {
+            csv.close()
+            throw e
+        }
+    }
+
+    /** Advances to the next row; false at the end. */
+    public fun next(): Boolean {
+        if (!csv.nextLine()) return false
+        csv.requireFieldCount(fieldCount)
+        var field = cols[0]
+        try {
+            val t = csv.parseDouble(field)
+            if (!(kotlin.math.abs(t) < ImuTableReader.MAX_TIME_S)) throw FieldError("time '${csv.excerpt(field)}' is not a finite time")
+            timeS = t
+            for (k in 0 until 4) {
+                field = cols[k + 1]
+                q[k] = csv.parseDouble(field, emptyIsNaN = true)
+            }
+            field = movement
+            scored = movement < 0 || csv.parseDouble(movement, emptyIsNaN = true) == 1.0
+        } catch (e: FieldError) {
+            throw csv.error(field, "column ${names[field]}: ${e.reason}")
+        }
+        return true
+    }
+
+    override fun close(): Unit = csv.close()
+
+    public companion object {
+        private val COLUMNS = listOf("t_s", "qw", "qx", "qy", "qz")
+
+        /**
+         * Opens [path] (plain or gzip).
+         * @throws DataFormatException naming the file, line and column of malformed content.
+         */
+        @JvmStatic
+        @JvmOverloads
+        public fun open(path: Path, limits: InputLimits = InputLimits()): QuaternionTableReader {
+            val name = path.toString()
+            return QuaternionTableReader(ByteCsvReader(Inputs.maybeGunzip(Files.newInputStream(path), name, CompressionGuard(limits)), name))
+        }
+    }
+}

@@ -1,0 +1,177 @@
+/*
+ * Any input `fusion` replays, opened by path and recognised by content: a session (folder or
+ * zip), a plain IMU table (.csv or .csv.gz, or a trial folder holding input.csv[.gz]), a
+ * phyphox export (zip, folder or single CSV), a Sensor Logger export (zip or folder). One input
+ * is one recording: a folder holding several is an error that lists them.
+ */
+package dev.motionfusion.core.input
+
+import dev.motionfusion.core.io.ByteCsvReader
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.FileSet
+import dev.motionfusion.core.io.InputLimits
+import dev.motionfusion.core.session.MergedEvents
+import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionReader
+import dev.motionfusion.core.session.SessionStream
+import java.io.Closeable
+import java.nio.file.Files
+import java.nio.file.NoSuchFileException
+import java.nio.file.Path
+
+/** The kinds of input `fusion` understands. */
+public enum class RecordingFormat(public val description: String) {
+    SESSION("Motion Fusion session"),
+    IMU_TABLE("plain IMU table"),
+    PHYPHOX("phyphox export"),
+    SENSOR_LOGGER("Sensor Logger export"),
+}
+
+/**
+ * How inputs are read: [limits] on decompressed bytes, and the [platform] of a Sensor Logger
+ * export where its Metadata.csv does not say (null: infer, else assume Android).
+ */
+public data class ImportOptions(val limits: InputLimits = InputLimits(), val platform: Platform? = null)
+
+/**
+ * An opened input. [events] may be called more than once (each call reads from the start).
+ *
+ * @property originNs the timestamp that is t = 0 s in outputs: the session's start anchor, 0 for
+ *   tables and phyphox (their times are already relative), null for "the first event".
+ * @property metadata the session's meta.json; null for other formats.
+ * @property notes what the import assumed or left out (print them as warnings).
+ */
+public class Recording private constructor(
+    public val name: String,
+    public val format: RecordingFormat,
+    public val metadata: SessionMetadata?,
+    public val originNs: Long?,
+    /** The streams this input provides. */
+    public val streams: Set<SessionStream>,
+    public val notes: List<String>,
+    private val files: FileSet,
+    private val open: () -> SessionEvents,
+    private val closer: Closeable,
+) : Closeable {
+    /** The events of [which] streams (default all), merged by timestamp. */
+    public fun events(which: Set<SessionStream> = streams): SessionEvents {
+        files.guard.reset()
+        val all = open()
+        return if (which.containsAll(streams)) all else FilteredEvents(all, which)
+    }
+
+    override fun close(): Unit = closer.close()
+
+    public companion object {
+        /**
+         * Opens [path], recognising its format by content.
+         * @throws DataFormatException when it is none of the formats, holds several recordings, or is malformed.
+         * @throws NoSuchFileException when it does not exist.
+         */
+        @JvmStatic
+        @JvmOverloads
+        public fun open(path: Path, options: ImportOptions = ImportOptions()): Recording {
+            if (!Files.exists(path)) throw NoSuchFileException(path.toString())
+            val files = FileSet.open(path, options.limits)
+            try {
+                return open(files, path, options)
+            } catch (e: Throwable) {
+                files.close()
+                throw e
+            }
+        }
+
+        private fun open(files: FileSet, path: Path, options: ImportOptions): Recording {
+            val (dir, kind) = locate(files)
+            val name = if (dir.isEmpty()) (path.fileName ?: path).toString() else dir.removeSuffix("/").substringAfterLast('/')
+            return when (kind) {
+                RecordingFormat.SESSION -> {
+                    val r = SessionReader.open(files, dir)
+                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r)
+                }
+                RecordingFormat.IMU_TABLE -> {
+                    val table = files.find(dir, "input.csv.gz") ?: files.find(dir, "input.csv") ?: files.filesIn(dir).first { isTable(files, it) }
+                    val hasMag = ImuTableReader(files.csv(table)).use { it.hasMagnetometer }
+                    val streams = setOf(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE) + (if (hasMag) setOf(SessionStream.MAGNETOMETER) else emptySet())
+                    Recording(name, kind, null, 0L, streams, emptyList(), files, { ImuTableEvents(ImuTableReader(files.csv(table))) }, files)
+                }
+                RecordingFormat.PHYPHOX, RecordingFormat.SENSOR_LOGGER -> {
+                    val plan = if (kind == RecordingFormat.PHYPHOX) PhyphoxImport.plan(files, dir) else SensorLoggerImport.plan(files, dir, options.platform)
+                    val origin = if (kind == RecordingFormat.PHYPHOX) 0L else null
+                    Recording(name, kind, null, origin, plan.streams, plan.notes, files, { openAll(files, plan) }, files)
+                }
+            }
+        }
+
+        private fun openAll(files: FileSet, plan: ImportPlan): SessionEvents {
+            val cursors = ArrayList<dev.motionfusion.core.session.StreamCursor>()
+            try {
+                for (s in plan.sources) cursors += s.open(files)
+            } catch (e: Throwable) {
+                cursors.forEach { runCatching { it.close() } }
+                throw e
+            }
+            return MergedEvents(cursors)
+        }
+
+        private fun isTable(files: FileSet, path: String): Boolean =
+            isText(path) && files.firstLine(path)?.let { ImuTableReader.recognises(it) } == true
+
+        private fun isText(path: String) = path.endsWith(".csv", true) || path.endsWith(".csv.gz", true) || path.endsWith(".txt", true) || '.' !in path.substringAfterLast('/')
+
+        /**
+         * The one recording in [files]: its folder ("" or ending in '/') and format. Several
+         * candidate folders (or zips inside a folder) are an error listing them.
+         */
+        private fun locate(files: FileSet): Pair<String, RecordingFormat> {
+            val found = LinkedHashMap<String, RecordingFormat>()
+            val zips = ArrayList<String>()
+            fun dirOf(p: String) = p.substring(0, p.lastIndexOf('/') + 1)
+            // Files that name their folder's format (a trial's input table wins over its meta.json) ...
+            for (p in files.paths) {
+                val base = p.substring(p.lastIndexOf('/') + 1)
+                when {
+                    base.equals("input.csv", true) || base.equals("input.csv.gz", true) -> found[dirOf(p)] = RecordingFormat.IMU_TABLE
+                    base.equals(SessionMetadata.FILE_NAME, true) -> found.putIfAbsent(dirOf(p), RecordingFormat.SESSION)
+                    files.isFolder && base.endsWith(".zip", true) -> zips += p
+                }
+            }
+            // ... then, in the other folders, the headers of the CSVs.
+            val named = found.keys.toSet()
+            for (p in files.paths) {
+                val dir = dirOf(p)
+                if (dir in named || !isText(p)) continue
+                val header = files.firstLine(p) ?: continue
+                val known = found[dir]
+                when {
+                    SensorLoggerImport.recognises(header) -> found[dir] = RecordingFormat.SENSOR_LOGGER
+                    known == RecordingFormat.SENSOR_LOGGER -> Unit
+                    PhyphoxImport.recognises(header, p) -> found[dir] = RecordingFormat.PHYPHOX
+                    known == null && ImuTableReader.recognises(header) -> found[dir] = RecordingFormat.IMU_TABLE
+                }
+            }
+            val candidates = found.keys.map { it.ifEmpty { "." } } + zips
+            if (candidates.size > 1) {
+                val shown = candidates.take(12).joinToString(", ") { it.removeSuffix("/") } + if (candidates.size > 12) ", …" else ""
+                throw DataFormatException(files.name, 0, 0, "holds ${candidates.size} recordings ($shown): name the one to read")
+            }
+            val only = found.entries.singleOrNull()
+            if (only != null) return only.key to only.value
+            if (zips.size == 1) throw DataFormatException(files.name, 0, 0, "holds no recording of its own but the zip ${zips[0]}: name it")
+            val first = files.paths.firstOrNull()?.let { files.firstLine(it) }
+            val detail = if (files.paths.size == 1 && first != null) " (first line '${ByteCsvReader.escapedExcerpt(first)}')" else ""
+            throw DataFormatException(files.name, if (detail.isEmpty()) 0 else 1, 0,
+                "not a recognised input$detail: expected a session (folder or zip with meta.json), an IMU table (t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]), " +
+                    "a phyphox export or a Sensor Logger export")
+        }
+    }
+}
+
+/** Passes only the events of [which]. */
+private class FilteredEvents(private val inner: SessionEvents, private val which: Set<SessionStream>) : SessionEvents by inner {
+    override fun next(): Boolean {
+        while (inner.next()) if (inner.stream in which) return true
+        return false
+    }
+}
