@@ -8,7 +8,7 @@
 package dev.motionfusion.bench;
 
 import dev.motionfusion.core.calib.AllanResult;
-import dev.motionfusion.core.recording.Recording;
+import dev.motionfusion.core.input.Recording;
 import dev.motionfusion.core.session.SessionEvents;
 import java.io.IOException;
 import java.nio.file.Files;
