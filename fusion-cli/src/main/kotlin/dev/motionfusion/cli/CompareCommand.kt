@@ -56,7 +56,7 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
             diff?.write("t_s,total_deg,heading_deg,inclination_deg\n".toByteArray())
             val comparison = OrientationComparison(removeInitialHeadingOffset = o.has("--game")) { t, total, heading, incl ->
                 if (diff != null) {
-                    var p = AsciiNumbers.fixed(buf, 0, (t - (origin ?: 0L)) * 1e-9, 9)
+                    var p = AsciiNumbers.fixed(buf, 0, Replayer.secondsBetween(origin ?: 0L, t), 9)
                     for (v in doubleArrayOf(total, heading, incl)) {
                         buf[p++] = ','.code.toByte()
                         p = AsciiNumbers.fixed(buf, p, v, 4)

@@ -70,7 +70,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             val errors = Array(3) { Envelope() }
             var origin = rec.originNs
             val comparison = OrientationComparison { t, total, heading, incl ->
-                val ts = (t - (origin ?: 0L)) * 1e-9
+                val ts = Replayer.secondsBetween(origin ?: 0L, t)
                 errors[0].add(ts, total); errors[1].add(ts, heading); errors[2].add(ts, incl)
             }
             val derived = DoubleArray(9)

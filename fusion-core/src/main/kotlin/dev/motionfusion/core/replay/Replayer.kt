@@ -80,7 +80,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                     gyro++
                     f.updateGyroscope(t, v[0], v[1], v[2])
                     step.timestampNs = t
-                    step.timeS = (t - origin) * 1e-9
+                    step.timeS = secondsBetween(origin, t)
                     step.initialised = f.isInitialised
                     if (step.initialised) {
                         f.orientationInto(step.orientation)
@@ -104,5 +104,19 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             }
         }
         return ReplayCounts(n, gyro, acc, mag, first, last)
+    }
+
+    public companion object {
+        /**
+         * (toNs − fromNs) in seconds, for any two timestamps: where the difference does not fit
+         * in a Long (timestamps of opposite sign far apart) it is taken in Double instead of
+         * wrapping round.
+         */
+        @JvmStatic
+        public fun secondsBetween(fromNs: Long, toNs: Long): Double {
+            val d = toNs - fromNs
+            val overflow = ((toNs xor fromNs) and (toNs xor d)) < 0
+            return if (overflow) (toNs.toDouble() - fromNs.toDouble()) * 1e-9 else d * 1e-9
+        }
     }
 }
