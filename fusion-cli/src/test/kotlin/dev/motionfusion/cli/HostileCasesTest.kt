@@ -193,8 +193,10 @@ class HostileCasesTest {
         c += Case("--set of an unknown setting", listOf("replay", "table.csv", "--set", "nope=1"), 2, """--set nope: no such setting""")
         c += Case("--set of a word as a flag", listOf("replay", "table.csv", "--set", "accRejection=yes"), 2, """--set accRejection: 'yes' is not true or false""")
         c += Case("summary of a missing file", listOf("summary", "nope.csv"), 3, """nope\.csv: no such file""")
-        c += Case("summary of corrupt gzip data", listOf("summary", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt gzip data""")
-        c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: gzip data ends early""")
+        c += Case("summary of corrupt gzip data", listOf("summary", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt compressed data""")
+        c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
+        c += Case("replay of corrupt gzip data", listOf("replay", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt compressed data""")
+        c += Case("replay of cut gzip data", listOf("replay", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
         return c
     }
 
