@@ -5,6 +5,8 @@ plugins {
 
 kotlin {
     jvmToolchain(17)
+    // As -Xexplicit-api=strict in fusion-core/pom.xml (main sources only).
+    explicitApi()
 }
 
 sourceSets {

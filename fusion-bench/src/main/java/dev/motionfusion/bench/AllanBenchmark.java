@@ -9,7 +9,7 @@ package dev.motionfusion.bench;
 
 import dev.motionfusion.core.calib.AllanResult;
 import dev.motionfusion.core.input.Recording;
-import dev.motionfusion.core.session.SessionEvents;
+import dev.motionfusion.core.event.SensorEvents;
 import java.io.IOException;
 import java.nio.file.Files;
 import java.nio.file.Path;
@@ -63,7 +63,7 @@ public class AllanBenchmark {
 
     /** The Allan analysis of the session at [dir], as `fusion allan` runs it; returns a figure so nothing is optimised away. */
     public static double allan(Path dir) throws IOException {
-        try (Recording rec = Recording.open(dir); SessionEvents events = rec.events(rec.getStreams())) {
+        try (Recording rec = Recording.open(dir); SensorEvents events = rec.events(rec.getStreams())) {
             AllanResult r = AllanResult.run(events, rec.getStreams(), null);
             if (r.getGyroscope() == null || r.getGyroscope().getSamples() != 720_000L) throw new IllegalStateException("expected 720,000 gyroscope samples");
             return r.getGyroscopeTerms().get(0).getWhiteNoise() + r.getAccelerometerTerms().get(0).getWhiteNoise();

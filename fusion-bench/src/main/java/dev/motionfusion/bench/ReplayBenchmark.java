@@ -14,7 +14,7 @@ import dev.motionfusion.core.replay.ReplayCsvWriter;
 import dev.motionfusion.core.replay.ReplayListener;
 import dev.motionfusion.core.replay.ReplayStep;
 import dev.motionfusion.core.replay.Replayer;
-import dev.motionfusion.core.session.SessionEvents;
+import dev.motionfusion.core.event.SensorEvents;
 import dev.motionfusion.core.session.SessionMetadata;
 import dev.motionfusion.core.session.SessionWriter;
 import dev.motionfusion.core.sim.MotionSimulator;
@@ -100,7 +100,7 @@ public class ReplayBenchmark {
 
     /** Replays the session at [dir]; returns the events read. */
     public static long replay(Path dir, boolean csv) throws IOException {
-        try (Recording rec = Recording.open(dir); SessionEvents events = rec.events(rec.getStreams())) {
+        try (Recording rec = Recording.open(dir); SensorEvents events = rec.events(rec.getStreams())) {
             Replayer replayer = new Replayer(new FilterSettings());
             ReplayCounts counts;
             if (csv) {

@@ -109,7 +109,7 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
         }
 
         /** The events of [rec], with [calibration] applied when given (check it first with [requireApplies]). */
-        fun calibrated(rec: Recording, calibration: Calibration?): dev.motionfusion.core.session.SessionEvents =
+        fun calibrated(rec: Recording, calibration: Calibration?): dev.motionfusion.core.event.SensorEvents =
             if (calibration == null) rec.events() else dev.motionfusion.core.calib.CalibratedEvents(rec.events(), calibration, rec.streams)
     }
 }

@@ -80,10 +80,11 @@ class CalibrationCommandsTest {
         assertEquals(ExitCode.DATA_ERROR, r.code)
         assertTrue("cal.json: applies to magnetometer_uncalibrated, gyroscope_uncalibrated, which plain does not have" in r.err, r.err)
         assertTrue(!Files.exists(dir.resolve("out.csv")), "no output for a refused run")
-        Files.writeString(dir.resolve("bad.json"), "{\"format\": \"motion-fusion-calibration\", \"format_version\": 1, \"gyroscope\": {\"stream\": \"gyroscope\", \"bias_rad_s\": [1, 2]}}")
+        val badJson = "{\"format\": \"motion-fusion-calibration\", \"format_version\": 1, \"gyroscope\": {\"stream\": \"gyroscope\", \"bias_rad_s\": [1, 2]}}"
+        Files.writeString(dir.resolve("bad.json"), badJson)
         val bad = fusion("replay", s.toString(), "--calibration", dir.resolve("bad.json").toString())
         assertEquals(ExitCode.DATA_ERROR, bad.code)
-        assertTrue("bad.json: gyroscope.bias_rad_s: expected 3 numbers, got 2" in bad.err, bad.err)
+        assertTrue("bad.json:1:${badJson.indexOf("[1, 2]") + 1}: gyroscope.bias_rad_s: expected 3 numbers, got 2" in bad.err, bad.err)
         assertEquals(ExitCode.IO_ERROR, fusion("replay", s.toString(), "--calibration", dir.resolve("none.json").toString()).code)
     }
 

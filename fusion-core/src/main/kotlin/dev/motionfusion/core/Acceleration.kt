@@ -12,8 +12,6 @@
  */
 package dev.motionfusion.core
 
-import kotlin.math.atan2
-
 /** Standard gravity g₀ = 9.80665 m/s² (exact by definition). */
 public const val STANDARD_GRAVITY: Double = 9.80665
 
@@ -45,7 +43,6 @@ public fun linearAccelerationInEarthFrame(
 public fun linearAccelerationInHorizontalFrame(
     specificForce: Vector3, orientation: Quaternion, g: Double = STANDARD_GRAVITY,
 ): Vector3 {
-    val r = orientation.toRotationMatrix()
-    val heading = atan2(r.m01, r.m11)
+    val heading = Orientations.azimuth(orientation.toDoubleArray())
     return RotationMatrix.aboutAxis(2, heading) * linearAccelerationInEarthFrame(specificForce, orientation, g)
 }

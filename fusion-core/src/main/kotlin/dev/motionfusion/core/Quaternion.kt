@@ -11,10 +11,8 @@
 package dev.motionfusion.core
 
 import kotlin.math.abs
-import kotlin.math.acos
 import kotlin.math.atan2
 import kotlin.math.cos
-import kotlin.math.min
 import kotlin.math.sin
 import kotlin.math.sqrt
 
@@ -119,21 +117,9 @@ public data class Quaternion(val w: Double, val x: Double, val y: Double, val z:
      * Both must be unit quaternions; the result is a unit quaternion.
      */
     public fun slerp(o: Quaternion, t: Double): Quaternion {
-        var d = dot(o)
-        var b = o
-        if (d < 0.0) {
-            d = -d
-            b = -o
-        }
-        if (d > 0.9995) {
-            // Nearly parallel: linear interpolation then normalisation is accurate and safe.
-            return (this + (b - this) * t).normalized()
-        }
-        val theta = acos(min(d, 1.0))
-        val s = sin(theta)
-        val s0 = sin((1.0 - t) * theta) / s
-        val s1 = sin(t * theta) / s
-        return Quaternion(s0 * w + s1 * b.w, s0 * x + s1 * b.x, s0 * y + s1 * b.y, s0 * z + s1 * b.z)
+        val out = DoubleArray(4)
+        Orientations.slerp(toDoubleArray(), o.toDoubleArray(), t, out)
+        return Quaternion(out[0], out[1], out[2], out[3])
     }
 
     /** The rotation matrix of this unit quaternion: v_world = R · v ⇔ v_world = q ⊗ v ⊗ q*. */

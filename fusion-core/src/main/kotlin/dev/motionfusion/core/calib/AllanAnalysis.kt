@@ -6,7 +6,7 @@
  */
 package dev.motionfusion.core.calib
 
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 import java.util.Locale
 
@@ -68,7 +68,7 @@ public class AllanResult(
         /** Reads [events] (a recording with [streams]) once. [progress] as in [Calibrator.calibrate]. */
         @JvmStatic
         @JvmOverloads
-        public fun run(events: SessionEvents, streams: Set<SessionStream>, progress: ((Long) -> Unit)? = null): AllanResult {
+        public fun run(events: SensorEvents, streams: Set<SessionStream>, progress: ((Long) -> Unit)? = null): AllanResult {
             val gyroStream = Calibrator.gyroscopeStream(streams)
             val gyro = gyroStream?.let { AllanAccumulator() }
             val acc = if (SessionStream.ACCELEROMETER in streams) AllanAccumulator() else null

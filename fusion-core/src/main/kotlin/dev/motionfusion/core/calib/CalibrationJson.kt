@@ -7,6 +7,7 @@ package dev.motionfusion.core.calib
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
+import dev.motionfusion.core.io.JsonObject
 import dev.motionfusion.core.session.SessionStream
 
 public object CalibrationJson {
@@ -67,8 +68,8 @@ public object CalibrationJson {
      */
     @JvmStatic
     public fun parse(text: String, sourceName: String): Calibration {
-        val root = Json.parse(text, sourceName) as? Map<*, *> ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
-        val r = Member(root, "", sourceName)
+        val r = Member(Json.document(text, sourceName).rootObject())
+        val root = r.o.map
         if (root["format"] != FORMAT) throw r.error("format", "expected \"$FORMAT\": not a calibration file")
         val version = r.number("format_version", Double.NaN)
         if (!(version >= 1.0) || version != Math.rint(version)) throw r.error("format_version", "missing or not a positive integer")
@@ -101,39 +102,25 @@ public object CalibrationJson {
 
     private val NAN3 = Vector3(Double.NaN, Double.NaN, Double.NaN)
 
-    /** One JSON object of the file, with errors naming its path. */
-    private class Member(val map: Map<*, *>, val path: String, val source: String) {
-        fun error(key: String, reason: String) = DataFormatException(source, 0, 0, "$path$key: $reason")
+    /** One JSON object of the file, with errors naming its path and position. */
+    private class Member(val o: JsonObject) {
+        val map: Map<*, *> get() = o.map
 
-        fun section(key: String): Member? = when (val v = map[key]) {
-            null -> null
-            is Map<*, *> -> Member(v, "$path$key.", source)
-            else -> throw error(key, "expected an object")
-        }
+        fun error(key: String, reason: String) = o.error(key, reason)
 
-        fun number(key: String, default: Double): Double = when (val v = map[key]) {
-            null -> default
-            is Number -> v.toDouble()
-            else -> throw error(key, "expected a number")
-        }
+        fun section(key: String): Member? = o.objOrNull(key)?.let(::Member)
 
-        private fun numbers(key: String, v: Any?, n: Int): DoubleArray {
-            val list = v as? List<*> ?: throw error(key, "expected an array of $n numbers")
-            if (list.size != n) throw error(key, "expected $n numbers, got ${list.size}")
-            return DoubleArray(n) { i ->
-                (list[i] as? Number)?.toDouble()?.takeIf { it.isFinite() } ?: throw error(key, "element $i is not a finite number")
-            }
-        }
+        fun number(key: String, default: Double): Double = o.double(key, default)
 
         fun vector(key: String, required: Boolean = true): Vector3? {
-            val v = map[key] ?: if (required) throw error(key, "missing") else return null
-            return numbers(key, v, 3).let { Vector3(it[0], it[1], it[2]) }
+            if (map[key] == null) if (required) throw error(key, "missing") else return null
+            return o.numbers(key, 3).let { Vector3(it[0], it[1], it[2]) }
         }
 
         fun correction(offsetKey: String): SensorCorrection {
             val rows = map["matrix"] as? List<*> ?: throw error("matrix", "expected an array of three rows of three numbers")
             if (rows.size != 3) throw error("matrix", "expected three rows, got ${rows.size}")
-            val m = rows.flatMapIndexed { i, row -> numbers("matrix[$i]", row, 3).toList() }
+            val m = rows.indices.flatMap { i -> o.numbers("matrix", i, 3).toList() }
             val matrix = Matrix3.of(*m.toDoubleArray())
             if (!(matrix.determinant() > 0.0)) throw error("matrix", "not a calibration matrix (its determinant is not positive)")
             return SensorCorrection(vector(offsetKey)!!, matrix)

@@ -5,7 +5,7 @@
  */
 package dev.motionfusion.core.calib
 
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 
 public object Calibrator {
@@ -32,7 +32,7 @@ public object Calibrator {
     @JvmStatic
     @JvmOverloads
     public fun calibrate(
-        events: SessionEvents,
+        events: SensorEvents,
         streams: Set<SessionStream>,
         settings: CalibrationSettings = CalibrationSettings(),
         source: String = "",
@@ -67,7 +67,7 @@ public object Calibrator {
 }
 
 /** Reads every event, calling [progress] with the count every 65,536 events. */
-internal inline fun SessionEvents.forEachEvent(noinline progress: ((Long) -> Unit)?, action: (SessionStream, Long, DoubleArray) -> Unit) {
+internal inline fun SensorEvents.forEachEvent(noinline progress: ((Long) -> Unit)?, action: (SessionStream, Long, DoubleArray) -> Unit) {
     var n = 0L
     while (next()) {
         n++
@@ -84,7 +84,7 @@ internal inline fun SessionEvents.forEachEvent(noinline progress: ((Long) -> Uni
  * would otherwise be applied twice). Allocates nothing per event. Throws IllegalArgumentException
  * when the recording ([streams]) lacks a stream the calibration applies to.
  */
-public class CalibratedEvents(private val inner: SessionEvents, calibration: Calibration, streams: Set<SessionStream>) : SessionEvents {
+public class CalibratedEvents(private val inner: SensorEvents, calibration: Calibration, streams: Set<SessionStream>) : SensorEvents {
     init {
         val missing = calibration.streams().filter { it !in streams }
         require(missing.isEmpty()) {

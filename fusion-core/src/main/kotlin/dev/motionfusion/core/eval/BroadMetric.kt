@@ -4,17 +4,15 @@
  *
  * Both orientations are sensor → earth quaternions [w, x, y, z] (Hamilton) in the same earth frame
  * (ENU for BROAD). Error e = q_est ⊗ q_truth*, an earth-frame rotation: total error 2·acos|e_w|,
- * heading error 2·atan|e_z / e_w| (about the vertical), inclination error 2·acos √(e_w² + e_z²).
+ * heading error 2·atan|e_z / e_w| (about the vertical), inclination error 2·acos √(e_w² + e_z²)
+ * (computed by core's Orientations.splitError, the total as the stable 2·atan2(|e_xyz|, |e_w|)).
  * Each is an RMSE in degrees over the scored samples, skipping samples without truth.
  */
 package dev.motionfusion.core.eval
 
-import kotlin.math.abs
-import kotlin.math.acos
-import kotlin.math.atan
+import dev.motionfusion.core.Orientations
 import kotlin.math.atan2
 import kotlin.math.cos
-import kotlin.math.min
 import kotlin.math.sin
 import kotlin.math.sqrt
 
@@ -66,7 +64,7 @@ public object BroadMetric {
 
         public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
             if (!errorQuaternion(estimate, truth, scored, e)) return
-            val psi = 2.0 * atan2(e[3], e[0])
+            val psi = Orientations.signedHeading(e)
             s += sin(psi)
             c += cos(psi)
         }
@@ -76,11 +74,9 @@ public object BroadMetric {
     }
 
     /** Streams samples into the three RMSEs, with a constant heading offset [headingOffsetRad] removed first. */
-    public class Accumulator(headingOffsetRad: Double = 0.0) {
-        // Pre-multiplying by a rotation of −offset about z removes it: [cos(−o/2), 0, 0, sin(−o/2)].
-        private val cw = cos(0.5 * headingOffsetRad)
-        private val cz = -sin(0.5 * headingOffsetRad)
+    public class Accumulator(private val headingOffsetRad: Double = 0.0) {
         private val e = DoubleArray(4)
+        private val split = DoubleArray(3)
         private var total = 0.0
         private var heading = 0.0
         private var incl = 0.0
@@ -88,19 +84,11 @@ public object BroadMetric {
 
         public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
             if (!errorQuaternion(estimate, truth, scored, e)) return
-            val w = cw * e[0] - cz * e[3]
-            val x = cw * e[1] - cz * e[2]
-            val y = cw * e[2] + cz * e[1]
-            val z = cw * e[3] + cz * e[0]
-            val norm = sqrt(w * w + x * x + y * y + z * z)
-            val aw = abs(w) / norm
-            val az = z / norm
-            val t = 2.0 * acos(min(1.0, aw))
-            val h = 2.0 * atan(abs(az / aw))
-            val inc = 2.0 * acos(min(1.0, sqrt(aw * aw + az * az)))
-            total += t * t
-            heading += h * h
-            incl += inc * inc
+            if (headingOffsetRad != 0.0) Orientations.removeHeading(e, headingOffsetRad)
+            Orientations.splitError(e, split, 0)
+            total += split[0] * split[0]
+            heading += split[1] * split[1]
+            incl += split[2] * split[2]
             count++
         }
 
@@ -114,11 +102,7 @@ public object BroadMetric {
     private fun errorQuaternion(q: DoubleArray, p: DoubleArray, scored: Boolean, e: DoubleArray): Boolean {
         if (!scored) return false
         for (k in 0 until 4) if (!q[k].isFinite() || !p[k].isFinite()) return false
-        // Hamilton product of q with p* = [pw, −px, −py, −pz].
-        e[0] = q[0] * p[0] + q[1] * p[1] + q[2] * p[2] + q[3] * p[3]
-        e[1] = -q[0] * p[1] + q[1] * p[0] - q[2] * p[3] + q[3] * p[2]
-        e[2] = -q[0] * p[2] + q[1] * p[3] + q[2] * p[0] - q[3] * p[1]
-        e[3] = -q[0] * p[3] - q[1] * p[2] + q[2] * p[1] + q[3] * p[0]
+        Orientations.errorQuaternion(q, p, e)
         return true
     }
 }

@@ -6,12 +6,11 @@
 package dev.motionfusion.core.input
 
 import dev.motionfusion.core.io.ByteCsvReader
-import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FieldError
 import dev.motionfusion.core.io.FileSet
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
-import dev.motionfusion.core.session.StreamCursor
+import dev.motionfusion.core.event.StreamCursor
 import kotlin.math.roundToLong
 
 /** A CSV dialect: field [separator] and whether numbers may use a decimal comma. */
@@ -72,13 +71,12 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
     override var timestampNs: Long = 0L
         private set
     override val values: DoubleArray = DoubleArray(map.stream.valueCount)
-    override val accuracy: Int = SessionEvents.NO_ACCURACY
+    override val accuracy: Int = SensorEvents.NO_ACCURACY
     private val fieldCount: Int
 
     init {
         try {
-            if (!csv.nextLine()) throw DataFormatException(csv.sourceName, 1, 0, "empty file")
-            fieldCount = csv.count
+            fieldCount = csv.header(null).fieldCount
         } catch (e: Throwable) {
             csv.close()
             throw e

@@ -19,7 +19,7 @@ import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FieldError
 import dev.motionfusion.core.io.InputLimits
 import dev.motionfusion.core.io.Inputs
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 import java.io.Closeable
 import java.io.InputStream
@@ -48,8 +48,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
 
     init {
         try {
-            if (!csv.nextLine()) throw DataFormatException(csv.sourceName, 1, 0, "empty file: expected a header ${COLUMNS.joinToString(",")}")
-            val names = csv.names().map { it.lowercase() }
+            val names = csv.header(COLUMNS.joinToString(",")).names.map { it.lowercase() }
             fieldCount = names.size
             for ((i, n) in names.withIndex()) {
                 val c = COLUMNS.indexOf(n)
@@ -126,14 +125,14 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
 }
 
 /** The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope, all at t_s. */
-internal class ImuTableEvents(private val table: ImuTableReader) : SessionEvents {
+internal class ImuTableEvents(private val table: ImuTableReader) : SensorEvents {
     private var phase = 3
     override var stream: SessionStream = SessionStream.ACCELEROMETER
         private set
     override var timestampNs: Long = 0L
         private set
     override val values: DoubleArray = DoubleArray(3)
-    override val accuracy: Int get() = SessionEvents.NO_ACCURACY
+    override val accuracy: Int get() = SensorEvents.NO_ACCURACY
     private val r = table.row
 
     override fun next(): Boolean {

@@ -42,14 +42,10 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
 
     init {
         try {
-            val name = csv.sourceName
-            if (!csv.nextLine()) throw DataFormatException(name, 1, 0, "empty file: expected a header t_s,qw,qx,qy,qz")
-            names = csv.names()
-            fieldCount = names.size
-            cols = IntArray(5) { k ->
-                val c = COLUMNS[k]
-                names.indexOf(c).also { if (it < 0) throw DataFormatException(name, 1, 1, "header lacks column '$c'; expected t_s,qw,qx,qy,qz[,movement]") }
-            }
+            val header = csv.header("t_s,qw,qx,qy,qz[,movement]")
+            names = header.names
+            fieldCount = header.fieldCount
+            cols = IntArray(5) { header.require(COLUMNS[it]) }
             movement = names.indexOf("movement")
         } catch (e: Throwable) {
             csv.close()

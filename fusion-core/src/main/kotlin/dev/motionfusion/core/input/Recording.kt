@@ -10,8 +10,8 @@ import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.io.InputLimits
-import dev.motionfusion.core.session.MergedEvents
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.MergedEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionStream
@@ -51,11 +51,11 @@ public class Recording private constructor(
     public val streams: Set<SessionStream>,
     public val notes: List<String>,
     private val files: FileSet,
-    private val open: () -> SessionEvents,
+    private val open: () -> SensorEvents,
     private val closer: Closeable,
 ) : Closeable {
     /** The events of [which] streams (default all), merged by timestamp. */
-    public fun events(which: Set<SessionStream> = streams): SessionEvents {
+    public fun events(which: Set<SessionStream> = streams): SensorEvents {
         files.guard.reset()
         val all = open()
         return if (which.containsAll(streams)) all else FilteredEvents(all, which)
@@ -104,8 +104,8 @@ public class Recording private constructor(
             }
         }
 
-        private fun openAll(files: FileSet, plan: ImportPlan): SessionEvents {
-            val cursors = ArrayList<dev.motionfusion.core.session.StreamCursor>()
+        private fun openAll(files: FileSet, plan: ImportPlan): SensorEvents {
+            val cursors = ArrayList<dev.motionfusion.core.event.StreamCursor>()
             try {
                 for (s in plan.sources) cursors += s.open(files)
             } catch (e: Throwable) {
@@ -169,7 +169,7 @@ public class Recording private constructor(
 }
 
 /** Passes only the events of [which]. */
-private class FilteredEvents(private val inner: SessionEvents, private val which: Set<SessionStream>) : SessionEvents by inner {
+private class FilteredEvents(private val inner: SensorEvents, private val which: Set<SessionStream>) : SensorEvents by inner {
     override fun next(): Boolean {
         while (inner.next()) if (inner.stream in which) return true
         return false

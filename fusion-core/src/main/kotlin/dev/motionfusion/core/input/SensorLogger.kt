@@ -24,7 +24,7 @@ internal class ImportPlan(val sources: List<StreamSource>, val notes: List<Strin
     val streams: Set<SessionStream> get() = sources.mapTo(LinkedHashSet()) { it.stream }
 }
 
-internal class StreamSource(val stream: SessionStream, val open: (FileSet) -> dev.motionfusion.core.session.StreamCursor)
+internal class StreamSource(val stream: SessionStream, val open: (FileSet) -> dev.motionfusion.core.event.StreamCursor)
 
 internal object SensorLoggerImport {
     /** True when [header] is a Sensor Logger CSV header. */

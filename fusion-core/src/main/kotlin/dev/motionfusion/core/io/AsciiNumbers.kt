@@ -13,10 +13,10 @@ import kotlin.math.abs
 
 public object AsciiNumbers {
     /** Longest output of [float]: sign, 9 digits, point, up to 7 leading zeros, exponent. */
-    public const val MAX_FLOAT_CHARS = 24
+    public const val MAX_FLOAT_CHARS: Int = 24
 
     /** Longest output of [long]. */
-    public const val MAX_LONG_CHARS = 20
+    public const val MAX_LONG_CHARS: Int = 20
 
     private val POW10 = DoubleArray(23) { i -> "1e$i".toDouble() }
     private val LONG_POW10 = LongArray(19).also { p -> p[0] = 1L; for (i in 1 until 19) p[i] = p[i - 1] * 10L }
@@ -159,45 +159,55 @@ public object AsciiNumbers {
 
     /**
      * Writes [v] rounded to [decimals] places (0..9), e.g. "-12.345000" for decimals 6; trailing
-     * zeros are removed ("-12.345"). Values beyond ±9e9 and non-finite ones use Double.toString.
+     * zeros are removed ("-12.345"). The rounding is that of Math.round(|v| · 10^decimals) (half
+     * up, after the product's own rounding); a result of 0 is written "0", without sign. Values
+     * beyond ±9e9 and non-finite ones use Double.toString. Nothing is allocated on the way.
      */
     public fun fixed(buf: ByteArray, pos: Int, v: Double, decimals: Int): Int {
         var p = pos
-        if (!(abs(v) < 9e9)) return copyString(if (v.isNaN()) "NaN" else v.toString(), buf, p)
-        var m = Math.round(abs(v) * LONG_POW10[decimals])
+        val a = abs(v)
+        if (!(a < 9e9)) return copyString(if (v.isNaN()) "NaN" else v.toString(), buf, p)
+        val m = Math.round(a * LONG_POW10[decimals])
         if (m == 0L) {
-            buf[p++] = '0'.code.toByte()
-            return p
+            buf[p] = '0'.code.toByte()
+            return p + 1
         }
         if (v < 0) buf[p++] = '-'.code.toByte()
-        // Digits right to left: at least decimals + 1 of them, two at a time.
-        val digits = maxOf(digitCount(m), decimals + 1)
-        val hasPoint = decimals > 0
-        val end = p + digits + (if (hasPoint) 1 else 0)
+        // Integer and fraction parts; the divisions by constants compile to multiplications.
+        val ip: Long
+        var fp: Int
+        when (decimals) {
+            9 -> { ip = m / 1_000_000_000L; fp = (m - ip * 1_000_000_000L).toInt() }
+            5 -> { ip = m / 100_000L; fp = (m - ip * 100_000L).toInt() }
+            4 -> { ip = m / 10_000L; fp = (m - ip * 10_000L).toInt() }
+            0 -> { ip = m; fp = 0 }
+            else -> { ip = m / LONG_POW10[decimals]; fp = (m - ip * LONG_POW10[decimals]).toInt() }
+        }
+        p = if (ip < 10L) {
+            buf[p] = ('0'.code + ip.toInt()).toByte()
+            p + 1
+        } else {
+            long(buf, p, ip)
+        }
+        if (fp == 0) return p
+        var n = decimals
+        while (fp % 10 == 0) {
+            fp /= 10
+            n--
+        }
+        buf[p++] = '.'.code.toByte()
+        val end = p + n
         var i = end
-        var written = 0
-        while (written < digits) {
-            if (hasPoint && written == decimals) buf[--i] = '.'.code.toByte()
-            if (written + 1 < digits && !(hasPoint && written + 1 == decimals)) {
-                val q = m / 100L
-                val r = (m - q * 100L).toInt()
-                buf[--i] = DIGIT_ONES[r]
-                buf[--i] = DIGIT_TENS[r]
-                m = q
-                written += 2
-            } else {
-                val q = m / 10L
-                buf[--i] = ('0'.code + (m - q * 10L).toInt()).toByte()
-                m = q
-                written++
-            }
+        while (n >= 2) {
+            val q = fp / 100
+            val r = fp - q * 100
+            buf[--i] = DIGIT_ONES[r]
+            buf[--i] = DIGIT_TENS[r]
+            fp = q
+            n -= 2
         }
-        var e = end
-        if (hasPoint) {
-            while (buf[e - 1] == '0'.code.toByte()) e--
-            if (buf[e - 1] == '.'.code.toByte()) e--
-        }
-        return e
+        if (n == 1) buf[--i] = ('0'.code + fp).toByte()
+        return end
     }
 
     private val DIGIT_TENS = ByteArray(100) { ('0'.code + it / 10).toByte() }

@@ -294,6 +294,16 @@ internal class ByteCsvReader(
     /** The current line's fields as header names: trimmed, BOM and quotes removed. */
     fun names(): List<String> = (0 until count).map { text(it).trim().removeSurrounding("\"").trim() }
 
+    /**
+     * Reads the header, the first line, of every table (plain IMU and orientation tables,
+     * session streams, exports). An empty input is an error saying what header was [expected]
+     * (null: just "empty file"). The caller closes the reader when this or its checks throw.
+     */
+    fun header(expected: String?): CsvHeader {
+        if (!nextLine()) throw DataFormatException(sourceName, 1, 0, if (expected == null) "empty file" else "empty file: expected a header $expected")
+        return CsvHeader(this, names(), expected)
+    }
+
     override fun close(): Unit = input.close()
 
     companion object {
@@ -324,6 +334,19 @@ internal class ByteCsvReader(
         }
         private const val ZERO = '0'.code.toByte()
         private val POW10 = DoubleArray(23) { k -> "1e$k".toDouble() }
+    }
+}
+
+/** A table's header line: its [names] and their positions, and errors that name the expected header. */
+internal class CsvHeader(private val csv: ByteCsvReader, val names: List<String>, private val expected: String?) {
+    /** Fields per row: the header's count. */
+    val fieldCount: Int get() = names.size
+
+    /** The field of column [name], or an error at the header naming the columns expected. */
+    fun require(name: String): Int {
+        val i = names.indexOf(name)
+        if (i < 0) throw DataFormatException(csv.sourceName, 1, 1, "header lacks column '$name'" + (expected?.let { "; expected $it" } ?: ""))
+        return i
     }
 }
 

@@ -3,19 +3,27 @@
  * (key order kept), arrays as List, numbers as Long when integral without exponent or point,
  * else Double; strings, booleans, null. Strict RFC 8259 syntax; malformed input throws
  * DataFormatException with line and column. Numbers are written locale-independently.
+ * [Json.document] keeps where each object member and array element starts, so that a member of
+ * the wrong type is reported at its FILE:LINE:COLUMN ([JsonObject], the typed accessor of every
+ * JSON file the project reads: meta.json, calibration files).
  */
 package dev.motionfusion.core.io
+
+import java.util.IdentityHashMap
 
 internal object Json {
     private const val MAX_DEPTH = 64
 
-    fun parse(text: String, sourceName: String): Any? {
+    fun parse(text: String, sourceName: String): Any? = document(text, sourceName).root
+
+    /** Parses [text] keeping the positions of its members and elements. */
+    fun document(text: String, sourceName: String): JsonDocument {
         val p = Parser(text, sourceName)
         p.skipSpace()
         val v = p.value(0)
         p.skipSpace()
         if (p.i != text.length) throw p.error("unexpected '${text[p.i]}' after the JSON value")
-        return v
+        return JsonDocument(v, text, sourceName, p.memberStarts, p.elementStarts, p.containerStarts)
     }
 
     fun write(value: Any?, indent: String = "  "): String = StringBuilder().also { write(it, value, indent, "") }.append('\n').toString()
@@ -96,13 +104,11 @@ internal object Json {
 
     private class Parser(val s: String, val source: String) {
         var i = 0
+        val memberStarts = IdentityHashMap<Map<*, *>, HashMap<String, Int>>()
+        val elementStarts = IdentityHashMap<List<*>, IntArray>()
+        val containerStarts = IdentityHashMap<Any, Int>()
 
-        fun error(reason: String): DataFormatException {
-            var line = 1L
-            var lineStart = 0
-            for (k in 0 until minOf(i, s.length)) if (s[k] == '\n') { line++; lineStart = k + 1 }
-            return DataFormatException(source, line, i - lineStart + 1, reason)
-        }
+        fun error(reason: String): DataFormatException = errorAt(s, i, source, reason)
 
         fun skipSpace() {
             while (i < s.length && (s[i] == ' ' || s[i] == '\n' || s[i] == '\r' || s[i] == '\t')) i++
@@ -130,6 +136,9 @@ internal object Json {
 
         private fun obj(depth: Int): Map<String, Any?> {
             val m = LinkedHashMap<String, Any?>()
+            val starts = HashMap<String, Int>()
+            memberStarts[m] = starts
+            containerStarts[m] = i
             i++
             skipSpace()
             if (i < s.length && s[i] == '}') { i++; return m }
@@ -141,6 +150,7 @@ internal object Json {
                 if (i >= s.length || s[i] != ':') throw error("expected ':' after member name")
                 i++
                 skipSpace()
+                starts[k] = i
                 m[k] = value(depth + 1)
                 skipSpace()
                 if (i >= s.length) throw error("unexpected end of file in an object")
@@ -154,17 +164,20 @@ internal object Json {
 
         private fun array(depth: Int): List<Any?> {
             val a = ArrayList<Any?>()
+            val starts = ArrayList<Int>()
+            containerStarts[a] = i
             i++
             skipSpace()
             if (i < s.length && s[i] == ']') { i++; return a }
             while (true) {
                 skipSpace()
+                starts.add(i)
                 a.add(value(depth + 1))
                 skipSpace()
                 if (i >= s.length) throw error("unexpected end of file in an array")
                 when (s[i]) {
                     ',' -> i++
-                    ']' -> { i++; return a }
+                    ']' -> { i++; elementStarts[a] = starts.toIntArray(); return a }
                     else -> throw error("expected ',' or ']' in an array")
                 }
             }
@@ -225,6 +238,120 @@ internal object Json {
             val t = s.substring(start, i)
             if (integral) t.toLongOrNull()?.let { return it }
             return t.toDouble()
+        }
+    }
+}
+
+/** A DataFormatException at character [offset] of [text] (line and column counted from 1). */
+private fun errorAt(text: String, offset: Int, source: String, reason: String): DataFormatException {
+    var line = 1L
+    var lineStart = 0
+    for (k in 0 until minOf(offset, text.length)) if (text[k] == '\n') { line++; lineStart = k + 1 }
+    return DataFormatException(source, line, offset - lineStart + 1, reason)
+}
+
+/** A parsed JSON text ([root]) that knows where each member and element of it starts. */
+internal class JsonDocument(
+    val root: Any?,
+    private val text: String,
+    val sourceName: String,
+    private val memberStarts: IdentityHashMap<Map<*, *>, HashMap<String, Int>>,
+    private val elementStarts: IdentityHashMap<List<*>, IntArray>,
+    private val containerStarts: IdentityHashMap<Any, Int>,
+) {
+    /** The root object, or an error at 1:1 when the root is not an object. */
+    fun rootObject(): JsonObject =
+        (root as? Map<*, *>)?.let { JsonObject(it, "", this) } ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
+
+    /** An error at member [key] of [container] (a map), element [key] of a list, or the container itself when absent. */
+    fun error(container: Any, key: Any?, reason: String): DataFormatException {
+        val offset = when {
+            container is Map<*, *> && key is String -> memberStarts[container]?.get(key)
+            container is List<*> && key is Int -> elementStarts[container]?.getOrNull(key)
+            else -> null
+        } ?: containerStarts[container] ?: 0
+        return errorAt(text, offset, sourceName, reason)
+    }
+}
+
+/**
+ * Typed access to one JSON object of a [JsonDocument]; errors name the member's path
+ * ("sensors[2].type") and its FILE:LINE:COLUMN. An absent member is its default; a member of
+ * the wrong type is an error.
+ */
+internal class JsonObject(val map: Map<*, *>, val path: String, val doc: JsonDocument) {
+    /** An error at member [key] (at this object when the member is absent). */
+    fun error(key: String, reason: String): DataFormatException = doc.error(map, key, "$path$key: $reason")
+
+    fun keys(): List<String> = map.keys.map { it.toString() }
+    fun raw(key: String): Any? = map[key]
+
+    fun string(key: String): String = stringOrNull(key) ?: ""
+
+    fun stringOrNull(key: String): String? = when (val v = raw(key)) {
+        null -> null
+        is String -> v
+        else -> throw error(key, "expected a string")
+    }
+
+    fun longOrNull(key: String): Long? = when (val v = raw(key)) {
+        null -> null
+        is Long -> v
+        is Double -> if (v == Math.rint(v) && kotlin.math.abs(v) < 9e18) v.toLong() else throw error(key, "expected an integer")
+        else -> throw error(key, "expected an integer")
+    }
+
+    fun long(key: String, default: Long): Long = longOrNull(key) ?: default
+
+    fun int(key: String, default: Int): Int {
+        val v = longOrNull(key) ?: return default
+        if (v < Int.MIN_VALUE || v > Int.MAX_VALUE) throw error(key, "integer out of range")
+        return v.toInt()
+    }
+
+    fun double(key: String, default: Double = Double.NaN): Double = when (val v = raw(key)) {
+        null -> default
+        is Long -> v.toDouble()
+        is Double -> v
+        else -> throw error(key, "expected a number")
+    }
+
+    fun bool(key: String, default: Boolean): Boolean = when (val v = raw(key)) {
+        null -> default
+        is Boolean -> v
+        else -> throw error(key, "expected true or false")
+    }
+
+    fun objOrNull(key: String): JsonObject? = when (val v = raw(key)) {
+        null -> null
+        is Map<*, *> -> JsonObject(v, "$path$key.", doc)
+        else -> throw error(key, "expected an object")
+    }
+
+    fun obj(key: String): JsonObject = objOrNull(key) ?: JsonObject(emptyMap<String, Any>(), "$path$key.", doc)
+
+    fun list(key: String): List<JsonObject> = when (val v = raw(key)) {
+        null -> emptyList()
+        is List<*> -> v.mapIndexed { i, x ->
+            (x as? Map<*, *>)?.let { JsonObject(it, "$path$key[$i].", doc) } ?: throw doc.error(v, i, "$path$key[$i]: expected an object")
+        }
+        else -> throw error(key, "expected an array")
+    }
+
+    /** Member [key], an array, as [n] finite numbers. */
+    fun numbers(key: String, n: Int): DoubleArray = numbersOf(raw(key), n, key) { error(key, it) }
+
+    /** Element [i] of the array member [key] as [n] finite numbers (a row of a matrix). */
+    fun numbers(key: String, i: Int, n: Int): DoubleArray {
+        val outer = raw(key) as? List<*> ?: throw error(key, "expected an array")
+        return numbersOf(outer.getOrNull(i), n, "$key[$i]") { doc.error(outer, i, "$path$key[$i]: $it") }
+    }
+
+    private inline fun numbersOf(value: Any?, n: Int, name: String, fail: (String) -> DataFormatException): DoubleArray {
+        val list = value as? List<*> ?: throw fail("expected an array of $n numbers")
+        if (list.size != n) throw fail("expected $n numbers, got ${list.size}")
+        return DoubleArray(n) { i ->
+            (list[i] as? Number)?.toDouble()?.takeIf { it.isFinite() } ?: throw doc.error(list, i, "$path$name: element $i is not a finite number")
         }
     }
 }

@@ -1,21 +1,15 @@
 /*
  * Comparison of the replayed orientation with a reference orientation (the phone's rotation
- * vector, or ground truth) over time, with BROAD's error decomposition (core eval's BroadMetric):
- * e = q_est ⊗ q_ref* (an earth-frame rotation, ENU); total 2·atan2(|e_xyz|, |e_w|), heading
- * (about the vertical) 2·atan|e_z / e_w|, inclination 2·acos √(e_w² + e_z²), degrees.
+ * vector, or ground truth) over time, with BROAD's error decomposition (Orientations.splitError,
+ * as core eval's BroadMetric): total, heading (about the vertical) and inclination, degrees.
  *
  * Each reference sample is compared at its own timestamp with the estimate interpolated (slerp)
  * between the gyroscope steps around it, so different sampling rates add no lag error.
  */
 package dev.motionfusion.core.replay
 
-import kotlin.math.abs
-import kotlin.math.acos
-import kotlin.math.atan
-import kotlin.math.atan2
-import kotlin.math.cos
+import dev.motionfusion.core.Orientations
 import kotlin.math.min
-import kotlin.math.sin
 import kotlin.math.sqrt
 
 /**
@@ -36,8 +30,9 @@ public class OrientationComparison(
     private var prevT = 0L
     private val prevQ = DoubleArray(4)
     private val interp = DoubleArray(4)
-    private var offsetW = 1.0
-    private var offsetZ = 0.0
+    private val e = DoubleArray(4)
+    private val split = DoubleArray(3)
+    private var headingOffset = 0.0
     private var offsetKnown = !removeInitialHeadingOffset
 
     /** Running statistics of the total error, degrees. */
@@ -53,7 +48,7 @@ public class OrientationComparison(
             for (i in 0 until pendingCount) {
                 val tr = pendingT[i]
                 if (dt in 1..maxGapNs && tr >= prevT && tr <= tNs) {
-                    slerp(prevQ, q, (tr - prevT).toDouble() / dt, interp)
+                    Orientations.slerp(prevQ, q, (tr - prevT).toDouble() / dt, interp)
                     compare(tr, interp, pendingQ[i])
                 } else if (tr == tNs) {
                     compare(tr, q, pendingQ[i])
@@ -82,65 +77,25 @@ public class OrientationComparison(
     }
 
     private fun compare(t: Long, q: DoubleArray, r: DoubleArray) {
-        // e = q ⊗ r*
-        var ew = q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3]
-        var ex = -q[0] * r[1] + q[1] * r[0] - q[2] * r[3] + q[3] * r[2]
-        var ey = -q[0] * r[2] + q[1] * r[3] + q[2] * r[0] - q[3] * r[1]
-        var ez = -q[0] * r[3] - q[1] * r[2] + q[2] * r[1] + q[3] * r[0]
+        Orientations.errorQuaternion(q, r, e)
         if (!offsetKnown) {
-            val psi = 2.0 * atan2(ez, ew)
-            offsetW = cos(0.5 * psi)
-            offsetZ = -sin(0.5 * psi)
+            headingOffset = Orientations.signedHeading(e)
             offsetKnown = true
         }
-        if (offsetZ != 0.0) {
-            // Rz(−ψ) ⊗ e
-            val w = offsetW * ew - offsetZ * ez
-            val x = offsetW * ex - offsetZ * ey
-            val y = offsetW * ey + offsetZ * ex
-            val z = offsetW * ez + offsetZ * ew
-            ew = w; ex = x; ey = y; ez = z
-        }
-        val n = sqrt(ew * ew + ex * ex + ey * ey + ez * ez)
-        val aw = abs(ew) / n
-        val az = ez / n
-        val totalDeg = 2.0 * atan2(sqrt(ex * ex + ey * ey + ez * ez) / n, aw) * DEG
-        val headingDeg = 2.0 * atan(abs(az / aw)) * DEG
-        val inclinationDeg = 2.0 * acos(min(1.0, sqrt(aw * aw + az * az))) * DEG
+        if (headingOffset != 0.0) Orientations.removeHeading(e, headingOffset)
+        Orientations.splitError(e, split, 0)
+        val totalDeg = split[0] * DEG
+        val headingDeg = split[1] * DEG
+        val inclinationDeg = split[2] * DEG
         total.add(totalDeg)
         heading.add(headingDeg)
         inclination.add(inclinationDeg)
         onError(t, totalDeg, headingDeg, inclinationDeg)
     }
 
-    public companion object {
-        private const val PENDING = 64
-        private const val DEG = 180.0 / Math.PI
-
-        /** Spherical interpolation of unit quaternions along the shorter arc into [out]. */
-        internal fun slerp(a: DoubleArray, b: DoubleArray, t: Double, out: DoubleArray) {
-            var d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]
-            val sign = if (d < 0) -1.0 else 1.0
-            d *= sign
-            val s0: Double
-            val s1: Double
-            if (d > 0.9995) {
-                s0 = 1.0 - t
-                s1 = t * sign
-            } else {
-                val theta = acos(min(d, 1.0))
-                val st = sin(theta)
-                s0 = sin((1.0 - t) * theta) / st
-                s1 = sin(t * theta) / st * sign
-            }
-            var n = 0.0
-            for (k in 0 until 4) {
-                out[k] = s0 * a[k] + s1 * b[k]
-                n += out[k] * out[k]
-            }
-            n = 1.0 / sqrt(n)
-            for (k in 0 until 4) out[k] *= n
-        }
+    private companion object {
+        const val PENDING = 64
+        const val DEG = 180.0 / Math.PI
     }
 }
 

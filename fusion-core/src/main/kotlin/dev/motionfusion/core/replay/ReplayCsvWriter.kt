@@ -5,24 +5,20 @@
  *   lin_acc_east_m_s2,lin_acc_north_m_s2,lin_acc_up_m_s2
  *
  * q: sensor → ENU, Hamilton, scalar first (9 decimals). Android angles (degrees, 4 decimals) as
- * SensorManager.getOrientation of R(q): azimuth atan2(R01, R11), pitch asin(−R21), roll
- * atan2(−R20, R22). Aerospace angles (degrees): intrinsic Z-Y-X yaw/pitch/roll of the body frame
- * "phone as aircraft" (body x forward = device y, body y right = device x, body z down = −device
- * z) in North-East-Down: yaw = heading of the phone's top edge from magnetic north toward east,
- * pitch positive with the top edge up, roll positive with the right edge down; at pitch ±90° roll
- * is 0. Linear acceleration in ENU, m/s²: R(q)·a − [0, 0, g₀] with the latest accelerometer
+ * SensorManager.getOrientation of R(q), and aerospace angles (degrees, 4 decimals) of the phone as
+ * an aircraft in North-East-Down: yaw = heading of the phone's top edge from magnetic north toward
+ * east, pitch positive with the top edge up, roll positive with the right edge down; at pitch ±90°
+ * roll is 0 (both from core's Orientations, where the definitions are). Linear acceleration in ENU, m/s²: R(q)·a − [0, 0, g₀] with the latest accelerometer
  * reading a and g₀ = 9.80665 (5 decimals). Rows before the filter is initialised have NaN.
  */
 package dev.motionfusion.core.replay
 
-import dev.motionfusion.core.GIMBAL_LOCK_THRESHOLD
+import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.io.AsciiNumbers
 import java.io.Closeable
 import java.io.Flushable
 import java.io.OutputStream
-import kotlin.math.asin
-import kotlin.math.atan2
 
 /** Writes replay steps as CSV to [out] (buffered; [close] closes [out] unless [closeStream] is false). */
 public class ReplayCsvWriter(private val out: OutputStream, private val closeStream: Boolean = true) : ReplayListener, Closeable, Flushable {
@@ -95,6 +91,8 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             val x = q[1]
             val y = q[2]
             val z = q[3]
+            Orientations.androidAndAerospaceAngles(q, out, 0)
+            for (k in 0 until 6) out[k] *= DEG
             val r00 = 1 - 2 * (y * y + z * z)
             val r01 = 2 * (x * y - w * z)
             val r02 = 2 * (x * z + w * y)
@@ -104,21 +102,6 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             val r20 = 2 * (x * z - w * y)
             val r21 = 2 * (y * z + w * x)
             val r22 = 1 - 2 * (x * x + y * y)
-            out[0] = atan2(r01, r11) * DEG
-            out[1] = asin((-r21).coerceIn(-1.0, 1.0)) * DEG
-            out[2] = atan2(-r20, r22) * DEG
-            // Aerospace body→NED matrix M = C·R·P has M00 = R11, M10 = R01, M20 = −R21, M21 = −R20,
-            // M22 = R22, M01 = R10, M11 = R00 (C: ENU→NED, P: body→device). So yaw = atan2(M10, M00)
-            // is the azimuth, pitch = asin(−M20) = −(Android pitch), roll = atan2(M21, M22) is the
-            // Android roll, except at gimbal lock, where Z-Y-X puts the whole rotation in yaw.
-            out[4] = -out[1]
-            if (!(r11 * r11 + r01 * r01 < GIMBAL_LOCK_THRESHOLD * GIMBAL_LOCK_THRESHOLD)) { // NaN stays NaN
-                out[3] = out[0]
-                out[5] = out[2]
-            } else {
-                out[3] = atan2(-r10, r00) * DEG
-                out[5] = 0.0
-            }
             out[6] = r00 * a[0] + r01 * a[1] + r02 * a[2]
             out[7] = r10 * a[0] + r11 * a[1] + r12 * a[2]
             out[8] = r20 * a[0] + r21 * a[1] + r22 * a[2] - STANDARD_GRAVITY

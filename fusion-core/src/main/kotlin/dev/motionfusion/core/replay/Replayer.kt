@@ -9,7 +9,7 @@ package dev.motionfusion.core.replay
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.WorldFrame
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 
 /** The state after one gyroscope step. Reused from step to step: copy what you keep. */
@@ -57,7 +57,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
      * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.
      * [progress], if given, is called with the number of events read every 65,536 events.
      */
-    public fun run(events: SessionEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null): ReplayCounts {
+    public fun run(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null): ReplayCounts {
         val step = ReplayStep()
         var origin = originNs
         var n = 0L

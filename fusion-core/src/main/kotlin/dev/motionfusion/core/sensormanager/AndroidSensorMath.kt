@@ -13,9 +13,8 @@
  */
 package dev.motionfusion.core.sensormanager
 
-import dev.motionfusion.core.EulerAngles
-import dev.motionfusion.core.EulerMode
-import dev.motionfusion.core.EulerSequence
+import dev.motionfusion.core.AndroidAngles
+import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationMatrix
 import dev.motionfusion.core.Vector3
@@ -24,31 +23,8 @@ import kotlin.math.atan2
 import kotlin.math.pow
 import kotlin.math.sqrt
 
-/**
- * Android's orientation angles (as getOrientation), radians, of a device → ENU rotation R:
- * [azimuth] about −z, from magnetic north to the device's y axis projected on the ground,
- * positive toward east, in [−π, π]; [pitch] about x, positive when the top edge tilts down,
- * in [−π/2, π/2]; [roll] about y, positive when the right edge tilts down, in [−π, π].
- * R = Rz(−azimuth) · Rx(−pitch) · Ry(roll), i.e. intrinsic Z-X-Y angles (−azimuth, −pitch, roll).
- * When pitch is ±π/2 azimuth and roll are not separable; like getOrientation, both are still
- * computed from atan2 and are then only as meaningful as the matrix's rounding.
- */
-public data class AndroidAngles(val azimuth: Double, val pitch: Double, val roll: Double) {
-    public val azimuthDeg: Double get() = Math.toDegrees(azimuth)
-    public val pitchDeg: Double get() = Math.toDegrees(pitch)
-    public val rollDeg: Double get() = Math.toDegrees(roll)
-
-    /** The device → ENU rotation matrix Rz(−azimuth)·Rx(−pitch)·Ry(roll). */
-    public fun toRotationMatrix(): RotationMatrix =
-        EulerAngles(-azimuth, -pitch, roll, EulerSequence.ZXY, EulerMode.INTRINSIC).toRotationMatrix()
-}
-
-/** Android's azimuth/pitch/roll of the device → ENU matrix [r] (getOrientation with a clamped asin). */
-public fun androidOrientation(r: RotationMatrix): AndroidAngles = AndroidAngles(
-    azimuth = atan2(r.m01, r.m11),
-    pitch = asin((-r.m21).coerceIn(-1.0, 1.0)),
-    roll = atan2(-r.m20, r.m22),
-)
+/** Android's azimuth/pitch/roll of the device → ENU matrix [r] (getOrientation with a clamped asin): [Orientations.androidAngles]. */
+public fun androidOrientation(r: RotationMatrix): AndroidAngles = Orientations.androidAngles(r)
 
 /**
  * The change of orientation from [previous] to [current] (both device → ENU) as Android angles

@@ -8,8 +8,8 @@ package dev.motionfusion.core.session
 
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.FilterSettingDescriptors
-import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
+import dev.motionfusion.core.io.JsonObject
 
 internal object MetadataJson {
 
@@ -101,12 +101,11 @@ internal object MetadataJson {
     fun settings(s: FilterSettings): Map<String, Any?> = FilterSettingDescriptors.all.associateTo(LinkedHashMap()) { it.jsonKey to it.value(s) }
 
     fun parse(text: String, sourceName: String): SessionMetadata {
-        val root = Json.parse(text, sourceName) as? Map<*, *> ?: throw DataFormatException(sourceName, 1, 1, "expected a JSON object")
-        val r = Obj(root, "", sourceName)
+        val r = Json.document(text, sourceName).rootObject()
         val version = r.int("format_version", -1)
-        if (version < 1) throw DataFormatException(sourceName, 0, 0, "format_version missing or not a positive integer")
+        if (version < 1) throw r.error("format_version", "missing or not a positive integer")
         if (version > SessionMetadata.FORMAT_VERSION) {
-            throw DataFormatException(sourceName, 0, 0, "format_version $version is newer than this reader (${SessionMetadata.FORMAT_VERSION}); update fusion")
+            throw r.error("format_version", "$version is newer than this reader (${SessionMetadata.FORMAT_VERSION}); update fusion")
         }
         val device = r.obj("device")
         return SessionMetadata(
@@ -149,10 +148,10 @@ internal object MetadataJson {
         )
     }
 
-    private fun parseAnchor(o: Obj) = ClockAnchor(o.long("wall_clock_ms", 0L), o.long("elapsed_realtime_ns", 0L))
+    private fun parseAnchor(o: JsonObject) = ClockAnchor(o.long("wall_clock_ms", 0L), o.long("elapsed_realtime_ns", 0L))
 
     /** Members missing from stored settings take the value of their time ([FilterSettingDescriptor.valueWhenAbsent]) or the default. */
-    private fun parseSettings(o: Obj): FilterSettings {
+    private fun parseSettings(o: JsonObject): FilterSettings {
         var s = FilterSettings()
         for (d in FilterSettingDescriptors.all) {
             val v = o.raw(d.jsonKey) ?: d.valueWhenAbsent ?: continue
@@ -163,60 +162,5 @@ internal object MetadataJson {
             }
         }
         return s
-    }
-
-    /** Typed access to a JSON object, with errors naming the member's path. */
-    private class Obj(val map: Map<*, *>, val path: String, val source: String) {
-        fun error(key: String, reason: String) = DataFormatException(source, 0, 0, "${path}$key: $reason")
-        fun keys(): List<String> = map.keys.map { it.toString() }
-        fun raw(key: String): Any? = map[key]
-
-        fun string(key: String): String = when (val v = raw(key)) {
-            null -> ""
-            is String -> v
-            else -> throw error(key, "expected a string")
-        }
-
-        fun longOrNull(key: String): Long? = when (val v = raw(key)) {
-            null -> null
-            is Long -> v
-            is Double -> if (v == Math.rint(v) && kotlin.math.abs(v) < 9e18) v.toLong() else throw error(key, "expected an integer")
-            else -> throw error(key, "expected an integer")
-        }
-
-        fun long(key: String, default: Long): Long = longOrNull(key) ?: default
-
-        fun int(key: String, default: Int): Int {
-            val v = longOrNull(key) ?: return default
-            if (v < Int.MIN_VALUE || v > Int.MAX_VALUE) throw error(key, "integer out of range")
-            return v.toInt()
-        }
-
-        fun double(key: String, default: Double = Double.NaN): Double = when (val v = raw(key)) {
-            null -> default
-            is Long -> v.toDouble()
-            is Double -> v
-            else -> throw error(key, "expected a number")
-        }
-
-        fun bool(key: String, default: Boolean): Boolean = when (val v = raw(key)) {
-            null -> default
-            is Boolean -> v
-            else -> throw error(key, "expected true or false")
-        }
-
-        fun objOrNull(key: String): Obj? = when (val v = raw(key)) {
-            null -> null
-            is Map<*, *> -> Obj(v, "$path$key.", source)
-            else -> throw error(key, "expected an object")
-        }
-
-        fun obj(key: String): Obj = objOrNull(key) ?: Obj(emptyMap<String, Any>(), "$path$key.", source)
-
-        fun list(key: String): List<Obj> = when (val v = raw(key)) {
-            null -> emptyList()
-            is List<*> -> v.mapIndexed { i, x -> (x as? Map<*, *>)?.let { Obj(it, "$path$key[$i].", source) } ?: throw error("$key[$i]", "expected an object") }
-            else -> throw error(key, "expected an array")
-        }
     }
 }

@@ -4,6 +4,9 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.MergedEvents
+import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.event.StreamCursor
 import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FieldError
@@ -39,7 +42,7 @@ public class SessionReader private constructor(
      * was not closed ("complete": false) an unterminated last line of a file is skipped as cut
      * off by the interruption; in a complete session it is read like any other.
      */
-    public fun events(which: Set<SessionStream> = streams): SessionEvents {
+    public fun events(which: Set<SessionStream> = streams): SensorEvents {
         val cursors = ArrayList<StreamCursor>()
         try {
             for (s in which) if (s in streams) cursors += cursor(s)
@@ -51,7 +54,7 @@ public class SessionReader private constructor(
     }
 
     /** The events of one stream in file order. */
-    public fun stream(s: SessionStream): SessionEvents {
+    public fun stream(s: SessionStream): SensorEvents {
         require(s in streams) { "$name has no ${s.fileName}" }
         return MergedEvents(listOf(cursor(s)))
     }
@@ -112,7 +115,7 @@ internal class SessionCsvCursor(
     override var timestampNs: Long = 0L
         private set
     override val values: DoubleArray = DoubleArray(stream.valueCount)
-    override var accuracy: Int = SessionEvents.NO_ACCURACY
+    override var accuracy: Int = SensorEvents.NO_ACCURACY
         private set
 
     private val timeIndex: Int
@@ -122,17 +125,11 @@ internal class SessionCsvCursor(
 
     init {
         try {
-            if (!csv.nextLine()) throw DataFormatException(csv.sourceName, 1, 0, "empty file: expected the header ${stream.header}")
-            val names = csv.names()
-            fieldCount = names.size
-            fun find(name: String): Int {
-                val i = names.indexOf(name)
-                if (i < 0) throw DataFormatException(csv.sourceName, csv.lineNumber, 1, "header lacks column '$name'; expected ${stream.header}")
-                return i
-            }
-            timeIndex = find(SessionStream.TIMESTAMP_COLUMN)
-            for (k in valueIndex.indices) valueIndex[k] = find(stream.valueColumns[k])
-            accuracyIndex = if (stream.hasAccuracy) find(SessionStream.ACCURACY_COLUMN) else -1
+            val header = csv.header(stream.header)
+            fieldCount = header.fieldCount
+            timeIndex = header.require(SessionStream.TIMESTAMP_COLUMN)
+            for (k in valueIndex.indices) valueIndex[k] = header.require(stream.valueColumns[k])
+            accuracyIndex = if (stream.hasAccuracy) header.require(SessionStream.ACCURACY_COLUMN) else -1
         } catch (e: Throwable) {
             csv.close()
             throw e

@@ -2,7 +2,7 @@ package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.session.SessionEvents
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
@@ -41,10 +41,20 @@ class CalibrationFileTest {
         assertTrue("magnetometer.matrix: not a calibration matrix" in reason(good.replace("[0.9, ", "[-0.9, ")))
         assertTrue("gyroscope.stream: 'magnetometer' is not one of" in reason(good.replace("\"gyroscope_uncalibrated\"", "\"magnetometer\"")))
         assertTrue("cal.json:" in reason(good.dropLast(3)))
+        // Member errors carry the position of the member's value.
+        val short = good.replace("[35.0, -20.0, 60.0]", "[35.0, -20.0]")
+        val e = assertThrows(DataFormatException::class.java) { CalibrationJson.parse(short, "cal.json") }
+        val at = short.lines().indexOfFirst { "[35.0, -20.0]" in it }
+        assertEquals(at + 1L, e.line)
+        assertEquals(short.lines()[at].indexOf('[') + 1, e.column)
+        val nonFinite = good.replace("[35.0, -20.0, 60.0]", "[35.0, \"x\", 60.0]")
+        val f = assertThrows(DataFormatException::class.java) { CalibrationJson.parse(nonFinite, "cal.json") }
+        assertTrue("magnetometer.offset_uT: element 1 is not a finite number" in f.reason, f.reason)
+        assertEquals(nonFinite.lines()[f.line.toInt() - 1].indexOf("\"x\"") + 1, f.column)
     }
 
     /** Events of a list, for the wrapper test. */
-    private class ListEvents(private val rows: List<Triple<SessionStream, Long, DoubleArray>>) : SessionEvents {
+    private class ListEvents(private val rows: List<Triple<SessionStream, Long, DoubleArray>>) : SensorEvents {
         private var i = -1
         override fun next() = ++i < rows.size
         override val stream get() = rows[i].first

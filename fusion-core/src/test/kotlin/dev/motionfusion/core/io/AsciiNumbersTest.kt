@@ -71,6 +71,35 @@ class AsciiNumbersTest {
     }
 
     @Test
+    fun `fixed decimals equal BigDecimal's digits of the documented rounding, and the exact rounding away from midpoints`() {
+        val r = Random(5)
+        val b = ByteArray(48)
+        var exact = 0
+        repeat(1_000_000) {
+            val v = when (it % 4) {
+                0 -> r.nextDouble() * 2 - 1 // quaternion components
+                1 -> (r.nextDouble() - 0.5) * 360 // angles
+                2 -> r.nextDouble() * 3600 // times
+                else -> (r.nextDouble() - 0.5) * Math.pow(10.0, r.nextInt(13) - 3.0)
+            }
+            val d = if (it % 2 == 0) intArrayOf(9, 4, 5)[it % 3] else r.nextInt(10)
+            val s = String(b, 0, AsciiNumbers.fixed(b, 0, v, d), Charsets.US_ASCII)
+            val m = Math.round(Math.abs(v) * Math.pow(10.0, d.toDouble()))
+            val expected = if (m == 0L) "0" else BigDecimal.valueOf(if (v < 0) -m else m, d).stripTrailingZeros().toPlainString()
+            assertEquals(expected, s, "$v to $d decimals")
+            // Away from a rounding midpoint (where the product's own rounding decides) it is the exact rounding of v.
+            val scaled = BigDecimal(v).movePointRight(d)
+            val frac = scaled.subtract(BigDecimal(scaled.toBigInteger())).abs().toDouble()
+            if (Math.abs(frac - 0.5) > 1e-6 && Math.abs(v) * Math.pow(10.0, d.toDouble()) < 1e9) {
+                exact++
+                val correct = BigDecimal(v).setScale(d, java.math.RoundingMode.HALF_UP)
+                assertEquals(0, correct.compareTo(BigDecimal(s)), "$v to $d decimals: $s, exactly $correct")
+            }
+        }
+        assertTrue(exact > 600_000, "compared $exact")
+    }
+
+    @Test
     fun `longs`() {
         val b = ByteArray(32)
         for (v in listOf(0L, 1L, -1L, 9L, 10L, 123456789012345L, Long.MAX_VALUE, Long.MIN_VALUE, -1000L)) {

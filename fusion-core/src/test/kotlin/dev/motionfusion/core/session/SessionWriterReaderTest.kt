@@ -1,5 +1,6 @@
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.io.DataFormatException
@@ -66,7 +67,7 @@ class SessionWriterReaderTest {
                     9 -> (0 until 4).map { f[it].toDouble() } + Double.NaN
                     else -> (0 until s.valueCount).map { f[it].toDouble() }
                 }
-                expected += Ev(s, t, v, if (s.hasAccuracy) acc else SessionEvents.NO_ACCURACY)
+                expected += Ev(s, t, v, if (s.hasAccuracy) acc else SensorEvents.NO_ACCURACY)
                 if (i % 500 == 0) w.flush()
             }
         }
@@ -255,8 +256,14 @@ class SessionWriterReaderTest {
         val good = Files.readString(m)
         Files.writeString(m, good.replace("\"format_version\": 1", "\"format_version\": 2"))
         assertTrue(assertThrows(DataFormatException::class.java) { SessionReader.open(dir) }.reason.contains("newer"))
-        Files.writeString(m, good.replace("\"model\": \"Phone 1\"", "\"model\": 5"))
-        assertTrue(assertThrows(DataFormatException::class.java) { SessionReader.open(dir) }.reason.contains("device.model"))
+        val wrongType = good.replace("\"model\": \"Phone 1\"", "\"model\": 5")
+        Files.writeString(m, wrongType)
+        val typeError = assertThrows(DataFormatException::class.java) { SessionReader.open(dir) }
+        assertTrue(typeError.reason.contains("device.model: expected a string"), typeError.reason)
+        // At the member's value: FILE:LINE:COLUMN.
+        val at = wrongType.lines().indexOfFirst { "\"model\": 5" in it }
+        assertEquals(at + 1L, typeError.line)
+        assertEquals(wrongType.lines()[at].indexOf('5') + 1, typeError.column)
         Files.writeString(m, "{\n  \"format_version\": 1,\n  \"device\": {,}\n}")
         val e = assertThrows(DataFormatException::class.java) { SessionReader.open(dir) }
         assertEquals(3L, e.line)

@@ -1,10 +1,11 @@
 /*
  * A cursor over sensor events in time order, the common currency of replay: session folders and
- * zips, plain IMU tables, phyphox and Sensor Logger exports all come out as SessionEvents.
+ * zips, plain IMU tables, BROAD trials, phyphox and Sensor Logger exports all come out as SensorEvents.
  * Units and frames as in SessionStream (SI, Android device frame, quaternions sensor → ENU).
  */
-package dev.motionfusion.core.session
+package dev.motionfusion.core.event
 
+import dev.motionfusion.core.session.SessionStream
 import java.io.Closeable
 
 /**
@@ -13,7 +14,7 @@ import java.io.Closeable
  * constant whatever the length. Malformed input throws
  * [dev.motionfusion.core.io.DataFormatException] naming source, line and column.
  */
-public interface SessionEvents : Closeable {
+public interface SensorEvents : Closeable {
     /** Advances to the next event; false at the end. */
     public fun next(): Boolean
 
@@ -48,7 +49,7 @@ internal interface StreamCursor : Closeable {
  * back is passed through in its own order). Ties go to the stream declared first in
  * [SessionStream], so accelerometer and magnetometer precede the gyroscope at equal times.
  */
-internal class MergedEvents(cursors: List<StreamCursor>) : SessionEvents {
+internal class MergedEvents(cursors: List<StreamCursor>) : SensorEvents {
     private val all = cursors.sortedBy { it.stream.ordinal }.toTypedArray()
     private val live = BooleanArray(all.size)
     private var primed = false
