@@ -58,7 +58,8 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {
                 if (output.endsWith(".gz")) GZIPOutputStream(it, 1 shl 16) else it
             }
-            val writer = ReplayCsvWriter(stream, closeStream = output != null)
+            // With a second core the rows are formatted while the next ones are read (the same bytes).
+            val writer = ReplayCsvWriter(stream, closeStream = output != null, parallel = Runtime.getRuntime().availableProcessors() > 1)
             val replayer = Replayer(settings)
             val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
             progress.finish()

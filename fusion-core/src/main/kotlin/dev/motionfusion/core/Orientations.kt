@@ -97,11 +97,15 @@ public object Orientations {
      * one rotation matrix. NaN in, NaN out.
      */
     @JvmStatic
-    public fun androidAndAerospaceAngles(q: DoubleArray, out: DoubleArray, offset: Int) {
-        val w = q[0]
-        val x = q[1]
-        val y = q[2]
-        val z = q[3]
+    public fun androidAndAerospaceAngles(q: DoubleArray, out: DoubleArray, offset: Int): Unit = androidAndAerospaceAngles(q, 0, out, offset)
+
+    /** As [androidAndAerospaceAngles] with q at q[qAt..qAt+3]. */
+    @JvmStatic
+    public fun androidAndAerospaceAngles(q: DoubleArray, qAt: Int, out: DoubleArray, offset: Int) {
+        val w = q[qAt]
+        val x = q[qAt + 1]
+        val y = q[qAt + 2]
+        val z = q[qAt + 3]
         val r00 = 1 - 2 * (y * y + z * z)
         val r01 = 2 * (x * y - w * z)
         val r10 = 2 * (x * y + w * z)

@@ -77,7 +77,6 @@ internal object PublicApi {
             val c = Class.forName(name, false, loader)
             if (!isApi(c)) continue
             val meta = KotlinMetadata.of(c)
-            out.append(classLine(c)).append(" {\n")
             val members = ArrayList<String>()
             val publicConstructors = meta?.constructorVisibilities?.count { it.isApi() }
             for (k in c.declaredConstructors) {
@@ -89,14 +88,19 @@ internal object PublicApi {
                 if (meta != null && meta.kind != 1 && meta.memberVisibility[m.name]?.isApi() == false) continue
                 members += "  " + signature(m)
             }
-            // A companion's constants are fields of the class; their visibility is in the companion's metadata.
-            val companion = c.declaredClasses.firstOrNull { it.simpleName == "Companion" }?.let(KotlinMetadata::of)
+            // A companion's constants are fields of the class; their visibility is the companion's and its own.
+            val companionClass = c.declaredClasses.firstOrNull { it.simpleName == "Companion" }
+            val companion = companionClass?.let(KotlinMetadata::of)
             for (f in c.declaredFields) {
                 if (!visible(f)) continue
+                val inCompanion = meta?.memberVisibility?.get(f.name) == null && companion?.memberVisibility?.get(f.name) != null
+                if (inCompanion && !isApi(companionClass!!)) continue
                 val v = meta?.memberVisibility?.get(f.name) ?: companion?.memberVisibility?.get(f.name)
                 if (v?.isApi() == false) continue
                 members += "  " + modifiers(f.modifiers) + f.genericType.typeName + " " + f.name
             }
+            if (members.isEmpty() && meta != null && meta.kind != 1) continue // a file of internal declarations only
+            out.append(classLine(c)).append(" {\n")
             members.sorted().forEach { out.append(it).append('\n') }
             out.append("}\n\n")
         }

@@ -47,7 +47,7 @@ public object Evaluation {
     }
 
     /** Scores every trial under [paths] (see [findTrials]), in name order. */
-    public fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
+    internal fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
         findTrials(paths).map { evaluate(Trial.load(it), settings) }
 
     /**

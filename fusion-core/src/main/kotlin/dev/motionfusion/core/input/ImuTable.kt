@@ -98,7 +98,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
 
     public companion object {
         /** Column names in canonical order; the first [REQUIRED] are mandatory. */
-        public val COLUMNS: List<String> = listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az", "mx", "my", "mz")
+        internal val COLUMNS: List<String> = listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az", "mx", "my", "mz")
         private const val REQUIRED = 7
 
         /** Times beyond this (s) do not fit a nanosecond Long. */

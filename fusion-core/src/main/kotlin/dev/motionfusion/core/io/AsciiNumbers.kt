@@ -13,10 +13,10 @@ import kotlin.math.abs
 
 public object AsciiNumbers {
     /** Longest output of [float]: sign, 9 digits, point, up to 7 leading zeros, exponent. */
-    public const val MAX_FLOAT_CHARS: Int = 24
+    internal const val MAX_FLOAT_CHARS: Int = 24
 
     /** Longest output of [long]. */
-    public const val MAX_LONG_CHARS: Int = 20
+    internal const val MAX_LONG_CHARS: Int = 20
 
     private val POW10 = DoubleArray(23) { i -> "1e$i".toDouble() }
     private val LONG_POW10 = LongArray(19).also { p -> p[0] = 1L; for (i in 1 until 19) p[i] = p[i - 1] * 10L }
@@ -225,13 +225,13 @@ public object AsciiNumbers {
     }
 
     /** The output of [float] as a String (tests, headers). */
-    public fun floatToString(f: Float): String {
+    internal fun floatToString(f: Float): String {
         val b = ByteArray(MAX_FLOAT_CHARS + 8)
         return String(b, 0, float(b, 0, f), Charsets.US_ASCII)
     }
 
     /** The output of [fixed] as a String. */
-    public fun fixedToString(v: Double, decimals: Int): String {
+    internal fun fixedToString(v: Double, decimals: Int): String {
         val b = ByteArray(48)
         return String(b, 0, fixed(b, 0, v, decimals), Charsets.US_ASCII)
     }

@@ -184,7 +184,7 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
 
         /** True when [fileName] is a temporary file of a write aside of [targetName]. */
         @JvmStatic
-        public fun isTemporaryOf(fileName: String, targetName: String): Boolean =
+        internal fun isTemporaryOf(fileName: String, targetName: String): Boolean =
             fileName.startsWith(".$targetName.") && fileName.endsWith(TEMP_SUFFIX)
 
         /** The reason of [e] in words, without the file name ("permission denied", "No space left on device"). */

@@ -19,12 +19,24 @@ import dev.motionfusion.core.io.AsciiNumbers
 import java.io.Closeable
 import java.io.Flushable
 import java.io.OutputStream
+import java.util.concurrent.ArrayBlockingQueue
 
-/** Writes replay steps as CSV to [out] (buffered; [close] closes [out] unless [closeStream] is false). */
-public class ReplayCsvWriter(private val out: OutputStream, private val closeStream: Boolean = true) : ReplayListener, Closeable, Flushable {
+/**
+ * Writes replay steps as CSV to [out] (buffered; [close] closes [out] unless [closeStream] is
+ * false). With [parallel], the rows are formatted and written by a second thread while the
+ * caller's thread reads and filters: the bytes are the same, in the same order (the steps are
+ * handed over in batches of fixed size, so memory stays flat); a failure of [out] is thrown by
+ * the next [step], [flush] or [close].
+ */
+public class ReplayCsvWriter @JvmOverloads constructor(
+    private val out: OutputStream,
+    private val closeStream: Boolean = true,
+    parallel: Boolean = false,
+) : ReplayListener, Closeable, Flushable {
     private val buf = ByteArray(1 shl 16)
     private var pos = 0
     private val angles = DoubleArray(9)
+    private val worker: Worker? = if (parallel) Worker() else null
 
     /** Rows written. */
     public var rows: Long = 0L
@@ -37,14 +49,20 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
     }
 
     override fun step(step: ReplayStep) {
+        val w = worker
+        if (w != null) w.add(step) else format(step.timeS, step.orientation, 0, step.specificForce, 0)
+        rows++
+    }
+
+    /** One row from the time, q at q[qAt..qAt+3] and the specific force at a[aAt..aAt+2]. */
+    private fun format(timeS: Double, q: DoubleArray, qAt: Int, a: DoubleArray, aAt: Int) {
         if (pos + MAX_ROW > buf.size) drain()
-        pos = AsciiNumbers.fixed(buf, pos, step.timeS, 9)
-        val q = step.orientation
+        pos = AsciiNumbers.fixed(buf, pos, timeS, 9)
         for (k in 0 until 4) {
             buf[pos++] = COMMA
-            pos = AsciiNumbers.fixed(buf, pos, q[k], 9)
+            pos = AsciiNumbers.fixed(buf, pos, q[qAt + k], 9)
         }
-        derived(q, step.specificForce, angles)
+        derived(q, qAt, a, aAt, angles)
         for (k in 0 until 6) {
             buf[pos++] = COMMA
             pos = AsciiNumbers.fixed(buf, pos, angles[k], 4)
@@ -54,7 +72,6 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             pos = AsciiNumbers.fixed(buf, pos, angles[k], 5)
         }
         buf[pos++] = NL
-        rows++
     }
 
     private fun drain() {
@@ -63,13 +80,111 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
     }
 
     override fun flush() {
-        drain()
-        out.flush()
+        val w = worker
+        if (w != null) {
+            w.sync(Batch.FLUSH)
+        } else {
+            drain()
+            out.flush()
+        }
     }
 
     override fun close() {
-        flush()
-        if (closeStream) out.close()
+        try {
+            val w = worker
+            if (w != null) w.sync(Batch.END) else flush()
+        } finally {
+            if (closeStream) out.close()
+        }
+    }
+
+    /** Steps handed over: t, q (4), specific force (3) per row. */
+    private class Batch(val data: DoubleArray) {
+        var count = 0
+
+        companion object {
+            const val ROWS = 4096
+            const val STRIDE = 8
+            const val FLUSH = -1
+            const val END = -2
+        }
+    }
+
+    /** The formatting thread and the two queues of batches between it and the caller. */
+    private inner class Worker {
+        private val free = ArrayBlockingQueue<Batch>(3)
+        private val full = ArrayBlockingQueue<Batch>(3)
+        private val synced = ArrayBlockingQueue<Any>(1)
+        private var current = Batch(DoubleArray(Batch.ROWS * Batch.STRIDE))
+
+        @Volatile
+        private var failure: Throwable? = null
+        private var reported = false
+        private val thread = Thread(::loop, "replay-csv-writer").apply { isDaemon = true }
+
+        init {
+            repeat(2) { free.add(Batch(DoubleArray(Batch.ROWS * Batch.STRIDE))) }
+            thread.start()
+        }
+
+        fun add(step: ReplayStep) {
+            val b = current
+            val d = b.data
+            val i = b.count * Batch.STRIDE
+            d[i] = step.timeS
+            step.orientation.copyInto(d, i + 1, 0, 4)
+            step.specificForce.copyInto(d, i + 5, 0, 3)
+            if (++b.count == Batch.ROWS) handOver()
+        }
+
+        /** Throws the thread's failure, once (a close after a failed step does not throw it again). */
+        private fun rethrow() {
+            val f = failure ?: return
+            if (reported) return
+            reported = true
+            throw f
+        }
+
+        private fun handOver() {
+            rethrow()
+            full.put(current)
+            current = free.take()
+            current.count = 0
+        }
+
+        /** Hands over what is pending and a [marker]; returns when the thread has written (and flushed) it all. */
+        fun sync(marker: Int) {
+            if (!thread.isAlive) return rethrow()
+            full.put(current)
+            full.put(Batch(DoubleArray(0)).also { it.count = marker })
+            synced.take()
+            if (marker == Batch.END) thread.join() else current = free.take().also { it.count = 0 }
+            rethrow()
+        }
+
+        private fun loop() {
+            while (true) {
+                val b = full.take()
+                try {
+                    if (failure == null) {
+                        when (b.count) {
+                            Batch.FLUSH, Batch.END -> { drain(); out.flush() }
+                            else -> for (r in 0 until b.count) {
+                                val o = r * Batch.STRIDE
+                                format(b.data[o], b.data, o + 1, b.data, o + 5)
+                            }
+                        }
+                    }
+                } catch (e: Throwable) {
+                    failure = e
+                }
+                when (b.count) {
+                    Batch.FLUSH -> synced.put(Unit)
+                    Batch.END -> { synced.put(Unit); return }
+                    else -> free.put(b)
+                }
+            }
+        }
     }
 
     public companion object {
@@ -86,12 +201,14 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
          * conventions in the file header); out[6..8] ENU linear acceleration (m/s²).
          */
         @JvmStatic
-        public fun derived(q: DoubleArray, a: DoubleArray, out: DoubleArray) {
-            val w = q[0]
-            val x = q[1]
-            val y = q[2]
-            val z = q[3]
-            Orientations.androidAndAerospaceAngles(q, out, 0)
+        public fun derived(q: DoubleArray, a: DoubleArray, out: DoubleArray): Unit = derived(q, 0, a, 0, out)
+
+        private fun derived(q: DoubleArray, qAt: Int, a: DoubleArray, aAt: Int, out: DoubleArray) {
+            val w = q[qAt]
+            val x = q[qAt + 1]
+            val y = q[qAt + 2]
+            val z = q[qAt + 3]
+            Orientations.androidAndAerospaceAngles(q, qAt, out, 0)
             for (k in 0 until 6) out[k] *= DEG
             val r00 = 1 - 2 * (y * y + z * z)
             val r01 = 2 * (x * y - w * z)
@@ -102,9 +219,12 @@ public class ReplayCsvWriter(private val out: OutputStream, private val closeStr
             val r20 = 2 * (x * z - w * y)
             val r21 = 2 * (y * z + w * x)
             val r22 = 1 - 2 * (x * x + y * y)
-            out[6] = r00 * a[0] + r01 * a[1] + r02 * a[2]
-            out[7] = r10 * a[0] + r11 * a[1] + r12 * a[2]
-            out[8] = r20 * a[0] + r21 * a[1] + r22 * a[2] - STANDARD_GRAVITY
+            val ax = a[aAt]
+            val ay = a[aAt + 1]
+            val az = a[aAt + 2]
+            out[6] = r00 * ax + r01 * ay + r02 * az
+            out[7] = r10 * ax + r11 * ay + r12 * az
+            out[8] = r20 * ax + r21 * ay + r22 * az - STANDARD_GRAVITY
         }
     }
 }

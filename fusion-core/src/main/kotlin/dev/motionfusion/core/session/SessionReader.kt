@@ -96,7 +96,7 @@ public class SessionReader private constructor(
 
         /** True when [path] is a folder with meta.json or a zip holding one. */
         @JvmStatic
-        public fun isSession(path: Path): Boolean = try {
+        internal fun isSession(path: Path): Boolean = try {
             FileSet.open(path).use { f -> f.paths.any { it == SessionMetadata.FILE_NAME || it.endsWith("/" + SessionMetadata.FILE_NAME) } }
         } catch (e: IOException) {
             false

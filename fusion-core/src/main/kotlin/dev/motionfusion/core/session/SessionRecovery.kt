@@ -243,7 +243,7 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
 
     public companion object {
         /** Where recovery keeps an unreadable meta.json it rebuilt. */
-        public const val UNREADABLE_META: String = "meta.json.unreadable"
+        internal const val UNREADABLE_META: String = "meta.json.unreadable"
 
         private const val NEWLINE = '\n'.code.toByte()
         private val KNOWN: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }

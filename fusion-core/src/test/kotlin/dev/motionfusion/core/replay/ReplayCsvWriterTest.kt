@@ -1,0 +1,62 @@
+package dev.motionfusion.core.replay
+
+import org.junit.jupiter.api.Assertions.assertArrayEquals
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
+import org.junit.jupiter.api.Test
+import java.io.ByteArrayOutputStream
+import java.io.IOException
+import java.io.OutputStream
+import java.util.Random
+
+class ReplayCsvWriterTest {
+    /** Steps of a random walk of orientations, some not yet initialised (NaN), with flushes between. */
+    private fun write(parallel: Boolean, out: OutputStream, rows: Int, flushEvery: Int = 0): Long {
+        val r = Random(12)
+        val step = ReplayStep()
+        val w = ReplayCsvWriter(out, true, parallel)
+        w.use {
+            for (i in 0 until rows) {
+                step.timeS = i * 0.0016366
+                if (i < 50) {
+                    step.orientation.fill(Double.NaN)
+                } else {
+                    var n = 0.0
+                    for (k in 0 until 4) { step.orientation[k] = r.nextGaussian(); n += step.orientation[k] * step.orientation[k] }
+                    for (k in 0 until 4) step.orientation[k] /= Math.sqrt(n)
+                }
+                for (k in 0 until 3) step.specificForce[k] = r.nextGaussian() * 4 + if (k == 2) 9.8 else 0.0
+                it.step(step)
+                if (flushEvery > 0 && i % flushEvery == 0) it.flush()
+            }
+        }
+        return w.rows
+    }
+
+    @Test
+    fun `formatting on a second thread writes the same bytes`() {
+        for ((rows, flushEvery) in listOf(0 to 0, 1 to 0, 4095 to 0, 4096 to 0, 4097 to 0, 50_000 to 0, 30_000 to 7_001)) {
+            val serial = ByteArrayOutputStream()
+            val parallel = ByteArrayOutputStream()
+            assertEquals(rows.toLong(), write(false, serial, rows, flushEvery))
+            assertEquals(rows.toLong(), write(true, parallel, rows, flushEvery))
+            assertArrayEquals(serial.toByteArray(), parallel.toByteArray(), "$rows rows")
+        }
+    }
+
+    @Test
+    fun `a failing output is reported by the writer on the caller's thread`() {
+        for (parallel in listOf(false, true)) {
+            val full = object : OutputStream() {
+                var written = 0L
+                override fun write(b: Int) = write(byteArrayOf(b.toByte()), 0, 1)
+                override fun write(b: ByteArray, off: Int, len: Int) {
+                    written += len
+                    if (written > 1_000_000) throw IOException("No space left on device")
+                }
+            }
+            val e = assertThrows(IOException::class.java) { write(parallel, full, 100_000) }
+            assertEquals("No space left on device", e.message)
+        }
+    }
+}
