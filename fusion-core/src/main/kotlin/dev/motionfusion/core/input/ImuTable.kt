@@ -23,6 +23,7 @@ import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 import java.io.Closeable
 import java.io.InputStream
+import java.util.concurrent.ArrayBlockingQueue
 import java.nio.file.Files
 import java.nio.file.Path
 import kotlin.math.roundToLong
@@ -124,8 +125,13 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
     }
 }
 
-/** The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope, all at t_s. */
-internal class ImuTableEvents(private val table: ImuTableReader) : SensorEvents {
+/**
+ * The plain IMU table as events: per row accelerometer, magnetometer (if any), then gyroscope,
+ * all at t_s. With [ahead], the rows are parsed on a second thread in batches of fixed size while
+ * the caller filters the previous ones: the same rows in the same order, an error thrown when the
+ * caller reaches the row where it occurred, memory flat (three batches).
+ */
+internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean = false) : SensorEvents {
     private var phase = 3
     override var stream: SessionStream = SessionStream.ACCELEROMETER
         private set
@@ -133,7 +139,9 @@ internal class ImuTableEvents(private val table: ImuTableReader) : SensorEvents 
         private set
     override val values: DoubleArray = DoubleArray(3)
     override val accuracy: Int get() = SensorEvents.NO_ACCURACY
-    private val r = table.row
+    private val hasMagnetometer = table.hasMagnetometer
+    private val prefetch: Prefetch? = if (ahead) Prefetch() else null
+    private val r: DoubleArray = prefetch?.row ?: table.row
 
     override fun next(): Boolean {
         while (true) {
@@ -141,17 +149,110 @@ internal class ImuTableEvents(private val table: ImuTableReader) : SensorEvents 
                 0 -> { phase = 1; stream = SessionStream.ACCELEROMETER; values[0] = r[3]; values[1] = r[4]; values[2] = r[5]; return true }
                 1 -> {
                     phase = 2
-                    if (table.hasMagnetometer) { stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true }
+                    if (hasMagnetometer) { stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true }
                 }
                 2 -> { phase = 3; stream = SessionStream.GYROSCOPE; values[0] = r[0]; values[1] = r[1]; values[2] = r[2]; return true }
                 else -> {
-                    if (!table.next()) return false
-                    timestampNs = (table.timeS * 1e9).roundToLong()
+                    val p = prefetch
+                    val t: Double
+                    if (p != null) {
+                        if (!p.next()) return false
+                        t = p.timeS
+                    } else {
+                        if (!table.next()) return false
+                        t = table.timeS
+                    }
+                    timestampNs = (t * 1e9).roundToLong()
                     phase = 0
                 }
             }
         }
     }
 
-    override fun close(): Unit = table.close()
+    override fun close() {
+        prefetch?.stop()
+        table.close()
+    }
+
+    /** Rows of [table] read by a second thread into batches of t_s and the 9 values. */
+    private inner class Prefetch {
+        val row = DoubleArray(9)
+        var timeS = Double.NaN
+        private val free = ArrayBlockingQueue<Batch>(3)
+        private val full = ArrayBlockingQueue<Batch>(3)
+        private var current: Batch? = null
+        private var index = 0
+        private val thread = Thread(::loop, "table-reader").apply { isDaemon = true }
+
+        init {
+            repeat(3) { free.add(Batch()) }
+            thread.start()
+        }
+
+        fun next(): Boolean {
+            var b = current
+            if (b == null || index == b.count) {
+                if (b != null) {
+                    if (b.end) return b.finish()
+                    free.put(b)
+                }
+                b = full.take()
+                current = b
+                index = 0
+                if (b.count == 0) return b.finish()
+            }
+            val o = index++ * STRIDE
+            timeS = b.data[o]
+            b.data.copyInto(row, 0, o + 1, o + STRIDE)
+            return true
+        }
+
+        private fun Batch.finish(): Boolean {
+            count = 0
+            index = 0
+            error?.let { error = null; throw it }
+            return false
+        }
+
+        private fun loop() {
+            try {
+                while (true) {
+                    val b = free.take()
+                    b.count = 0
+                    try {
+                        while (b.count < ROWS && table.next()) {
+                            val o = b.count++ * STRIDE
+                            b.data[o] = table.timeS
+                            table.row.copyInto(b.data, o + 1, 0, 9)
+                        }
+                        b.end = b.count < ROWS
+                    } catch (e: Throwable) {
+                        b.error = e
+                        b.end = true
+                    }
+                    full.put(b)
+                    if (b.end) return
+                }
+            } catch (e: InterruptedException) {
+                // stopped by close()
+            }
+        }
+
+        fun stop() {
+            thread.interrupt()
+            thread.join()
+        }
+    }
+
+    private class Batch {
+        val data = DoubleArray(ROWS * STRIDE)
+        var count = 0
+        var end = false
+        var error: Throwable? = null
+    }
+
+    private companion object {
+        const val ROWS = 4096
+        const val STRIDE = 10
+    }
 }

@@ -64,6 +64,9 @@ public class Recording private constructor(
     override fun close(): Unit = closer.close()
 
     public companion object {
+        /** With a second core, a plain table is parsed ahead while the previous rows are filtered. */
+        private val PARSE_AHEAD = Runtime.getRuntime().availableProcessors() > 1
+
         /**
          * Opens [path], recognising its format by content.
          * @throws DataFormatException when it is none of the formats, holds several recordings, or is malformed.
@@ -94,7 +97,7 @@ public class Recording private constructor(
                     val table = files.find(dir, "input.csv.gz") ?: files.find(dir, "input.csv") ?: files.filesIn(dir).first { isTable(files, it) }
                     val hasMag = ImuTableReader(files.csv(table)).use { it.hasMagnetometer }
                     val streams = setOf(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE) + (if (hasMag) setOf(SessionStream.MAGNETOMETER) else emptySet())
-                    Recording(name, kind, null, 0L, streams, emptyList(), files, { ImuTableEvents(ImuTableReader(files.csv(table))) }, files)
+                    Recording(name, kind, null, 0L, streams, emptyList(), files, { ImuTableEvents(ImuTableReader(files.csv(table)), ahead = PARSE_AHEAD) }, files)
                 }
                 RecordingFormat.PHYPHOX, RecordingFormat.SENSOR_LOGGER -> {
                     val plan = if (kind == RecordingFormat.PHYPHOX) PhyphoxImport.plan(files, dir) else SensorLoggerImport.plan(files, dir, options.platform)

@@ -183,12 +183,7 @@ public object AsciiNumbers {
             0 -> { ip = m; fp = 0 }
             else -> { ip = m / LONG_POW10[decimals]; fp = (m - ip * LONG_POW10[decimals]).toInt() }
         }
-        p = if (ip < 10L) {
-            buf[p] = ('0'.code + ip.toInt()).toByte()
-            p + 1
-        } else {
-            long(buf, p, ip)
-        }
+        p = if (ip < 10_000L) small(buf, p, ip.toInt()) else long(buf, p, ip)
         if (fp == 0) return p
         var n = decimals
         while (fp % 10 == 0) {
@@ -208,6 +203,32 @@ public object AsciiNumbers {
         }
         if (n == 1) buf[--i] = ('0'.code + fp).toByte()
         return end
+    }
+
+    /** Writes 0 ≤ [v] < 10,000 without leading zeros; returns the position after it. */
+    private fun small(buf: ByteArray, p: Int, v: Int): Int {
+        if (v < 10) {
+            buf[p] = ('0'.code + v).toByte()
+            return p + 1
+        }
+        if (v < 100) {
+            buf[p] = DIGIT_TENS[v]
+            buf[p + 1] = DIGIT_ONES[v]
+            return p + 2
+        }
+        val h = v / 100
+        val r = v - h * 100
+        if (h < 10) {
+            buf[p] = ('0'.code + h).toByte()
+            buf[p + 1] = DIGIT_TENS[r]
+            buf[p + 2] = DIGIT_ONES[r]
+            return p + 3
+        }
+        buf[p] = DIGIT_TENS[h]
+        buf[p + 1] = DIGIT_ONES[h]
+        buf[p + 2] = DIGIT_TENS[r]
+        buf[p + 3] = DIGIT_ONES[r]
+        return p + 4
     }
 
     private val DIGIT_TENS = ByteArray(100) { ('0'.code + it / 10).toByte() }
