@@ -100,21 +100,24 @@ public class ReplayBenchmark {
 
     /** Replays the session at [dir]; returns the events read. */
     public static long replay(Path dir, boolean csv) throws IOException {
-        try (Recording rec = Recording.open(dir); SensorEvents events = rec.events(rec.getStreams())) {
+        ReplayCounts counts = run(dir, csv);
+        if (counts.getEvents() != ROWS) throw new IllegalStateException("read " + counts.getEvents() + " rows, expected " + ROWS);
+        return counts.getEvents();
+    }
+
+    /** Replays the recording at [input] with the default settings, into a discarding CSV ([csv]) or no output. */
+    public static ReplayCounts run(Path input, boolean csv) throws IOException {
+        try (Recording rec = Recording.open(input); SensorEvents events = rec.events(rec.getStreams())) {
             Replayer replayer = new Replayer(new FilterSettings());
-            ReplayCounts counts;
             if (csv) {
                 try (ReplayCsvWriter writer = new ReplayCsvWriter(OutputStream.nullOutputStream(), true)) {
-                    counts = replayer.run(events, rec.getOriginNs(), writer, null);
+                    return replayer.run(events, rec.getOriginNs(), writer, null);
                 }
-            } else {
-                counts = replayer.run(events, rec.getOriginNs(), new ReplayListener() {
-                    double sink;
-                    @Override public void step(ReplayStep step) { sink += step.getOrientation()[0]; }
-                }, null);
             }
-            if (counts.getEvents() != ROWS) throw new IllegalStateException("read " + counts.getEvents() + " rows, expected " + ROWS);
-            return counts.getEvents();
+            return replayer.run(events, rec.getOriginNs(), new ReplayListener() {
+                double sink;
+                @Override public void step(ReplayStep step) { sink += step.getOrientation()[0]; }
+            }, null);
         }
     }
 

@@ -7,16 +7,7 @@
  */
 package dev.motionfusion.bench;
 
-import dev.motionfusion.core.event.SensorEvents;
-import dev.motionfusion.core.filter.FilterSettings;
-import dev.motionfusion.core.input.Recording;
-import dev.motionfusion.core.replay.ReplayCounts;
-import dev.motionfusion.core.replay.ReplayCsvWriter;
-import dev.motionfusion.core.replay.ReplayListener;
-import dev.motionfusion.core.replay.ReplayStep;
-import dev.motionfusion.core.replay.Replayer;
 import java.io.IOException;
-import java.io.OutputStream;
 import java.nio.file.Path;
 import java.nio.file.Paths;
 import java.util.concurrent.TimeUnit;
@@ -66,22 +57,9 @@ public class TableReplayBenchmark {
 
     /** Replays the table at [file]; returns the rows read. */
     public static long replay(Path file, boolean csv) throws IOException {
-        try (Recording rec = Recording.open(file); SensorEvents events = rec.events(rec.getStreams())) {
-            Replayer replayer = new Replayer(new FilterSettings());
-            ReplayCounts counts;
-            if (csv) {
-                try (ReplayCsvWriter writer = new ReplayCsvWriter(OutputStream.nullOutputStream(), true)) {
-                    counts = replayer.run(events, rec.getOriginNs(), writer, null);
-                }
-            } else {
-                counts = replayer.run(events, rec.getOriginNs(), new ReplayListener() {
-                    double sink;
-                    @Override public void step(ReplayStep step) { sink += step.getOrientation()[0]; }
-                }, null);
-            }
-            if (counts.getGyroscope() != ROWS) throw new IllegalStateException("read " + counts.getGyroscope() + " rows, expected " + ROWS);
-            return counts.getGyroscope();
-        }
+        long rows = ReplayBenchmark.run(file, csv).getGyroscope();
+        if (rows != ROWS) throw new IllegalStateException("read " + rows + " rows, expected " + ROWS);
+        return rows;
     }
 
     /**

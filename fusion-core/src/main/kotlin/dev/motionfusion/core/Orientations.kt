@@ -61,21 +61,9 @@ public object Orientations {
     /** Android's angles of the unit quaternion [q] (sensor → ENU). */
     @JvmStatic
     public fun androidAngles(q: Quaternion): AndroidAngles {
-        val out = DoubleArray(3)
-        androidAngles(q.toDoubleArray(), out, 0)
+        val out = DoubleArray(6)
+        androidAndAerospaceAngles(q.toDoubleArray(), 0, out, 0)
         return AndroidAngles(out[0], out[1], out[2])
-    }
-
-    /** Azimuth, pitch, roll of [q] ([w, x, y, z], sensor → ENU) into out[offset..offset+2]; NaN in, NaN out. */
-    @JvmStatic
-    public fun androidAngles(q: DoubleArray, out: DoubleArray, offset: Int) {
-        val w = q[0]
-        val x = q[1]
-        val y = q[2]
-        val z = q[3]
-        out[offset] = atan2(2 * (x * y - w * z), 1 - 2 * (x * x + z * z))
-        out[offset + 1] = asin((-2 * (y * z + w * x)).coerceIn(-1.0, 1.0))
-        out[offset + 2] = atan2(-2 * (x * z - w * y), 1 - 2 * (x * x + y * y))
     }
 
     /** The azimuth of [q] ([w, x, y, z], sensor → ENU): the heading of the device's y axis, east of north. */

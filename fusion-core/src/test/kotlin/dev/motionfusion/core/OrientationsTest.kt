@@ -21,14 +21,14 @@ class OrientationsTest {
     fun `Android angles equal the real SensorManager's getOrientation of getRotationMatrixFromVector`() {
         val r = FloatArray(9)
         val expected = FloatArray(3)
-        val out = DoubleArray(3)
+        val out = DoubleArray(6)
         var compared = 0
         repeat(n) {
             val q = Randoms.quaternion(rnd)
             // The rotation vector as Android gives it: x, y, z, w (device → ENU).
             SensorManager.getRotationMatrixFromVector(r, floatArrayOf(q.x.toFloat(), q.y.toFloat(), q.z.toFloat(), q.w.toFloat()))
             SensorManager.getOrientation(r, expected)
-            Orientations.androidAngles(q.toDoubleArray(), out, 0)
+            Orientations.androidAndAerospaceAngles(q.toDoubleArray(), out, 0)
             val typed = Orientations.androidAngles(q)
             assertEquals(out[0], typed.azimuth, 0.0)
             assertEquals(out[1], typed.pitch, 0.0)
