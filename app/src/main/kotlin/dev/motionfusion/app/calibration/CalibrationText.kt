@@ -16,19 +16,19 @@ internal object CalibrationText {
             CalibrationStep.MAGNETOMETER -> when (s.stage) {
                 CalibrationStage.READY -> c.getString(R.string.calibration_mag_ready)
                 CalibrationStage.COLLECTING -> c.getString(R.string.calibration_mag_collecting)
-                CalibrationStage.RESULT -> resultHeadline(c, s.magFit)
+                CalibrationStage.RESULT -> resultHeadline(c, s)
             }
             CalibrationStep.POSES -> when (s.stage) {
                 CalibrationStage.READY -> c.getString(R.string.calibration_poses_ready, s.minPoseS)
                 CalibrationStage.COLLECTING -> s.askedFace?.let { c.getString(R.string.calibration_pose_asked, s.poseNumber, c.getString(PoseFacesView.faceName(it))) }
                     ?: c.getString(R.string.calibration_pose_all)
-                CalibrationStage.RESULT -> resultHeadline(c, s.accFit ?: s.gyroFit)
+                CalibrationStage.RESULT -> resultHeadline(c, s)
             }
         }
     }
 
-    private fun resultHeadline(c: Context, fit: Fit<*>?): String =
-        if (fit is Fit.Refused) c.getString(R.string.calibration_refused, fit.reason) else c.getString(R.string.calibration_result_ready)
+    private fun resultHeadline(c: Context, s: CalibrationUiState): String =
+        c.getString(if (s.hasAccepted) R.string.calibration_result_ready else R.string.calibration_result_refused)
 
     fun progress(c: Context, s: CalibrationUiState): String = when {
         s.unavailable != null || s.stage == CalibrationStage.READY -> ""
@@ -53,7 +53,7 @@ internal object CalibrationText {
                     lines += "field %.1f µT · residual %.2f µT".format(Locale.ROOT, m.fieldStrength, m.residualRms)
                     lines += "coverage %.0f %% · |B| spread %.1f → %.2f µT".format(Locale.ROOT, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
                 }
-                is Fit.Refused -> lines += "magnetometer: " + f.reason
+                is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "magnetometer", f.reason)
                 null -> Unit
             }
             CalibrationStep.POSES -> {
@@ -64,7 +64,7 @@ internal object CalibrationText {
                         lines += "scale   " + rows(a.correction)
                         lines += "residual %.4f m/s² at g = %.5f m/s²".format(Locale.ROOT, a.residualRms, a.gravity)
                     }
-                    is Fit.Refused -> lines += "accelerometer: " + f.reason
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "accelerometer", f.reason)
                     null -> Unit
                 }
                 when (val f = s.gyroFit) {
@@ -74,7 +74,7 @@ internal object CalibrationText {
                         lines += "±     " + vec(g.biasStdError, "%.5f") + " (standard error)"
                         lines += "noise " + vec(g.noiseStd, "%.4f") + " rad/s · still %.0f s".format(Locale.ROOT, g.stillTimeS)
                     }
-                    is Fit.Refused -> lines += "gyroscope: " + f.reason
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "gyroscope", f.reason)
                     null -> Unit
                 }
             }

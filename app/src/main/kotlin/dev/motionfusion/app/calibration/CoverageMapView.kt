@@ -41,6 +41,22 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
 
     private fun labelSize() = 12f * resources.displayMetrics.scaledDensity
 
+    /** The map's rectangle in the view (left, top, width, height): centred, twice as wide as high, labels above and below. */
+    private fun mapBounds(): FloatArray {
+        val label = labelSize()
+        val top = 1.4f * label
+        val mapH = minOf(height - 2.8f * label - top, width / 2f)
+        return floatArrayOf((width - 2 * mapH) / 2, top, 2 * mapH, mapH)
+    }
+
+    /** The centre of [cell] in view coordinates (for tests that read the picture back). */
+    internal fun cellCenter(cell: Int): android.graphics.PointF {
+        val (left, top, w, h) = mapBounds()
+        val band = cell / DirectionCoverage.SECTORS
+        val sector = cell % DirectionCoverage.SECTORS
+        return android.graphics.PointF(left + (sector + 0.5f) * w / DirectionCoverage.SECTORS, top + (DirectionCoverage.BANDS - 0.5f - band) * h / DirectionCoverage.BANDS)
+    }
+
     override fun onDraw(canvas: Canvas) {
         val label = labelSize()
         text.textSize = label
@@ -49,11 +65,7 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
         grid.strokeWidth = resources.displayMetrics.density
         val primary = MaterialColors.getColor(this, com.google.android.material.R.attr.colorPrimary)
         val empty = MaterialColors.getColor(this, com.google.android.material.R.attr.colorSurfaceContainerHighest)
-        val top = 1.4f * label
-        val bottom = height - 2.8f * label
-        val mapH = minOf(bottom - top, width / 2f)
-        val mapW = 2 * mapH
-        val left = (width - mapW) / 2
+        val (left, top, mapW, mapH) = mapBounds()
         val cw = mapW / DirectionCoverage.SECTORS
         val ch = mapH / DirectionCoverage.BANDS
         val most = hits.maxOrNull()?.coerceAtLeast(1) ?: 1

@@ -40,6 +40,7 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
         val container = MaterialColors.getColor(this, com.google.android.material.R.attr.colorSurfaceContainerHigh)
         val doneFill = MaterialColors.getColor(this, com.google.android.material.R.attr.colorPrimaryContainer)
         val outline = MaterialColors.getColor(this, com.google.android.material.R.attr.colorOutlineVariant)
+        val body = MaterialColors.getColor(this, com.google.android.material.R.attr.colorOutline)
         val cols = 3
         val gap = 8 * d
         val tw = (width - (cols + 1) * gap) / cols
@@ -56,7 +57,7 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
             paint.strokeWidth = (if (face == asked) 3 else 1) * d
             paint.color = if (face == asked) primary else outline
             canvas.drawRoundRect(r, 12 * d, 12 * d, paint)
-            drawPhone(canvas, face, x0 + tw / 2, y0 + th * 0.55f, minOf(tw, th) * 0.42f, onSurface, primary)
+            drawPhone(canvas, face, x0 + tw / 2, y0 + th * 0.45f, minOf(tw, th) * 0.5f, body, primary, onSurface)
             text.color = onSurface
             canvas.drawText(context.getString(faceName(face)), x0 + tw / 2, y0 + th - 0.6f * text.textSize, text)
             if (face in held) {
@@ -69,11 +70,11 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
     }
 
     /** The phone in [face]'s pose resting on a table line, [size] its long side; the screen side drawn in [screen]. */
-    private fun drawPhone(c: Canvas, face: PoseFace, cx: Float, cy: Float, size: Float, ink: Int, screen: Int) {
+    private fun drawPhone(c: Canvas, face: PoseFace, cx: Float, cy: Float, size: Float, ink: Int, screen: Int, table: Int) {
         val d = resources.displayMetrics.density
         val long = size
         val short = size * 0.5f
-        val thin = size * 0.09f
+        val thin = size * 0.12f
         paint.style = Paint.Style.FILL
         // Width and height of the drawn outline; the table line is under it.
         val (w, h) = when (face) {
@@ -87,14 +88,14 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
         c.drawRoundRect(r, 3 * d, 3 * d, paint)
         paint.color = screen
         when (face) {
-            PoseFace.SCREEN_UP -> c.drawRect(r.left + 2 * d, r.top - 2 * d, r.right - 2 * d, r.top + 1 * d, paint)
-            PoseFace.SCREEN_DOWN -> c.drawRect(r.left + 2 * d, r.bottom - 1 * d, r.right - 2 * d, r.bottom + 1 * d, paint)
+            PoseFace.SCREEN_UP -> c.drawRect(r.left + 3 * d, r.top - 3 * d, r.right - 3 * d, r.top + 1 * d, paint)
+            PoseFace.SCREEN_DOWN -> c.drawRect(r.left + 3 * d, r.bottom - 2 * d, r.right - 3 * d, r.bottom + 1 * d, paint)
             else -> {
                 // The screen faces the viewer; a dot marks the top edge (the earpiece).
                 val inset = 0.08f * short
                 c.drawRect(r.left + inset, r.top + inset, r.right - inset, r.bottom - inset, paint)
                 paint.color = ink
-                val dot = 0.05f * long
+                val dot = 0.08f * long
                 val (dx, dy) = when (face) {
                     PoseFace.BOTTOM_EDGE_DOWN -> 0f to -(h / 2 - inset / 2)
                     PoseFace.TOP_EDGE_DOWN -> 0f to (h / 2 - inset / 2)
@@ -104,9 +105,9 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
                 c.drawCircle(r.centerX() + dx, r.centerY() + dy, dot / 2, paint)
             }
         }
-        paint.color = ink
+        paint.color = table
         paint.strokeWidth = 2 * d
-        c.drawLine(cx - long * 0.7f, base + 2 * d, cx + long * 0.7f, base + 2 * d, paint)
+        c.drawLine(cx - long * 0.7f, base + 4 * d, cx + long * 0.7f, base + 4 * d, paint)
     }
 
     companion object {
