@@ -146,48 +146,50 @@ class CalibrationViewModel(
 
     private fun collectMagnetometer(): Job {
         val fitter = MagnetometerFitter(settings, magStream!!).also { mag = it }
-        return viewModelScope.launch(compute) {
-            var first = Long.MIN_VALUE
-            var published = Long.MIN_VALUE
-            source.samples().collect { r ->
-                if (r.stream != magStream) return@collect
-                fitter.add(r.x, r.y, r.z)
-                if (first == Long.MIN_VALUE) first = r.timestampNs
-                if (published == Long.MIN_VALUE || r.timestampNs - published >= PUBLISH_NS || r.timestampNs < published) {
-                    published = r.timestampNs
-                    val c = fitter.coverage()
-                    _state.update {
-                        it.copy(cellHits = List(DirectionCoverage.CELLS) { i -> c.hits(i) }, coverage = c.fraction, magSamples = fitter.samples, elapsedS = (r.timestampNs - first) * 1e-9)
-                    }
-                }
+        return collect(magStream, { r -> if (r.stream == magStream) fitter.add(r.x, r.y, r.z) }) { elapsed ->
+            val c = fitter.coverage()
+            _state.update {
+                it.copy(cellHits = List(DirectionCoverage.CELLS) { i -> c.hits(i) }, coverage = c.fraction, magSamples = fitter.samples, elapsedS = elapsed)
             }
         }
     }
 
     private fun collectPoses(): Job {
         val periods = StillPeriods(settings, gyroStream!!).also { still = it }
-        return viewModelScope.launch(compute) {
-            var first = Long.MIN_VALUE
-            var published = Long.MIN_VALUE
-            source.samples().collect { r ->
-                when (r.stream) {
-                    SessionStream.ACCELEROMETER -> periods.accelerometer(r.x, r.y, r.z)
-                    gyroStream -> {
-                        periods.gyroscope(r.timestampNs, r.x, r.y, r.z)
-                        if (first == Long.MIN_VALUE) first = r.timestampNs
-                        if (published == Long.MIN_VALUE || r.timestampNs - published >= PUBLISH_NS || r.timestampNs < published) {
-                            published = r.timestampNs
-                            val poses = periods.distinctPoses()
-                            _state.update {
-                                it.copy(
-                                    facesHeld = poses.mapNotNullTo(LinkedHashSet()) { g -> PoseFace.of(g) }, poses = poses.size,
-                                    still = periods.lastWindowStill, holdS = periods.currentPoseS, elapsedS = (r.timestampNs - first) * 1e-9,
-                                )
-                            }
-                        }
-                    }
-                    else -> Unit
-                }
+        val feed = { r: CalibrationSample ->
+            when (r.stream) {
+                SessionStream.ACCELEROMETER -> periods.accelerometer(r.x, r.y, r.z)
+                gyroStream -> periods.gyroscope(r.timestampNs, r.x, r.y, r.z)
+                else -> Unit
+            }
+        }
+        return collect(gyroStream, feed) { elapsed ->
+            val poses = periods.distinctPoses()
+            _state.update {
+                it.copy(
+                    facesHeld = poses.mapNotNullTo(LinkedHashSet()) { g -> PoseFace.of(g) }, poses = poses.size,
+                    still = periods.lastWindowStill, holdS = periods.currentPoseS, elapsedS = elapsed,
+                )
+            }
+        }
+    }
+
+    /**
+     * Collects [source] on [compute], handing every reading to [feed]; every [PUBLISH_NS] of
+     * [clock]'s timestamps (and when they step back) calls [publish] with the seconds since
+     * [clock]'s first reading.
+     */
+    private fun collect(clock: SessionStream, feed: (CalibrationSample) -> Unit, publish: (Double) -> Unit): Job = viewModelScope.launch(compute) {
+        var first = Long.MIN_VALUE
+        var published = Long.MIN_VALUE
+        source.samples().collect { r ->
+            feed(r)
+            if (r.stream != clock) return@collect
+            val t = r.timestampNs
+            if (first == Long.MIN_VALUE) first = t
+            if (published == Long.MIN_VALUE || t - published >= PUBLISH_NS || t < published) {
+                published = t
+                publish((t - first) * 1e-9)
             }
         }
     }
