@@ -34,6 +34,7 @@ internal object CalibrationText {
         s.unavailable != null || s.stage == CalibrationStage.READY -> ""
         s.step == CalibrationStep.MAGNETOMETER ->
             c.getString(R.string.calibration_mag_progress, Math.round(100 * s.coverage).toInt(), Math.round(100 * s.minCoverage).toInt(), s.magSamples.toInt(), s.elapsedS)
+        s.stage == CalibrationStage.RESULT -> c.getString(R.string.calibration_pose_done, s.poses, s.elapsedS)
         else -> c.getString(
             R.string.calibration_pose_progress, s.poses,
             if (s.still) c.getString(R.string.calibration_pose_still, s.holdS) else c.getString(R.string.calibration_pose_moving), s.elapsedS,

@@ -129,6 +129,7 @@ class CalibrationScreensTest {
         assertTrue(r, Regex("^accelerometer \\(AXIS_ALIGNED, 6 poses\\)\noffset  0\\.1[12]\\d -0\\.(199|200|201) 0\\.1(49|50|51) m/s²").containsMatchIn(r))
         assertTrue(r, Regex("gyroscope bias \\(gyroscope_uncalibrated\\)\nbias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
+        assertTrue(text(a, R.id.progress_text), Regex("^6 poses · \\d+ s$").matches(text(a, R.id.progress_text)))
     }
 
     @Test
