@@ -7,12 +7,15 @@ import android.os.Bundle
 import android.os.Handler
 import android.os.Looper
 import android.view.Choreographer
+import android.view.Menu
+import android.view.MenuItem
 import android.view.Surface
 import android.view.View
 import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
+import dev.motionfusion.app.calibration.CalibrationActivity
 import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.FusionState
 import dev.motionfusion.app.live.LiveEngines
@@ -61,6 +64,17 @@ class MainActivity : AppCompatActivity() {
             repeatOnLifecycle(Lifecycle.State.STARTED) { engine.state.collect { requestFrame() } }
         }
         render()
+    }
+
+    override fun onCreateOptionsMenu(menu: Menu): Boolean {
+        menuInflater.inflate(R.menu.main_calibration, menu)
+        return true
+    }
+
+    override fun onOptionsItemSelected(item: MenuItem): Boolean {
+        if (item.itemId != R.id.open_calibration) return super.onOptionsItemSelected(item)
+        startActivity(Intent(this, CalibrationActivity::class.java))
+        return true
     }
 
     override fun onStart() {

@@ -11,7 +11,10 @@ import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.session.SessionWriter
+import dev.motionfusion.core.calib.Matrix3
+import dev.motionfusion.core.sim.CalibrationMotion
 import dev.motionfusion.core.sim.MotionSimulator
+import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
 import java.io.BufferedOutputStream
@@ -27,7 +30,8 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     override val name = "simulate"
     override val summary = "write a simulated recording with known truth (session or IMU table)"
     override val help = """
-        |Usage: fusion simulate -o OUT [--duration S] [--rate HZ] [--seed N]
+        |Usage: fusion simulate -o OUT [--duration S] [--rate HZ] [--seed N] [--motion calibration]
+        |                       [sensor errors]
         |
         |Runs the project's MotionSimulator (seeded: the same options give the same data) and
         |writes what a phone would have recorded, values rounded to float like SensorEvent:
@@ -46,34 +50,58 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         |  --duration S         seconds (default 20)
         |  --rate HZ            sample rate (default 100)
         |  --seed N             random seed (default 8)
+        |  --motion calibration a calibration recording instead (docs/CALIBRATION.md): still on
+        |                       each of the six faces (1.5 s moving, 4 s still), then turning
+        |                       at up to 2.5 rad/s for the rest of --duration (default 100 s)
+        |
+        |Sensor errors (device frame; vectors as X,Y,Z, matrices as XX,YY,ZZ,XY,XZ,YZ of a
+        |symmetric matrix or XX,YY,ZZ for a diagonal one):
+        |  --hard-iron X,Y,Z          magnetometer offset, µT (default none)
+        |  --soft-iron M              magnetometer soft iron K: mag = K·field + hard iron
+        |  --gyro-bias X,Y,Z          gyroscope bias, rad/s (default 0.01,-0.02,0.015)
+        |  --acc-offset X,Y,Z         accelerometer offset, m/s² (default none)
+        |  --acc-scale M              accelerometer scale and misalignment M: acc = M·f + offset
+        |  --gyro-noise-density N     white gyroscope noise, rad/s/√Hz, added to the 0.002 rad/s
+        |  --acc-noise-density N      white accelerometer noise, m/s²/√Hz, added to the 0.03 m/s²
+        |  --mag-noise SIGMA          magnetometer noise per sample, µT (default 0.3)
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--duration", "--rate", "--seed"), emptySet())
+        val o = Options(args, setOf("-o", "--output", "--duration", "--rate", "--seed", "--motion") + ERROR_OPTIONS, emptySet())
         if (o.positional.isNotEmpty()) throw UsageException("unexpected argument '${o.positional[0]}'")
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("simulate needs -o OUT")
-        val duration = o.double("--duration") ?: 20.0
+        val calibrationMotion = when (val m = o.value("--motion")) {
+            null -> false
+            "calibration" -> true
+            else -> throw UsageException("--motion must be 'calibration', got '$m'")
+        }
+        val duration = o.double("--duration") ?: if (calibrationMotion) 100.0 else 20.0
         val rate = o.double("--rate") ?: 100.0
         val seed = o.long("--seed") ?: 8L
         if (duration <= 4.0 || duration > 86_400.0) throw UsageException("--duration must be in (4, 86400] s")
         if (rate < 10.0 || rate > 2000.0) throw UsageException("--rate must be in [10, 2000] Hz")
+        val facesS = 6 * (1.5 + 4.0)
+        if (calibrationMotion && duration <= facesS + 10.0) throw UsageException("--duration must be over ${fmt(facesS + 10.0)} s with --motion calibration")
         val settings = try {
-            settings(seed, rate, duration)
+            withErrors(settings(seed, rate, duration), o)
         } catch (e: IllegalArgumentException) {
             throw UsageException(e.message ?: "invalid simulation")
         }
-        val simulator = MotionSimulator(settings)
+        val samples: ((SimulatedSample) -> Unit) -> Unit =
+            if (calibrationMotion) CalibrationMotion(settings, turnS = duration - facesS)::forEach else MotionSimulator(settings)::forEach
         val path = Paths.get(output)
         val lower = output.lowercase()
-        val command = "fusion simulate --duration ${fmt(duration)} --rate ${fmt(rate)} --seed $seed"
+        val command = (listOf("fusion simulate --duration ${fmt(duration)} --rate ${fmt(rate)} --seed $seed") +
+            listOfNotNull(if (calibrationMotion) "--motion calibration" else null) +
+            ERROR_OPTIONS.mapNotNull { name -> o.value(name)?.let { "$name $it" } }).joinToString(" ")
         when {
-            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(outputs.file(output, emptyList()), simulator, lower.endsWith(".gz"))
+            lower.endsWith(".csv") || lower.endsWith(".csv.gz") -> writeTable(outputs.file(output, emptyList()), samples, lower.endsWith(".gz"))
             lower.endsWith(".zip") -> {
                 val zip = outputs.file(output, emptyList())
                 val tmp = Files.createTempDirectory("fusion-simulate")
                 val dir = tmp.resolve(path.fileName.toString().removeSuffix(".zip").removeSuffix(".ZIP"))
                 try {
-                    writeSession(dir, simulator, rate, seed, command)
+                    writeSession(dir, samples, rate, seed, command)
                     zip.use { SessionArchive.zip(dir, it, entryTimeMs = START_WALL_CLOCK_MS) }
                 } finally {
                     tmp.toFile().deleteRecursively()
@@ -83,7 +111,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
                 val dir = outputs.folder(output, emptyList())
                 // Name the session the user asked for, not the folder it is written in aside.
                 try {
-                    writeSession(dir, simulator, rate, seed, command)
+                    writeSession(dir, samples, rate, seed, command)
                 } catch (e: java.io.IOException) {
                     throw java.nio.file.FileSystemException(output, null, dev.motionfusion.core.io.AtomicFiles.reason(e))
                 }
@@ -94,8 +122,39 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     }
 
     private companion object {
+        val ERROR_OPTIONS = listOf(
+            "--hard-iron", "--soft-iron", "--gyro-bias", "--acc-offset", "--acc-scale", "--gyro-noise-density", "--acc-noise-density", "--mag-noise",
+        )
+
         /** The simulated recording's fixed wall-clock start (2025-11-26 12:00 UTC): reproducible output. */
         const val START_WALL_CLOCK_MS = 1_764_158_400_000L
+    }
+
+    /** [base] with the sensor errors given on the command line. */
+    private fun withErrors(base: SimulationSettings, o: Options): SimulationSettings {
+        fun numbers(name: String, counts: Set<Int>): DoubleArray? = o.value(name)?.let { text ->
+            val parts = text.split(',')
+            val v = parts.map { p -> p.trim().toDoubleOrNull()?.takeIf { it.isFinite() } ?: throw UsageException("$name expects numbers separated by commas, got '$text'") }
+            if (v.size !in counts) throw UsageException("$name expects ${counts.joinToString(" or ")} numbers, got ${v.size}")
+            v.toDoubleArray()
+        }
+        fun vector(name: String) = numbers(name, setOf(3))?.let { Vector3(it[0], it[1], it[2]) }
+        fun matrix(name: String) = numbers(name, setOf(3, 6))?.let {
+            if (it.size == 3) Matrix3.diagonal(it[0], it[1], it[2]) else Matrix3.symmetric(it[0], it[1], it[2], it[3], it[4], it[5])
+        }
+        fun density(name: String) = o.double(name)?.also { if (it < 0.0) throw UsageException("$name must be ≥ 0") }
+        val hardIron = vector("--hard-iron")
+        return base.copy(
+            hardIron = hardIron ?: base.hardIron,
+            hardIronWindow = if (hardIron != null) TimeWindow(0.0, base.durationS + 1.0) else base.hardIronWindow,
+            magSoftIron = matrix("--soft-iron") ?: base.magSoftIron,
+            gyroBias = vector("--gyro-bias") ?: base.gyroBias,
+            accOffset = vector("--acc-offset") ?: base.accOffset,
+            accMisalignment = matrix("--acc-scale") ?: base.accMisalignment,
+            gyroNoiseDensity = density("--gyro-noise-density") ?: base.gyroNoiseDensity,
+            accNoiseDensity = density("--acc-noise-density") ?: base.accNoiseDensity,
+            magNoise = density("--mag-noise") ?: base.magNoise,
+        )
     }
 
     private fun fmt(v: Double) = if (v == Math.rint(v)) v.toLong().toString() else v.toString()
@@ -112,13 +171,13 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     /** Samples written by the last run (the simulation streams to the output, never held in memory). */
     private var written = 0L
 
-    private fun writeTable(file: java.io.OutputStream, simulator: MotionSimulator, gzip: Boolean) {
+    private fun writeTable(file: java.io.OutputStream, samples: ((SimulatedSample) -> Unit) -> Unit, gzip: Boolean) {
         val raw = BufferedOutputStream(file, 1 shl 16)
         val stream = if (gzip) GZIPOutputStream(raw, 1 shl 16) else raw
         stream.use { s ->
             s.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n".toByteArray())
             val buf = ByteArray(512)
-            simulator.forEach { x ->
+            samples { x ->
                 written++
                 var p = AsciiNumbers.fixed(buf, 0, x.timestampNs * 1e-9, 9)
                 for (v in listOf(x.gyro, x.acc, x.mag)) {
@@ -133,7 +192,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         }
     }
 
-    private fun writeSession(dir: Path, simulator: MotionSimulator, rate: Double, seed: Long, command: String) {
+    private fun writeSession(dir: Path, samples: ((SimulatedSample) -> Unit) -> Unit, rate: Double, seed: Long, command: String) {
         val base = 1_000_000_000_000L // an elapsedRealtimeNanos-like origin (about 17 minutes after boot)
         val period = (1e6 / rate).toInt()
         val meta = SessionMetadata(
@@ -153,7 +212,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         val offset = Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(2.0))
         SessionWriter.create(dir, meta).use { w ->
             var i = 0L
-            simulator.forEach { s ->
+            samples { s ->
                 written++
                 val t = base + s.timestampNs
                 w.accelerometer(t, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat(), 3)

@@ -87,6 +87,8 @@ public data class Calibration(
     val source: String = "",
     /** The recording it was fitted on. */
     val recording: String = "",
+    /** The device it was fitted on (the app's guided calibration: maker, model and sensors); empty when unknown. */
+    val device: String = "",
 ) {
     val isEmpty: Boolean get() = magnetometer == null && gyroscope == null && accelerometer == null
 

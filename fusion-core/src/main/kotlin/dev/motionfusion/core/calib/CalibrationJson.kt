@@ -15,11 +15,20 @@ public object CalibrationJson {
     public const val FORMAT_VERSION: Int = 1
 
     @JvmStatic
-    public fun write(c: Calibration): String = Json.write(linkedMapOf(
+    public fun write(c: Calibration): String = Json.write(tree(c))
+
+    /**
+     * The file's JSON as a tree of maps, lists, strings, numbers and null (what [write]
+     * writes), for embedding the calibration as a member of another JSON document (a session's
+     * meta.json).
+     */
+    @JvmStatic
+    public fun tree(c: Calibration): Map<String, Any?> = linkedMapOf(
         "format" to FORMAT,
         "format_version" to FORMAT_VERSION,
         "source" to c.source,
         "recording" to c.recording,
+    ).also { if (c.device.isNotEmpty()) it["device"] = c.device } + linkedMapOf(
         "magnetometer" to c.magnetometer?.let { m ->
             linkedMapOf(
                 "stream" to m.stream.key,
@@ -56,7 +65,7 @@ public object CalibrationJson {
             )
         },
         "refused" to LinkedHashMap(c.refused),
-    ))
+    )
 
     private fun vector(v: Vector3) = listOf(v.x, v.y, v.z)
     private fun matrix(m: Matrix3) = (0 until 3).map { r -> (0 until 3).map { c -> m[r, c] } }
@@ -97,6 +106,7 @@ public object CalibrationJson {
             refused = (root["refused"] as? Map<*, *>)?.entries?.associate { (k, v) -> k.toString() to v.toString() } ?: emptyMap(),
             source = root["source"] as? String ?: "",
             recording = root["recording"] as? String ?: "",
+            device = root["device"] as? String ?: "",
         )
     }
 

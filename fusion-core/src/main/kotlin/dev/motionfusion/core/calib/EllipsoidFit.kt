@@ -110,26 +110,43 @@ internal object EllipsoidFit {
 /**
  * Coverage of the sphere of directions on an equal-area grid: [BANDS] bands of equal height in
  * z (equal area by Archimedes' hat-box theorem) times [SECTORS] sectors of longitude, so every
- * cell is 4π / [CELLS] sr (about 18° × 18° at the equator).
+ * cell is 4π / [CELLS] sr (about 18° × 18° at the equator). Drawn with z up and longitude
+ * across, the cells are the equal rectangles of Lambert's cylindrical equal-area map. Cell
+ * `band * SECTORS + sector`: band 0 holds z/|v| in [−1, −1 + 2/BANDS), sector 0 longitudes
+ * atan2(y, x) in [−π, −π + 2π/SECTORS).
  */
-internal class DirectionCoverage {
+public class DirectionCoverage {
     private val hits = IntArray(CELLS)
 
-    fun add(x: Double, y: Double, z: Double) {
-        val n = sqrt(x * x + y * y + z * z)
-        if (!(n > 0.0) || !n.isFinite()) return
-        val band = (((z / n) + 1.0) * 0.5 * BANDS).toInt().coerceIn(0, BANDS - 1)
-        val lon = kotlin.math.atan2(y, x) // −π … π
-        val sector = ((lon + Math.PI) / (2 * Math.PI) * SECTORS).toInt().coerceIn(0, SECTORS - 1)
-        hits[band * SECTORS + sector]++
+    /** Counts the direction of (x, y, z); a zero or non-finite vector is ignored. */
+    public fun add(x: Double, y: Double, z: Double) {
+        val c = cellOf(x, y, z)
+        if (c >= 0) hits[c]++
     }
 
-    /** Fraction of cells holding at least one direction, 0 … 1. */
-    val fraction: Double get() = hits.count { it > 0 }.toDouble() / CELLS
+    /** Directions counted in [cell] (0 until [CELLS]). */
+    public fun hits(cell: Int): Int = hits[cell]
 
-    companion object {
-        const val BANDS = 8
-        const val SECTORS = 16
-        const val CELLS = BANDS * SECTORS
+    /** Cells holding at least one direction. */
+    public val covered: Int get() = hits.count { it > 0 }
+
+    /** Fraction of cells holding at least one direction, 0 … 1. */
+    public val fraction: Double get() = covered.toDouble() / CELLS
+
+    public companion object {
+        public const val BANDS: Int = 8
+        public const val SECTORS: Int = 16
+        public const val CELLS: Int = BANDS * SECTORS
+
+        /** The cell of the direction of (x, y, z), or −1 for a zero or non-finite vector. */
+        @JvmStatic
+        public fun cellOf(x: Double, y: Double, z: Double): Int {
+            val n = sqrt(x * x + y * y + z * z)
+            if (!(n > 0.0) || !n.isFinite()) return -1
+            val band = (((z / n) + 1.0) * 0.5 * BANDS).toInt().coerceIn(0, BANDS - 1)
+            val lon = kotlin.math.atan2(y, x) // −π … π
+            val sector = ((lon + Math.PI) / (2 * Math.PI) * SECTORS).toInt().coerceIn(0, SECTORS - 1)
+            return band * SECTORS + sector
+        }
     }
 }

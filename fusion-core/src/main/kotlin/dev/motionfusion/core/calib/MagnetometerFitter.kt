@@ -39,6 +39,29 @@ public class MagnetometerFitter(private val settings: CalibrationSettings = Cali
     /** Readings added so far (including those thinned out). */
     public val samples: Long get() = seen
 
+    /**
+     * The directions covered so far, for a live picture while the phone is being turned: the
+     * kept readings corrected by the ellipsoid fitted to them now (the sphere model while the
+     * configured one is not determined or gives an implausible field), so the cells are those
+     * [fit] would count. Empty while no centre can be located. Costs a fit over the kept
+     * readings: call it a few times a second, not per reading.
+     */
+    public fun coverage(): DirectionCoverage {
+        val out = DirectionCoverage()
+        if (kept < 10) return out
+        val e = listOf(settings.magModel, EllipsoidModel.SPHERE).distinct().firstNotNullOfOrNull { model ->
+            EllipsoidFit.fit(xyz, kept, model)?.takeIf { it.meanRadius in MIN_FIELD_UT..MAX_FIELD_UT }
+        } ?: return out
+        val c = e.correction(e.meanRadius)
+        val v = DoubleArray(3)
+        for (i in 0 until kept) {
+            v[0] = xyz[3 * i]; v[1] = xyz[3 * i + 1]; v[2] = xyz[3 * i + 2]
+            c.applyInPlace(v)
+            out.add(v[0], v[1], v[2])
+        }
+        return out
+    }
+
     /** Fits the ellipsoid; refused when the directions cover too little of the sphere or the fit is poor. */
     public fun fit(): Fit<MagnetometerCalibration> {
         if (kept < 100) return Fit.Refused("only $kept magnetometer samples; turn the phone through many orientations for at least 30 s")

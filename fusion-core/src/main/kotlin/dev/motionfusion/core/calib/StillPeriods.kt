@@ -44,6 +44,7 @@ public class StillPeriods(
     private val accStream: SessionStream = SessionStream.ACCELEROMETER,
 ) {
     private val windowNs = (settings.stillWindowS * 1e9).toLong()
+    private val minPoseNs = (settings.minPoseS * 1e9 * 0.9).toLong()
     private var windowStart = Long.MIN_VALUE
     private var lastGyroNs = Long.MIN_VALUE
     private val gyro = AxisSums()
@@ -85,6 +86,7 @@ public class StillPeriods(
     /** Closes the current window; [still] null: judge it, false: it is broken (gap, step back). */
     private fun closeWindow(still: Boolean?) {
         val isStill = still != false && gyro.n >= 10 && gyro.maxStd() < settings.gyroStillStd && (acc.n == 0L || acc.maxStd() < settings.accStillStd)
+        lastWindowStill = isStill
         if (isStill) {
             stillWindows++
             stillSamples += gyro.n
@@ -110,7 +112,7 @@ public class StillPeriods(
     }
 
     private fun closePose() {
-        if (pose.n > 0 && poseNs >= (settings.minPoseS * 1e9 * 0.9).toLong()) poses += pose.meanVector() to pose.n
+        if (pose.n > 0 && poseNs >= minPoseNs) poses += pose.meanVector() to pose.n
         pose.clear()
         poseNs = 0L
     }
@@ -143,6 +145,23 @@ public class StillPeriods(
         ))
     }
 
+    /** Whether the last window judged (of [CalibrationSettings.stillWindowS]) was still; false before the first. */
+    public var lastWindowStill: Boolean = false
+        private set
+
+    /** How long the current still pose has lasted, s (0 while moving). */
+    public val currentPoseS: Double get() = poseNs * 1e-9
+
+    /**
+     * The distinct poses so far (mean specific force of each, merged as [accelerometerFit]
+     * merges them), without ending the input: the poses closed so far and the current one once
+     * it has lasted [CalibrationSettings.minPoseS]. For a live prompt.
+     */
+    public fun distinctPoses(): List<Vector3> {
+        val all = if (!finished && pose.n > 0 && poseNs >= minPoseNs) poses + (pose.meanVector() to pose.n) else poses
+        return merged(all)
+    }
+
     /** The still poses found: mean specific force and sample count. */
     public fun poses(): List<Pair<Vector3, Long>> {
         finish()
@@ -155,16 +174,7 @@ public class StillPeriods(
      */
     public fun accelerometerFit(): Fit<AccelerometerCalibration> {
         finish()
-        // Merge poses of the same direction (the same face up twice) into one point.
-        val clusters = ArrayList<AxisSums>()
-        val firsts = ArrayList<Vector3>()
-        for ((m, n) in poses) {
-            val i = firsts.indexOfFirst { angle(it, m) < settings.poseSeparation }
-            val c = if (i >= 0) clusters[i] else AxisSums().also { clusters += it; firsts += m }
-            for (k in 0 until 3) c.sum[k] += m[k] * n
-            c.n += n
-        }
-        val points = clusters.map { it.meanVector() }
+        val points = merged(poses)
         val need = "lay the phone still for ${settings.minPoseS.toInt()}+ s on each of its six faces"
         if (points.size < 6) return Fit.Refused("${points.size} distinct still poses (at least 6 needed): $need")
         for ((k, axis) in listOf("x", "y", "z").withIndex()) {
@@ -184,6 +194,19 @@ public class StillPeriods(
         val c = e.correction(settings.gravity)
         val residual = sqrt(points.sumOf { val d = c.apply(it).norm() - settings.gravity; d * d } / points.size)
         return Fit.Done(AccelerometerCalibration(c, accStream, used, settings.gravity, points.size, residual))
+    }
+
+    /** Poses of the same direction (the same face up twice) merged into one point, weighted by their samples. */
+    private fun merged(found: List<Pair<Vector3, Long>>): List<Vector3> {
+        val clusters = ArrayList<AxisSums>()
+        val firsts = ArrayList<Vector3>()
+        for ((m, n) in found) {
+            val i = firsts.indexOfFirst { angle(it, m) < settings.poseSeparation }
+            val c = if (i >= 0) clusters[i] else AxisSums().also { clusters += it; firsts += m }
+            for (k in 0 until 3) c.sum[k] += m[k] * n
+            c.n += n
+        }
+        return clusters.map { it.meanVector() }
     }
 
     private companion object {

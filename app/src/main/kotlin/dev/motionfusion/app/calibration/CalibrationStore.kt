@@ -1,0 +1,150 @@
+package dev.motionfusion.app.calibration
+
+import android.content.SharedPreferences
+import android.os.Build
+import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.calib.CalibrationJson
+import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.DataFormatException
+import kotlinx.coroutines.CoroutineDispatcher
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Job
+import kotlinx.coroutines.flow.MutableStateFlow
+import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.withContext
+import java.io.File
+import java.io.IOException
+import java.security.MessageDigest
+
+/**
+ * Which device a calibration belongs to: maker, model and the sensors it was fitted with (name
+ * and vendor). A backup restored onto another phone, or a phone whose sensors changed, does not
+ * find the other one's calibration.
+ */
+data class DeviceKey(val manufacturer: String, val model: String, val sensors: List<String>) {
+    /** In words, as stored in the file's `device` member. */
+    val description: String get() = (listOf("$manufacturer $model".trim()) + sensors).joinToString("; ")
+
+    /** The file of this device: maker and model readable, then a hash of the whole key. */
+    val fileName: String get() {
+        val slug = "$manufacturer-$model".lowercase().replace(Regex("[^a-z0-9]+"), "-").trim('-').take(40).ifEmpty { "device" }
+        val hash = MessageDigest.getInstance("SHA-256").digest(description.toByteArray(Charsets.UTF_8))
+        return slug + "-" + hash.take(6).joinToString("") { "%02x".format(it) } + ".json"
+    }
+
+    companion object {
+        /** This phone (android.os.Build) with [sensors]. */
+        fun thisDevice(sensors: List<String>) = DeviceKey(Build.MANUFACTURER ?: "", Build.MODEL ?: "", sensors)
+    }
+}
+
+/**
+ * The latest accepted calibration of one device, in `DIR/<DeviceKey.fileName>` as the
+ * calibration file of docs/CALIBRATION.md (core's CalibrationJson), replaced atomically (core's
+ * AtomicFiles), read and written on [io] only. Each sensor keeps its latest accepted fit: a new
+ * magnetometer fit replaces the stored magnetometer and leaves the stored accelerometer.
+ *
+ * The file is read once, on [io], when the store is made; until then [calibration] is null.
+ * A damaged file is moved aside to `<name>.damaged` (nothing lost) and [problem] says why.
+ *
+ * Hooks for the recorder and the live filter (they only read memory: safe on any thread):
+ * [activeCalibration] and [sessionMetaMember].
+ */
+class CalibrationStore(
+    private val dir: File,
+    val device: DeviceKey,
+    private val prefs: SharedPreferences,
+    private val io: CoroutineDispatcher,
+    scope: CoroutineScope,
+    private val files: AtomicFiles = AtomicFiles(),
+) {
+    private val file = File(dir, device.fileName)
+    private val current = MutableStateFlow<Calibration?>(null)
+
+    /** The stored calibration of this device (null: none, or not read yet). */
+    val calibration: StateFlow<Calibration?> = current
+
+    /** Why the stored file could not be read or written, or null. */
+    @Volatile var problem: String? = null
+        private set
+
+    private val loaded: Job = scope.launch(io) { current.value = read() }
+
+    /** Setting "use calibration in the live filter" (off by default). */
+    var useInLiveFilter: Boolean
+        get() = prefs.getBoolean(USE_IN_LIVE_FILTER, false)
+        set(value) = prefs.edit().putBoolean(USE_IN_LIVE_FILTER, value).apply()
+
+    /**
+     * Hook for the live filter: the calibration to apply, or null when the setting is off or
+     * nothing is stored. Apply it as core's `CalibratedEvents` does: a correction whose `stream`
+     * is an uncalibrated stream corrects that stream, which then replaces the calibrated one.
+     */
+    fun activeCalibration(): Calibration? = if (useInLiveFilter) current.value else null
+
+    /**
+     * Hook for the recorder: the member `"calibration"` of a session's meta.json, the stored
+     * calibration as the calibration file holds it (CalibrationJson.tree) plus
+     * `"applied_in_live_filter"`; null when nothing is stored. The recording stays raw: replay
+     * can apply this member or not.
+     */
+    fun sessionMetaMember(appliedInLiveFilter: Boolean): Pair<String, Map<String, Any?>>? {
+        val c = current.value ?: return null
+        return META_MEMBER to (CalibrationJson.tree(c) + ("applied_in_live_filter" to appliedInLiveFilter))
+    }
+
+    /** Waits until the file has been read. */
+    suspend fun awaitLoaded(): Unit = loaded.join()
+
+    /**
+     * Stores the accepted sensors of [fitted] over the stored ones and returns what is now
+     * stored. Throws an IOException (a FileSystemException naming the file) when it cannot be written.
+     */
+    suspend fun accept(fitted: Calibration): Calibration = withContext(io) {
+        loaded.join()
+        val old = current.value
+        val merged = Calibration(
+            magnetometer = fitted.magnetometer ?: old?.magnetometer,
+            gyroscope = fitted.gyroscope ?: old?.gyroscope,
+            accelerometer = fitted.accelerometer ?: old?.accelerometer,
+            source = fitted.source,
+            device = device.description,
+        )
+        try {
+            dir.mkdirs()
+            files.write(file.toPath(), CalibrationJson.write(merged).toByteArray(Charsets.UTF_8))
+        } catch (e: IOException) {
+            problem = "${file.name}: ${AtomicFiles.reason(e)}"
+            throw e
+        }
+        problem = null
+        current.value = merged
+        merged
+    }
+
+    private fun read(): Calibration? {
+        if (!file.isFile) return null
+        return try {
+            CalibrationJson.parse(file.readText(Charsets.UTF_8), file.name)
+        } catch (e: DataFormatException) {
+            setAside("${e.message}")
+        } catch (e: IOException) {
+            problem = "${file.name}: ${AtomicFiles.reason(e)}"
+            null
+        }
+    }
+
+    private fun setAside(reason: String): Calibration? {
+        val aside = File(dir, file.name + ".damaged")
+        val moved = file.renameTo(aside)
+        problem = if (moved) "$reason (kept as ${aside.name})" else reason
+        return null
+    }
+
+    companion object {
+        const val META_MEMBER = "calibration"
+        const val PREFS = "calibration"
+        private const val USE_IN_LIVE_FILTER = "use_in_live_filter"
+    }
+}

@@ -1,0 +1,68 @@
+/*
+ * A simulated calibration recording, as a user following docs/CALIBRATION.md makes one: still
+ * on each of the six faces in turn, then turned through every orientation.
+ */
+package dev.motionfusion.core.sim
+
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.Vector3
+import kotlin.math.PI
+
+/**
+ * Parts run one after another with continuous timestamps: for each of the six faces (screen up,
+ * screen down, standing, upside down, on the left edge, on the right edge) [moveS] of motion
+ * at 2 rad/s, then [holdS] still on that face; then [turnS] turning at up to [turnRate] rad/s.
+ * Each part is a [MotionSimulator] run of [base] (its sensor errors, noise and rate) with its
+ * own seed and start orientation, so the true orientation jumps between parts; [base]'s
+ * duration, angular rate and rest windows are not used, and its hard iron applies throughout.
+ */
+public class CalibrationMotion(
+    public val base: SimulationSettings,
+    public val holdS: Double = 4.0,
+    public val moveS: Double = 1.5,
+    public val turnS: Double = 60.0,
+    public val turnRate: Double = 2.5,
+) {
+    init {
+        for ((name, v) in listOf("holdS" to holdS, "moveS" to moveS, "turnS" to turnS, "turnRate" to turnRate)) {
+            require(v.isFinite() && v > 0.0) { "$name must be finite and > 0: $v" }
+        }
+    }
+
+    /** Total length, s. */
+    public val durationS: Double get() = FACES.size * (moveS + holdS) + turnS
+
+    /** The parts: (orientation at its start, seconds, angular rate). */
+    private fun parts(): List<Triple<Quaternion, Double, Double>> =
+        FACES.flatMap { q -> listOf(Triple(q, moveS, 2.0), Triple(q, holdS, 0.0)) } + Triple(base.initialOrientation, turnS, turnRate)
+
+    /** Runs the parts, calling [action] with each sample (timestamps from 0, continuous). */
+    public fun forEach(action: (SimulatedSample) -> Unit) {
+        val period = (1e9 / base.rateHz).toLong()
+        var t0 = 0L
+        val hardIronWindow = base.hardIronWindow?.let { TimeWindow(0.0, durationS + 1.0) }
+        for ((i, part) in parts().withIndex()) {
+            val (q, seconds, rate) = part
+            val s = base.copy(
+                seed = base.seed + 1000L * (i + 1), initialOrientation = q, durationS = seconds, angularRate = rate,
+                restWindows = emptyList(), hardIronWindow = hardIronWindow,
+            )
+            var last = t0 - period
+            MotionSimulator(s).forEach {
+                val sample = it.copy(timestampNs = t0 + it.timestampNs)
+                last = sample.timestampNs
+                action(sample)
+            }
+            t0 = last + period
+        }
+    }
+
+    private companion object {
+        /** Sensor → ENU rotations that put each face down in turn (the device axis +z, −z, +y, −y, +x, −x up). */
+        val FACES: List<Quaternion> = listOf(
+            Quaternion.IDENTITY, Quaternion.fromAxisAngle(Vector3.UNIT_X, PI),
+            Quaternion.fromAxisAngle(Vector3.UNIT_X, PI / 2), Quaternion.fromAxisAngle(Vector3.UNIT_X, -PI / 2),
+            Quaternion.fromAxisAngle(Vector3.UNIT_Y, -PI / 2), Quaternion.fromAxisAngle(Vector3.UNIT_Y, PI / 2),
+        )
+    }
+}
