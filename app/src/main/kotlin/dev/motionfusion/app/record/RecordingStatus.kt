@@ -2,56 +2,66 @@ package dev.motionfusion.app.record
 
 import android.app.Notification
 import android.app.Service
-import androidx.core.app.ServiceCompat
+import dev.motionfusion.app.live.Capture
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.platform.Clock
+import dev.motionfusion.app.platform.DiskExecutor
+import dev.motionfusion.app.sessions.SessionsRepository
 import java.io.File
+import kotlinx.coroutines.flow.MutableStateFlow
+import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.flow.asStateFlow
 
-/**
- * The recording state of the process, for screens to show: written by [RecordingService] on
- * the main thread, read by anyone. Screens poll it while visible.
- */
-internal object RecordingStatus {
-    sealed interface State {
-        data object Idle : State
+/** The recording state, for screens to show (always visible: the record bar renders it). */
+sealed interface RecordingState {
+    data object Idle : RecordingState
 
-        data class Active(
-            val session: File,
-            /** `SystemClock.elapsedRealtime()` when recording started. */
-            val startedElapsedMs: Long,
-            val rows: () -> Long,
-        ) : State
+    /** Record was pressed: interrupted sessions are being repaired ([repaired] of [toRepair]) and the new one created. */
+    data class Preparing(val repaired: Int, val toRepair: Int) : RecordingState
 
-        data class Ended(val session: File, val result: RecorderResult) : State
+    data class Active(
+        val session: File,
+        /** `SystemClock.elapsedRealtime()` when recording started, ms. */
+        val startedElapsedMs: Long,
+        val rows: () -> Long,
+    ) : RecordingState
 
-        /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
-        data class NotStarted(val reason: String) : State
-    }
+    data class Ended internal constructor(val session: File?, internal val result: RecorderResult) : RecordingState
 
-    @Volatile var state: State = State.Idle
-        internal set
-
-    val isRecording: Boolean get() = state is State.Active
+    /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
+    data class NotStarted(val reason: String) : RecordingState
 }
 
-/** Seams for tests: the session format, the queue size and the way into the foreground the service uses. */
-internal object RecordingDeps {
-    @Volatile var format: SessionFormat = CoreSessionFormat
+/** The process's recording state: written by [RecordingService] on the main thread, read by anyone. */
+class Recordings {
+    private val flow = MutableStateFlow<RecordingState>(RecordingState.Idle)
+    val state: StateFlow<RecordingState> = flow.asStateFlow()
 
-    /** Enters the foreground (ServiceCompat.startForeground); tests make it refuse as the system can. */
-    @Volatile var startForeground: (Service, Int, Notification, Int) -> Unit = ::enterForeground
+    val isRecording: Boolean get() = state.value.let { it is RecordingState.Active || it is RecordingState.Preparing }
 
-    /** Slots in the queue between sensors and writer (36 bytes each): 2^17 ≈ 4.7 MB, ~37 s of 7 streams at 500 Hz. */
-    @Volatile var ringCapacity: Int = 1 shl 17
+    internal fun set(s: RecordingState) {
+        flow.value = s
+    }
+}
+
+/** What the recording service needs, from the application's object graph. */
+internal interface RecordingDependencies {
+    val capture: Capture
+    val recordings: Recordings
+    val sessions: SessionsRepository
+    val format: SessionFormat
+    val disk: DiskExecutor
+    val clock: Clock
+    val settings: StateFlow<LiveSettings>
 
     /** Recording stops cleanly when free space falls below this. */
-    @Volatile var minFreeBytes: Long = 32L * 1024 * 1024
+    val minFreeBytes: Long
 
-    fun reset() {
-        format = CoreSessionFormat
-        ringCapacity = 1 shl 17
-        minFreeBytes = 32L * 1024 * 1024
-        startForeground = ::enterForeground
+    /** Enters the foreground (ServiceCompat.startForeground); tests make it refuse as the system can. */
+    fun startForeground(service: Service, id: Int, notification: Notification, type: Int)
+
+    /** Implemented by the application. */
+    interface Provider {
+        val recordingDependencies: RecordingDependencies
     }
-
-    private fun enterForeground(service: Service, id: Int, notification: Notification, type: Int) =
-        ServiceCompat.startForeground(service, id, notification, type)
 }
