@@ -200,6 +200,7 @@ class Capture internal constructor(
             changed = true
         } else if (reorder.size > 0 && now - lastEventNs >= quietFlushNs) {
             reorder.flush(dispatch)
+            changed = true
         }
         val t = tap
         if (t != null && detachRequest === t) {

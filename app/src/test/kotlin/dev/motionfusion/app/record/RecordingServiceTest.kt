@@ -124,7 +124,7 @@ class RecordingServiceTest {
         activity.pause().stop().destroy()
         idle()
         for (i in 100 until 300) sendRound(1_000_000_000L + i * 5_000_000L)
-        assertEquals(300L * 7, rows())
+        assertEquals(300L * SensorStreams.all.size, rows())
         assertTrue("still recording", graph.graph.recordings.isRecording)
 
         // The elapsed time and the sample count are in the notification, which has Stop.
@@ -132,7 +132,7 @@ class RecordingServiceTest {
         val nm = app.getSystemService(NotificationManager::class.java)
         val n: Notification = shadowOf(nm).getNotification(RecordingService.NOTIFICATION_ID)
         val text = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
-        assertTrue(text, text.contains("2,100 samples"))
+        assertTrue(text, text.contains("2,400 samples"))
         assertTrue(n.flags and Notification.FLAG_ONGOING_EVENT != 0)
         val stop = n.actions.single { it.title == app.getString(R.string.record_stop) }
         val stopIntent = shadowOf(stop.actionIntent).savedIntent
@@ -140,10 +140,10 @@ class RecordingServiceTest {
         c.get().onStartCommand(stopIntent, 0, 2)
         val ended = awaitEnded()
         assertEquals(RecordingEnd.Stopped, ended.result.end)
-        assertEquals(2100L, ended.result.rows)
+        assertEquals(2400L, ended.result.rows)
         val dir = format.created!!
         val rows = LineFormat.rows(dir).filterNot { it.startsWith("FUSED") }
-        assertEquals(2100, rows.size)
+        assertEquals(2400, rows.size)
         assertTrue(File(dir, "finished").exists())
         // Every stream in order of timestamps as sent.
         val times = rows.map { it.split(',')[1].toLong() }
@@ -197,7 +197,7 @@ class RecordingServiceTest {
         assertTrue(rows.size > 100)
         assertTrue(File(dir, "rows.txt").length() <= 20_000)
         val times = rows.filterNot { it.startsWith("FUSED") }.map { it.split(',')[1].toLong() }
-        val sent = (0 until 2000).flatMap { i -> (0 until 7).map { 1_000_000_000L + i * 5_000_000L + it } }
+        val sent = (0 until 2000).flatMap { i -> SensorStreams.all.indices.map { 1_000_000_000L + i * 5_000_000L + it } }
         assertEquals(sent.take(times.size), times)
         // The user is told, in a notification and on the main screen.
         val nm = app.getSystemService(NotificationManager::class.java)

@@ -152,6 +152,7 @@ class SessionsScreensTest {
         a.findViewById<Button>(R.id.detail_rename).performClick()
         assertNotNull(a.dialog)
         a.rename("../escape")
+        idle()
         assertEquals(a.getString(R.string.session_rename_invalid), a.findViewById<TextView>(R.id.detail_message).text.toString())
         assertTrue(dir.exists())
         a.rename("Morning walk")
