@@ -6,7 +6,6 @@
  */
 package dev.motionfusion.bench;
 
-import android.hardware.Sensor;
 import dev.motionfusion.app.live.Capture;
 import dev.motionfusion.app.live.CaptureTap;
 import dev.motionfusion.app.live.LiveSettings;
@@ -31,7 +30,9 @@ final class FloodCapture {
     static final class Kinds implements SensorSource {
         private SamplingRate rate;
 
-        @Override public Map<SessionStream, Sensor> getSensors() { return Collections.emptyMap(); }
+        // Raw Map: the Android framework (android.hardware.Sensor) is not on this module's classpath.
+        @SuppressWarnings("rawtypes")
+        @Override public Map getSensors() { return Collections.emptyMap(); }
         @Override public Set<SensorKind> getAvailableKinds() { return EnumSet.allOf(SensorKind.class); }
         @Override public Map<SensorKind, SensorInfo> getInfo() { return Collections.emptyMap(); }
         @Override public SamplingRate getRegisteredRate() { return rate; }
