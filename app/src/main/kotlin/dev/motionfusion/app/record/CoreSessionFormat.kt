@@ -41,6 +41,7 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
                 writer.magnetometerUncalibrated(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], v[o + 5], accuracy)
             SessionStream.ROTATION_VECTOR -> writer.rotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], accuracy)
             SessionStream.GAME_ROTATION_VECTOR -> writer.gameRotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], accuracy)
+            SessionStream.ACCELEROMETER_UNCALIBRATED -> writer.write(stream, timestampNs, v, o, stream.valueCount, accuracy)
             else -> throw IllegalArgumentException("$stream is not a sensor stream")
         }
     }
