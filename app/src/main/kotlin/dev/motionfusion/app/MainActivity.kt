@@ -15,10 +15,10 @@ import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
+import androidx.activity.viewModels
 import dev.motionfusion.app.calibration.CalibrationActivity
-import dev.motionfusion.app.live.FusionEngine
 import dev.motionfusion.app.live.FusionState
-import dev.motionfusion.app.live.LiveEngines
+import dev.motionfusion.app.live.LiveViewModel
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.record.RecordBar
@@ -26,14 +26,14 @@ import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
 /**
- * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
- * surviving configuration changes); this activity keeps it running while visible
- * (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
+ * The live screen. The fusion runs in the application's capture (off the main thread, and
+ * surviving configuration changes), reached through [LiveViewModel]; this activity keeps it
+ * running while visible (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
  * state at most once per display frame: each new state or display change asks for the next
  * frame, and the frame draws whatever is newest then.
  */
 class MainActivity : AppCompatActivity() {
-    private lateinit var engine: FusionEngine
+    private val model: LiveViewModel by viewModels { LiveViewModel.Factory((application as MotionFusionApp).graph.capture) }
     private lateinit var screen: LiveScreen
     private var shown: FusionState? = null
     private var shownRotation = -1
@@ -54,14 +54,13 @@ class MainActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
         fitToSystemBars(findViewById(R.id.live_root))
-        engine = LiveEngines.get(this)
-        screen = LiveScreen(this, engine.sensorInfo)
+        screen = LiveScreen(this, model.sensorInfo)
         findViewById<View>(R.id.open_settings).setOnClickListener {
             startActivity(Intent(this, SettingsActivity::class.java))
         }
         RecordBar.attach(this, findViewById(R.id.record_bar))
         lifecycleScope.launch {
-            repeatOnLifecycle(Lifecycle.State.STARTED) { engine.state.collect { requestFrame() } }
+            repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { requestFrame() } }
         }
         render()
     }
@@ -79,7 +78,7 @@ class MainActivity : AppCompatActivity() {
 
     override fun onStart() {
         super.onStart()
-        engine.start()
+        model.onVisible()
         getSystemService(DisplayManager::class.java).registerDisplayListener(displays, Handler(Looper.getMainLooper()))
     }
 
@@ -87,7 +86,7 @@ class MainActivity : AppCompatActivity() {
         getSystemService(DisplayManager::class.java).unregisterDisplayListener(displays)
         Choreographer.getInstance().removeFrameCallback(frame)
         framePending = false
-        engine.stop()
+        model.onHidden()
         super.onStop()
     }
 
@@ -102,9 +101,9 @@ class MainActivity : AppCompatActivity() {
         Choreographer.getInstance().postFrameCallback(frame)
     }
 
-    /** Draws the engine's latest state when it or the display rotation changed since the last frame. */
+    /** Draws the latest state when it or the display rotation changed since the last frame. */
     private fun render() {
-        val s = engine.state.value
+        val s = model.state.value
         val rotation = displayRotation()
         if (s === shown && rotation == shownRotation) return
         shown = s

@@ -2,11 +2,30 @@ package dev.motionfusion.app
 
 import android.app.Application
 import com.google.android.material.color.DynamicColors
+import dev.motionfusion.app.record.RecordingDependencies
+import dev.motionfusion.app.sessions.SessionsDependencies
+import dev.motionfusion.app.settings.SettingsRepository
 
-/** The application: Material You colours from the wallpaper on Android 12+ (the theme's own colours before). */
-class MotionFusionApp : Application() {
+/**
+ * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
+ * wallpaper on Android 12+ (the theme's own colours before).
+ */
+internal class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
+    private var built: AppGraph? = null
+
+    /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
+    var graph: AppGraph
+        get() = built ?: AppGraph.create(this).also { built = it }
+        set(value) {
+            built = value
+        }
+
     override fun onCreate() {
         super.onCreate()
         DynamicColors.applyToActivitiesIfAvailable(this)
     }
+
+    override val recordingDependencies: RecordingDependencies get() = graph
+    override val sessionsDependencies: SessionsDependencies get() = graph
+    override val settingsRepository: SettingsRepository get() = graph.settingsRepository
 }

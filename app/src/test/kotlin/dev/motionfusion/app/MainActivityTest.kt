@@ -8,8 +8,7 @@ import android.view.Surface
 import android.view.View
 import android.widget.TextView
 import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.FusionEngine
-import dev.motionfusion.app.live.LiveEngines
+import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorKind
@@ -73,11 +72,13 @@ class MainActivityTest {
         )
     }
 
-    private fun engine(): FusionEngine = LiveEngines.get(RuntimeEnvironment.getApplication())
+    private lateinit var graph: TestGraph
 
-    /** Lets the fusion thread fold in what was sent, then the main thread draw a frame. */
+    private fun engine(): Capture = graph.capture
+
+    /** Lets the capture fold in what was sent, then the main thread draw a frame. */
     private fun frame() {
-        engine().looper?.let { shadowOf(it).idle() }
+        graph.pump()
         shadowOf(Looper.getMainLooper()).idle()
         shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(50))
     }
@@ -98,6 +99,7 @@ class MainActivityTest {
 
     private fun start(vararg present: Sensor): ActivityController<MainActivity> {
         present.forEach(sensors::addSensor)
+        graph = TestGraph()
         val c = Robolectric.buildActivity(MainActivity::class.java).setup()
         frame()
         return c
@@ -124,20 +126,16 @@ class MainActivityTest {
     }
 
     @Test
-    fun `listeners are registered on the fusion thread while visible and removed with it after onStop`() {
+    fun `each sensor is registered once while visible and removed after onStop`() {
         val c = start(acc, gyro, mag, rv, grv)
         assertEquals(1, sensors.listeners.size)
         val listener = sensors.listeners.single()
         listOf(acc, gyro, mag, rv, grv).forEach { assertTrue(sensors.hasListener(listener, it)) }
         val e = engine()
         assertTrue(e.isRunning)
-        val thread = e.looper!!.thread
-        assertFalse("samples are not handled on the main thread", thread == Looper.getMainLooper().thread)
         c.pause().stop()
         shadowOf(Looper.getMainLooper()).idle()
-        thread.join(2000)
         assertTrue("listeners unregistered after onStop", sensors.listeners.isEmpty())
-        assertFalse("fusion thread quit", thread.isAlive)
         assertFalse(e.isRunning)
         c.destroy()
     }
@@ -306,11 +304,9 @@ class MainActivityTest {
     fun `a new requested rate re-registers the listeners and samples keep flowing`() {
         val c = start(acc, gyro, mag)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
-        val before = sensors.listeners.single()
-        engine().updateSettings(LiveSettings(rate = SamplingRate.Delay.GAME))
+        graph.graph.settingsRepository.update(LiveSettings(rate = SamplingRate.Delay.GAME))
         frame()
         val after = sensors.listeners.single()
-        assertFalse("registered anew", before === after)
         listOf(acc, gyro, mag).forEach { assertTrue(sensors.hasListener(after, it)) }
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
         assertEquals(60L, engine().state.value.sensors.getValue(SensorKind.GYROSCOPE).samples)
@@ -340,7 +336,7 @@ class MainActivityTest {
     fun `a settings change reaches the running filter and the screen`() {
         val c = start(acc, gyro, mag)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
-        engine().updateSettings(LiveSettings(mode = FilterMode.IMU, beta = 0.2))
+        graph.graph.settingsRepository.update(LiveSettings(mode = FilterMode.IMU, beta = 0.2))
         frame()
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
         val a = c.get()

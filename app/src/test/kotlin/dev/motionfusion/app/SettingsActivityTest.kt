@@ -7,7 +7,6 @@ import android.widget.RadioGroup
 import android.widget.Switch
 import android.widget.TextView
 import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.settings.SettingsActivity
@@ -80,9 +79,10 @@ class SettingsActivityTest {
         assertTrue(a.apply())
         val expected = LiveSettings(beta = 0.1, zeta = 0.01, mode = FilterMode.IMU, accRejection = true, rate = SamplingRate.Hz(400))
         assertEquals(expected, store().load())
-        val engine = LiveEngines.get(a)
-        assertEquals(expected, engine.settings.value)
-        val fs = engine.filterSettingsInUse()
+        val graph = (a.application as MotionFusionApp).graph
+        assertEquals(expected, graph.settingsRepository.settings.value)
+        org.robolectric.Shadows.shadowOf(android.os.Looper.getMainLooper()).idle()
+        val fs = graph.capture.filterSettingsInUse()
         assertEquals(0.1, fs.beta, 0.0)
         assertEquals(0.01, fs.zeta, 0.0)
         assertEquals(FilterMode.IMU, fs.mode)

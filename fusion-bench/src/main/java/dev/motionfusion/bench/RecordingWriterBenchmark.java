@@ -1,21 +1,18 @@
 /*
- * JMH benchmark of the app's recording writer path per sensor event: the sensor thread's copy
- * into the queue (EventRing.offer) plus the writer's share (drain, session CSV row through
- * SessionWriter, the Madgwick filter on gyroscope rows and its orientation row), all seven
- * sensor streams in turn. Run: java -jar fusion-bench/target/benchmarks.jar RecordingWriter -prof gc
+ * JMH benchmark of the app's capture path per sensor event while recording: the sensor thread's
+ * copy into the ring (EventRing.offer) plus the capture thread's share (drain, reorder window,
+ * the one live Madgwick filter, the session CSV row through SessionWriter and the orientation
+ * row), all seven sensor streams in turn. Run: java -jar fusion-bench/target/benchmarks.jar RecordingWriter -prof gc
  * "file" writes real files in a temporary folder; "devnull" points the stream files at
  * /dev/null (Linux) to leave the storage out. Issue 7's budget: at most 1 µs per event.
  */
 package dev.motionfusion.bench;
 
+import dev.motionfusion.app.live.Capture;
 import dev.motionfusion.app.record.CoreSessionFormat;
-import dev.motionfusion.app.record.EventRing;
 import dev.motionfusion.app.record.Recorder;
-import dev.motionfusion.app.record.RecordingEnd;
-import dev.motionfusion.app.record.SensorStreams;
-import dev.motionfusion.app.record.SessionSink;
-import dev.motionfusion.core.filter.FilterSettings;
-import dev.motionfusion.core.filter.MadgwickFilter;
+import dev.motionfusion.app.sensor.EventRing;
+import dev.motionfusion.app.sensor.SensorStreams;
 import dev.motionfusion.core.session.SessionMetadata;
 import dev.motionfusion.core.session.SessionStream;
 import java.io.IOException;
@@ -56,7 +53,7 @@ public class RecordingWriterBenchmark {
     private SessionStream[] streams;
     private Path dir;
     private EventRing ring;
-    private SessionSink sink;
+    private Capture capture;
     private Recorder recorder;
     private long t = 1_000_000_000L;
     private int next;
@@ -69,14 +66,15 @@ public class RecordingWriterBenchmark {
             for (SessionStream s : SessionStream.values()) Files.createSymbolicLink(dir.resolve(s.getFileName()), Paths.get("/dev/null"));
         }
         ring = new EventRing(1 << 16);
-        sink = CoreSessionFormat.INSTANCE.create(dir.toFile(), new SessionMetadata());
-        recorder = new Recorder(ring, sink, new MadgwickFilter(new FilterSettings()), r -> Unit.INSTANCE,
-            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, System::nanoTime, 2_000_000L, 100_000_000L, null, 60_000_000_000L);
+        capture = FloodCapture.manual(ring);
+        recorder = new Recorder(CoreSessionFormat.INSTANCE.create(dir.toFile(), new SessionMetadata()), r -> Unit.INSTANCE,
+            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L);
+        FloodCapture.attach(capture, recorder);
     }
 
     @TearDown(Level.Iteration)
     public void close() throws IOException {
-        sink.finish(RecordingEnd.Stopped.INSTANCE);
+        FloodCapture.detach(capture, recorder);
         try (Stream<Path> files = Files.walk(dir)) {
             files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
         }
@@ -92,6 +90,6 @@ public class RecordingWriterBenchmark {
             t += 300_000L;
             ring.offer(s, t, 3, values, s.getValueCount());
         }
-        return recorder.writeQueued(Integer.MAX_VALUE);
+        return FloodCapture.pump(capture);
     }
 }

@@ -10,6 +10,7 @@ import androidx.annotation.RequiresApi
 import android.os.Environment
 import android.provider.MediaStore
 import dev.motionfusion.app.R
+import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionReader
 import java.io.File
@@ -36,19 +37,12 @@ internal object Exporter {
         if (!complete) throw IOException("${dir.name} is still being recorded")
     }
 
-    /** Writes the zip to [target] through a temporary file, so a failed export leaves no partial zip. */
+    /** Writes the zip to [target] all-or-nothing (the project's [AtomicFiles]): a failed export leaves no partial zip. */
     @Throws(IOException::class)
     fun writeZip(dir: File, target: File) {
         checkExportable(dir)
         target.parentFile?.mkdirs()
-        val tmp = File(target.parentFile, target.name + ".part")
-        try {
-            tmp.outputStream().use { SessionArchive.zip(dir.toPath(), it) }
-            if (target.exists()) target.delete()
-            if (!tmp.renameTo(target)) throw IOException("cannot write ${target.name}")
-        } finally {
-            tmp.delete()
-        }
+        AtomicFiles().write(target.toPath()) { SessionArchive.zip(dir.toPath(), it) }
     }
 
     /** MediaStore.Downloads needs API 29; before that, Save as… covers it without a storage permission. */

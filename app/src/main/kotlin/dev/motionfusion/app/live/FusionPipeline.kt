@@ -63,37 +63,61 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
         val filterChanged = newSettings.filterSettings() != settings.filterSettings() || newMode != mode
         settings = newSettings
         mode = newMode
-        if (filterChanged) {
-            filter = newFilter()
-            hasYawOffset = false
-            if (mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU) hasOrientation = false
-        }
+        if (filterChanged) restartFilter()
     }
 
-    /** Folds one sample in. */
+    private val scratch = FloatArray(5)
+
+    /** Folds one sample in (the value form; the capture calls [onEvent]). */
     fun onSample(s: SensorSample) {
-        val i = s.kind.ordinal
-        meters[i].add(s.timestampNs)
-        accuracy[i] = s.accuracy
-        val v = values[i]
-        v[0] = s.x; v[1] = s.y; v[2] = s.z; v[3] = s.w
+        scratch[0] = s.x; scratch[1] = s.y; scratch[2] = s.z; scratch[3] = s.w; scratch[4] = s.headingAccuracyRad
+        onEvent(s.kind, s.timestampNs, s.accuracy, scratch, 0, if (s.kind.isRotationVector) 5 else 3)
+    }
+
+    /**
+     * Folds one event in: [count] values of [kind] at [v]`[o..]` (x, y, z; for the rotation
+     * vectors also w and the heading accuracy). Allocation-free. Returns true when the event
+     * stepped the Madgwick [filter] (a gyroscope event with the filter initialised).
+     */
+    fun onEvent(kind: SensorKind, timestampNs: Long, accuracy: Int, v: FloatArray, o: Int, count: Int): Boolean {
+        val i = kind.ordinal
+        meters[i].add(timestampNs)
+        this.accuracy[i] = accuracy
+        val kept = values[i]
+        kept[0] = v[o]; kept[1] = v[o + 1]; kept[2] = v[o + 2]
+        kept[3] = if (count >= 4) v[o + 3] else Float.NaN
         seen[i] = true
-        lastT = s.timestampNs
+        lastT = timestampNs
+        var stepped = false
         when (mode.mode) {
-            FusionMode.MARG, FusionMode.IMU -> filterSample(s)
-            FusionMode.ACC_MAG -> if (s.kind == SensorKind.ACCELEROMETER || s.kind == SensorKind.MAGNETOMETER) accMag()
-            FusionMode.TILT_ONLY -> if (s.kind == SensorKind.ACCELEROMETER) tilt(s.x.toDouble(), s.y.toDouble(), s.z.toDouble())
+            FusionMode.MARG, FusionMode.IMU -> stepped = filterSample(kind, timestampNs, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+            FusionMode.ACC_MAG -> if (kind == SensorKind.ACCELEROMETER || kind == SensorKind.MAGNETOMETER) accMag()
+            FusionMode.TILT_ONLY -> if (kind == SensorKind.ACCELEROMETER) tilt(v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
             FusionMode.NONE -> Unit
         }
-        when (s.kind) {
+        when (kind) {
             SensorKind.ROTATION_VECTOR -> {
-                unitQuaternion(s, rv)
-                rvHeadingAccuracy = s.headingAccuracyRad
+                unitQuaternion(v, o, count, rv)
+                rvHeadingAccuracy = if (count >= 5) v[o + 4] else Float.NaN
             }
-            SensorKind.GAME_ROTATION_VECTOR -> unitQuaternion(s, grv)
+            SensorKind.GAME_ROTATION_VECTOR -> unitQuaternion(v, o, count, grv)
             else -> Unit
         }
+        return stepped
     }
+
+    /**
+     * Starts the filter afresh from the next events (the settings unchanged): a recording starts
+     * with a filter in the state `fusion replay` starts in, so that replaying it gives what was live.
+     */
+    fun restartFilter() {
+        filter = newFilter()
+        hasYawOffset = false
+        if (mode.mode == FusionMode.MARG || mode.mode == FusionMode.IMU) hasOrientation = false
+    }
+
+    /** The settings of the filter in use (the mode falls back to 6D without magnetometer). */
+    val filterSettings get() = filter.settings
 
     /** The current orientation (device → ENU) into out[0..3]; false (out untouched) when there is none yet. */
     fun orientationInto(out: DoubleArray): Boolean {
@@ -146,23 +170,22 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
         return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
     }
 
-    private fun filterSample(s: SensorSample) {
-        val x = s.x.toDouble()
-        val y = s.y.toDouble()
-        val z = s.z.toDouble()
-        when (s.kind) {
-            SensorKind.ACCELEROMETER -> filter.updateAccelerometer(s.timestampNs, x, y, z)
-            SensorKind.MAGNETOMETER -> filter.updateMagnetometer(s.timestampNs, x, y, z)
+    private fun filterSample(kind: SensorKind, t: Long, x: Double, y: Double, z: Double): Boolean {
+        when (kind) {
+            SensorKind.ACCELEROMETER -> filter.updateAccelerometer(t, x, y, z)
+            SensorKind.MAGNETOMETER -> filter.updateMagnetometer(t, x, y, z)
             SensorKind.GYROSCOPE -> {
-                filter.updateGyroscope(s.timestampNs, x, y, z)
+                filter.updateGyroscope(t, x, y, z)
                 if (filter.isInitialised) {
                     filter.orientationInto(q)
                     if (mode.mode == FusionMode.IMU) relativeHeading()
                     hasOrientation = true
+                    return true
                 }
             }
             else -> Unit
         }
+        return false
     }
 
     /**
@@ -222,11 +245,11 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
         hasOrientation = true
     }
 
-    private fun unitQuaternion(s: SensorSample, out: DoubleArray) {
-        val x = s.x.toDouble()
-        val y = s.y.toDouble()
-        val z = s.z.toDouble()
-        val w = if (s.w.isNaN()) sqrt((1.0 - x * x - y * y - z * z).coerceAtLeast(0.0)) else s.w.toDouble()
+    private fun unitQuaternion(v: FloatArray, o: Int, count: Int, out: DoubleArray) {
+        val x = v[o].toDouble()
+        val y = v[o + 1].toDouble()
+        val z = v[o + 2].toDouble()
+        val w = if (count < 4 || v[o + 3].isNaN()) sqrt((1.0 - x * x - y * y - z * z).coerceAtLeast(0.0)) else v[o + 3].toDouble()
         val n = sqrt(w * w + x * x + y * y + z * z)
         if (!(n > 0.0) || !n.isFinite()) return
         out[0] = w / n; out[1] = x / n; out[2] = y / n; out[3] = z / n

@@ -2,6 +2,7 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.app.sessions.CoreSessionRepair
 import dev.motionfusion.core.session.SessionRecovery
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.session.SessionWriter
@@ -11,12 +12,9 @@ import java.io.File
 internal object CoreSessionFormat : SessionFormat {
     override fun create(dir: File, metadata: SessionMetadata): SessionSink = CoreSessionSink(SessionWriter.create(dir.toPath(), metadata))
 
-    /** As SessionRecovery decides it: "complete": false, or an unreadable meta.json beside nothing but session files. */
-    override fun isInterrupted(dir: File): Boolean = SessionRecovery.isInterrupted(dir.toPath())
+    override fun isInterrupted(dir: File): Boolean = CoreSessionRepair.isInterrupted(dir)
 
-    override fun recover(dir: File) {
-        SessionRecovery.recover(dir.toPath())
-    }
+    override fun recover(dir: File) = CoreSessionRepair.recover(dir)
 }
 
 /**
@@ -43,6 +41,7 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
                 writer.magnetometerUncalibrated(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], v[o + 5], accuracy)
             SessionStream.ROTATION_VECTOR -> writer.rotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], v[o + 4], accuracy)
             SessionStream.GAME_ROTATION_VECTOR -> writer.gameRotationVector(timestampNs, v[o], v[o + 1], v[o + 2], v[o + 3], accuracy)
+            SessionStream.ACCELEROMETER_UNCALIBRATED -> writer.write(stream, timestampNs, v, o, stream.valueCount, accuracy)
             else -> throw IllegalArgumentException("$stream is not a sensor stream")
         }
     }
@@ -57,10 +56,8 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
 
     override fun flush() = writer.flush()
 
-    override fun checkpoint(anchor: ClockAnchor) {
-        writer.anchor(anchor)
-        writer.sync()
-    }
+    /** [SessionWriter.anchor] syncs every stream before it replaces meta.json. */
+    override fun checkpoint(anchor: ClockAnchor) = writer.anchor(anchor)
 
     override fun finish(end: RecordingEnd) =
         writer.close(if (lastTimestampNs == Long.MIN_VALUE) null else lastTimestampNs, end.reason)

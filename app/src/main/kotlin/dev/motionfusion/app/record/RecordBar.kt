@@ -22,14 +22,15 @@ import dev.motionfusion.app.sessions.SessionsActivity
 
 /**
  * The Record/Stop button, the recording status and the way to the sessions list, inflated
- * into a host activity's container (the main screen's `record_bar`). It polls
- * [RecordingStatus] twice a second while attached to a window; the recording itself lives in
- * [RecordingService] and does not depend on this view or its activity.
+ * into a host activity's container (the main screen's `record_bar`). It shows [Recordings.state]
+ * (refreshed twice a second while attached to a window, for the elapsed time); the recording
+ * itself lives in [RecordingService] and does not depend on this view or its activity.
  */
 internal class RecordBar private constructor(private val activity: ComponentActivity, private val root: View) {
     private val toggle: Button = root.findViewById(R.id.record_toggle)
     private val status: TextView = root.findViewById(R.id.record_status)
     private val handler = Handler(Looper.getMainLooper())
+    private val recordings = (activity.application as RecordingDependencies.Provider).recordingDependencies.recordings
     private val poll = object : Runnable {
         override fun run() {
             refresh()
@@ -57,11 +58,11 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     }
 
     private fun onToggle() {
-        if (RecordingStatus.isRecording) {
+        if (recordings.isRecording) {
             RecordingService.stop(activity)
         } else {
             requestNotificationPermission()
-            RecordingService.start(activity)?.let { RecordingStatus.state = RecordingStatus.State.NotStarted(it) }
+            RecordingService.start(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
         }
         // The service changes the state when it runs; show the intent at once.
         handler.postDelayed(::refresh, 100)
@@ -77,8 +78,18 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     }
 
     fun refresh() {
-        when (val s = RecordingStatus.state) {
-            is RecordingStatus.State.Active -> {
+        when (val s = recordings.state.value) {
+            is RecordingState.Preparing -> {
+                toggle.setText(R.string.record_stop)
+                toggle.contentDescription = activity.getString(R.string.record_stop_desc)
+                toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_active))
+                status.text = if (s.toRepair > 0) {
+                    activity.getString(R.string.record_repairing, s.repaired, s.toRepair)
+                } else {
+                    activity.getString(R.string.record_preparing)
+                }
+            }
+            is RecordingState.Active -> {
                 val elapsed = (SystemClock.elapsedRealtime() - s.startedElapsedMs) / 1000
                 toggle.setText(R.string.record_stop)
                 toggle.contentDescription = activity.getString(R.string.record_stop_desc)
@@ -90,8 +101,8 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 toggle.contentDescription = activity.getString(R.string.record_start_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_idle))
                 status.text = when (s) {
-                    is RecordingStatus.State.Ended -> RecordingService.endMessage(activity, s.result)
-                    is RecordingStatus.State.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
+                    is RecordingState.Ended -> RecordingService.endMessage(activity, s.result)
+                    is RecordingState.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
                     else -> activity.getString(R.string.record_idle)
                 }
             }

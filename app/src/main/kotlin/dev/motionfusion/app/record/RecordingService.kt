@@ -9,21 +9,18 @@ import android.app.Service
 import android.content.Context
 import android.content.Intent
 import android.content.pm.ServiceInfo
-import android.hardware.SensorManager
 import android.os.Build
 import android.os.Handler
 import android.os.IBinder
 import android.os.Looper
 import android.os.PowerManager
-import android.os.SystemClock
 import android.text.format.DateUtils
 import androidx.core.app.NotificationCompat
 import androidx.core.app.ServiceCompat
 import androidx.core.content.ContextCompat
-import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
-import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.core.session.ClockAnchor
 import java.io.File
 
 /**
@@ -36,19 +33,30 @@ import java.io.File
  */
 class RecordingService : Service() {
     private val main = Handler(Looper.getMainLooper())
-    private var capture: SensorCapture? = null
+    private lateinit var deps: RecordingDependencies
+    private var preparing = false
+    private var stopWhenReady = false
+    private var holdsCapture = false
     private var recorder: Recorder? = null
     private var session: File? = null
     private var wakeLock: PowerManager.WakeLock? = null
     private var startedElapsedMs = 0L
     private var startedWallMs = 0L
+    private var ticks = 0
 
     private val tick = object : Runnable {
         override fun run() {
             if (recorder == null) return
             notificationManager().notify(NOTIFICATION_ID, ongoingNotification())
+            // The wake lock has a timeout (a crashed service cannot keep the phone awake); renew it.
+            if (++ticks % WAKE_LOCK_RENEW_S == 0) wakeLock?.acquire(WAKE_LOCK_TIMEOUT_MS)
             main.postDelayed(this, 1_000)
         }
+    }
+
+    override fun onCreate() {
+        super.onCreate()
+        deps = (application as RecordingDependencies.Provider).recordingDependencies
     }
 
     override fun onBind(intent: Intent?): IBinder? = null
@@ -59,62 +67,82 @@ class RecordingService : Service() {
             ACTION_START -> startRecording()
             // Restarted by the system after the process died: the interrupted session is
             // repaired by recovery; a new recording needs the user's action.
-            else -> if (recorder == null) stopSelf()
+            else -> if (recorder == null && !preparing) stopSelf()
         }
         return START_NOT_STICKY
     }
 
+    /**
+     * Foreground and sensors at once (main thread); the disk work (repair of interrupted
+     * sessions, which takes seconds after a long killed recording, and the new session's files)
+     * on the disk executor, with progress in [Recordings]; then the recorder is attached.
+     */
     private fun startRecording() {
-        if (recorder != null) return
+        if (recorder != null || preparing) return
         createChannels()
-        startedWallMs = System.currentTimeMillis()
-        startedElapsedMs = SystemClock.elapsedRealtime()
+        startedWallMs = deps.clock.wallClockMs()
+        startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
         // Foreground first: startForegroundService() must be answered within a few seconds.
         goForeground()?.let { reason ->
-            RecordingStatus.state = RecordingStatus.State.NotStarted(reason)
+            deps.recordings.set(RecordingState.NotStarted(reason))
             notificationManager().notify(END_NOTIFICATION_ID, alertNotification(getString(R.string.record_not_started, reason)))
             stopSelf()
             return
         }
-
-        val format = RecordingDeps.format
-        InterruptedSessions.recoverAll(this, format)
-        val dir = SessionFolders.newSession(this, startedWallMs)
-        val ring = EventRing(RecordingDeps.ringCapacity)
-        val sensorManager = getSystemService(SensorManager::class.java)
-        val capture = SensorCapture(sensorManager, ring)
-        val settings = FilterSettings()
-        val metadata = RecordingMetadata.create(
-            appVersion(),
-            capture.sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, capture.requestedPeriodUs, 0) },
-            settings,
-            RecordingMetadata.anchorNow(),
-        )
-        val sink = try {
-            dir.mkdirs()
-            format.create(dir, metadata)
-        } catch (e: Exception) {
-            ended(dir, RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0, 0))
-            return
+        preparing = true
+        stopWhenReady = false
+        deps.recordings.set(RecordingState.Preparing(0, 0))
+        val capture = deps.capture
+        capture.acquire()
+        holdsCapture = true
+        val live = deps.settings.value
+        val filterSettings = capture.filterSettingsFor(live)
+        val sensors = capture.sensors
+        val rate = live.rate
+        val anchor = ClockAnchor(startedWallMs, deps.clock.elapsedRealtimeNanos())
+        val version = appVersion()
+        deps.disk.execute(null) {
+            val sessions = deps.sessions
+            sessions.repairInterrupted { done, total -> main.post { if (preparing) deps.recordings.set(RecordingState.Preparing(done, total)) } }
+            var dir: File? = null
+            try {
+                val d = sessions.newRecording(startedWallMs)
+                dir = d
+                val metadata = RecordingMetadata.create(
+                    version,
+                    sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, 0) },
+                    filterSettings,
+                    anchor,
+                )
+                val sink = deps.format.create(d, metadata)
+                main.post { ready(d, sink, live) }
+            } catch (e: Exception) {
+                val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
+                main.post { ended(dir, failed) }
+            }
         }
-        val minFree = RecordingDeps.minFreeBytes
+    }
+
+    /** Main thread: the session exists; the recorder joins the capture. */
+    private fun ready(dir: File, sink: SessionSink, live: LiveSettings) {
+        preparing = false
+        val minFree = deps.minFreeBytes
         val recorder = Recorder(
-            ring, sink, MadgwickFilter(settings),
+            sink,
             onEnd = { result -> onWriterEnded(dir, result) },
             freeBytes = { dir.usableSpace },
             minFreeBytes = minFree,
             anchorNow = RecordingMetadata::anchorNow,
         )
-        this.capture = capture
         this.recorder = recorder
         this.session = dir
-        RecordingStatus.state = RecordingStatus.State.Active(dir, startedElapsedMs) { recorder.rowCount }
+        deps.recordings.set(RecordingState.Active(dir, startedElapsedMs) { recorder.rowCount })
         wakeLock = getSystemService(PowerManager::class.java)
             .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
-            .apply { setReferenceCounted(false); acquire() }
-        recorder.start()
-        capture.start()
+            .apply { setReferenceCounted(false); acquire(WAKE_LOCK_TIMEOUT_MS) }
+        deps.capture.attach(recorder, live)
         main.post(tick)
+        if (stopWhenReady) stopRecording()
     }
 
     /**
@@ -125,7 +153,7 @@ class RecordingService : Service() {
      */
     private fun goForeground(): String? = try {
         val type = if (Build.VERSION.SDK_INT >= 34) FOREGROUND_SERVICE_TYPE else 0
-        RecordingDeps.startForeground(this, NOTIFICATION_ID, ongoingNotification(), type)
+        deps.startForeground(this, NOTIFICATION_ID, ongoingNotification(), type)
         null
     } catch (e: IllegalStateException) {
         e.message ?: e.javaClass.simpleName
@@ -133,40 +161,44 @@ class RecordingService : Service() {
         e.message ?: e.javaClass.simpleName
     }
 
-    /** Stop button or notification action: sensors first, then the writer drains and finishes. */
+    /** Stop button or notification action: the capture hands the recorder everything up to now, then it finishes. */
     private fun stopRecording() {
         val r = recorder
         if (r == null) {
-            stopSelf()
+            if (preparing) stopWhenReady = true else stopSelf()
             return
         }
-        capture?.stop()
-        capture = null
-        r.stop()
+        deps.capture.detach(r)
     }
 
-    /** Writer thread: the recording is over (stopped or failed). Repairs a failed session, then hands over to main. */
+    /** Capture thread: the recording is over (stopped or failed). Repairs a failed session off the main thread, then hands over to main. */
     private fun onWriterEnded(dir: File, result: RecorderResult) {
         if (result.end is RecordingEnd.WriteFailed) {
-            try {
-                val format = RecordingDeps.format
-                if (format.isInterrupted(dir)) format.recover(dir)
-            } catch (_: Exception) {
-                // Still interrupted: the next start's recovery tries again.
+            deps.disk.execute(dir) {
+                try {
+                    deps.sessions.recordingEnded(dir)
+                    if (deps.format.isInterrupted(dir)) deps.format.recover(dir)
+                } catch (_: Exception) {
+                    // Still interrupted: the next start's repair tries again.
+                }
+                main.post { ended(dir, result) }
             }
+        } else {
+            main.post { ended(dir, result) }
         }
-        main.post { ended(dir, result) }
     }
 
-    private fun ended(dir: File, result: RecorderResult) {
-        capture?.stop()
-        capture = null
+    private fun ended(dir: File?, result: RecorderResult) {
+        preparing = false
         recorder = null
         session = null
+        if (dir != null) deps.sessions.recordingEnded(dir)
+        if (holdsCapture) deps.capture.release()
+        holdsCapture = false
         main.removeCallbacks(tick)
         wakeLock?.let { if (it.isHeld) it.release() }
         wakeLock = null
-        RecordingStatus.state = RecordingStatus.State.Ended(dir, result)
+        deps.recordings.set(RecordingState.Ended(dir, result))
         ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
         if (result.end.isFailure) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result)))
         stopSelf()
@@ -193,7 +225,7 @@ class RecordingService : Service() {
     }
 
     private fun ongoingNotification(): Notification {
-        val elapsedS = if (startedElapsedMs == 0L) 0 else (SystemClock.elapsedRealtime() - startedElapsedMs) / 1000
+        val elapsedS = if (startedElapsedMs == 0L) 0 else (deps.clock.elapsedRealtimeNanos() / 1_000_000 - startedElapsedMs) / 1000
         val rows = recorder?.rowCount ?: 0L
         val stop = PendingIntent.getService(
             this, 1, Intent(this, RecordingService::class.java).setAction(ACTION_STOP),
@@ -225,8 +257,10 @@ class RecordingService : Service() {
             .setContentIntent(openApp())
             .build()
 
+    /** The app's launcher screen (the live screen), named by the manifest rather than by class: record does not depend on the screens. */
     private fun openApp(): PendingIntent = PendingIntent.getActivity(
-        this, 0, Intent(this, MainActivity::class.java).addFlags(Intent.FLAG_ACTIVITY_SINGLE_TOP),
+        this, 0,
+        (packageManager.getLaunchIntentForPackage(packageName) ?: Intent().setPackage(packageName)).addFlags(Intent.FLAG_ACTIVITY_SINGLE_TOP),
         PendingIntent.FLAG_IMMUTABLE,
     )
 
@@ -244,6 +278,10 @@ class RecordingService : Service() {
         internal const val END_NOTIFICATION_ID = 7002
         internal const val CHANNEL_RECORDING = "recording"
         internal const val CHANNEL_ALERTS = "recording-alerts"
+
+        /** The wake lock times out after 10 minutes unless renewed, every minute while recording. */
+        private const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L
+        private const val WAKE_LOCK_RENEW_S = 60
 
         /** The manifest's android:foregroundServiceType; its permission is FOREGROUND_SERVICE_HEALTH (ForegroundServiceTest). */
         internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH

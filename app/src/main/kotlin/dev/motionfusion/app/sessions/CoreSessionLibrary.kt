@@ -1,6 +1,6 @@
 package dev.motionfusion.app.sessions
 
-import dev.motionfusion.app.record.SensorStreams
+import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionStream
 import java.io.File

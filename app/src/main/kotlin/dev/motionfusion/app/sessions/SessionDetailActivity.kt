@@ -14,7 +14,6 @@ import androidx.lifecycle.lifecycleScope
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.export.Exporter
-import dev.motionfusion.app.record.SessionFolders
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
@@ -28,6 +27,7 @@ import java.io.File
  */
 class SessionDetailActivity : AppCompatActivity() {
     private lateinit var dir: File
+    private val deps by lazy { (application as SessionsDependencies.Provider).sessionsDependencies }
     private val message: TextView get() = findViewById(R.id.detail_message)
 
     /** The dialog on screen (rename or delete), for tests. */
@@ -39,8 +39,8 @@ class SessionDetailActivity : AppCompatActivity() {
         setContentView(R.layout.activity_session_detail)
         fitToSystemBars(findViewById(R.id.detail_root))
         val name = intent.getStringExtra(EXTRA_SESSION)
-        dir = File(SessionFolders.root(this), name ?: "")
-        if (name.isNullOrEmpty() || !dir.isDirectory) {
+        dir = deps.sessions.folder(name ?: "")
+        if (name.isNullOrEmpty()) { // a missing folder shows as unreadable (no disk access here)
             finish()
             return
         }
@@ -60,7 +60,7 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<Button>(R.id.detail_share).setOnClickListener {
             lifecycleScope.launch {
                 try {
-                    val intent = withContext(SessionsDeps.io) { Exporter.shareIntent(this@SessionDetailActivity, dir) }
+                    val intent = withContext(deps.io) { deps.sessions.locks.withFolder(dir) { Exporter.shareIntent(this@SessionDetailActivity, dir) } }
                     startActivity(intent)
                 } catch (e: Exception) {
                     message.text = getString(R.string.export_failed, e.message)
@@ -74,9 +74,9 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<TextView>(R.id.detail_name).text = dir.name
         title = dir.name
         lifecycleScope.launch {
-            val library = SessionsDeps.library
+            val library = deps.library
             try {
-                val (summary, angles) = withContext(SessionsDeps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
+                val (summary, angles) = withContext(deps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
                 show(summary, angles)
             } catch (e: Exception) {
                 findViewById<TextView>(R.id.detail_when).text = getString(R.string.session_unreadable, e.message)
@@ -85,7 +85,7 @@ class SessionDetailActivity : AppCompatActivity() {
     }
 
     private fun show(s: SessionSummary, angles: AngleSeries) {
-        findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, dir)
+        findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, deps.sessions.isRecording(dir))
         val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
             getString(R.string.session_fused_line, s.fusedRows)
         findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
@@ -95,7 +95,7 @@ class SessionDetailActivity : AppCompatActivity() {
     private fun export(action: () -> String) {
         lifecycleScope.launch {
             message.text = try {
-                withContext(SessionsDeps.io) { action() }
+                withContext(deps.io) { deps.sessions.locks.withFolder(dir) { action() } }
             } catch (e: Exception) {
                 getString(R.string.export_failed, e.message)
             }
@@ -129,13 +129,16 @@ class SessionDetailActivity : AppCompatActivity() {
     }
 
     internal fun rename(newName: String) {
-        try {
-            dir = SessionStore.rename(dir, newName)
-            intent.putExtra(EXTRA_SESSION, dir.name)
-            message.text = ""
-            load()
-        } catch (e: Exception) {
-            message.text = getString(R.string.session_rename_invalid)
+        lifecycleScope.launch {
+            try {
+                val old = dir
+                dir = withContext(deps.io) { deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } }
+                intent.putExtra(EXTRA_SESSION, dir.name)
+                message.text = ""
+                load()
+            } catch (e: Exception) {
+                message.text = getString(R.string.session_rename_invalid)
+            }
         }
     }
 
@@ -144,11 +147,13 @@ class SessionDetailActivity : AppCompatActivity() {
             .setMessage(getString(R.string.session_delete_confirm, dir.name))
             .setNegativeButton(R.string.cancel, null)
             .setPositiveButton(R.string.session_delete) { _, _ ->
-                try {
-                    SessionStore.delete(dir)
-                    finish()
-                } catch (e: Exception) {
-                    message.text = e.message
+                lifecycleScope.launch {
+                    try {
+                        withContext(deps.io) { deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } }
+                        finish()
+                    } catch (e: Exception) {
+                        message.text = e.message
+                    }
                 }
             }
             .show()

@@ -1,26 +1,22 @@
 package dev.motionfusion.app.sessions
 
-import dev.motionfusion.app.record.RecordingStatus
 import dev.motionfusion.core.io.AtomicFiles
 import java.io.File
 import java.io.IOException
 
-/** Rename and delete of session folders (app-private storage), refusing the one being recorded. */
+/** Rename and delete of session folders (app-private storage), refusing the one being recorded. Disk executor only. */
 internal object SessionStore {
     private val validName = Regex("[A-Za-z0-9][A-Za-z0-9 ._-]{0,79}")
-
-    fun isRecording(dir: File): Boolean =
-        (RecordingStatus.state as? RecordingStatus.State.Active)?.session?.absoluteFile == dir.absoluteFile
 
     /** A name that can become a folder and a zip name on any platform. */
     fun isValidName(name: String): Boolean = validName.matches(name) && !name.endsWith(".") && !name.endsWith(" ")
 
     /** Renames [dir] to [newName] beside it; returns the new folder. */
     @Throws(IOException::class)
-    fun rename(dir: File, newName: String): File {
+    fun rename(sessions: SessionsRepository, dir: File, newName: String): File {
         val name = newName.trim()
         if (!isValidName(name)) throw IOException("invalid name")
-        if (isRecording(dir)) throw IOException("the session is being recorded")
+        if (sessions.isRecording(dir)) throw IOException("the session is being recorded")
         val target = File(dir.parentFile, name)
         if (target.exists()) throw IOException("a session called $name exists")
         AtomicFiles().rename(dir.toPath(), target.toPath()) // one atomic step, then the folder synced
@@ -28,8 +24,8 @@ internal object SessionStore {
     }
 
     @Throws(IOException::class)
-    fun delete(dir: File) {
-        if (isRecording(dir)) throw IOException("the session is being recorded")
+    fun delete(sessions: SessionsRepository, dir: File) {
+        if (sessions.isRecording(dir)) throw IOException("the session is being recorded")
         if (!dir.deleteRecursively()) throw IOException("cannot delete ${dir.name}")
     }
 

@@ -13,8 +13,6 @@ import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.lifecycleScope
 import dev.motionfusion.app.R
-import dev.motionfusion.app.record.SessionFolders
-import dev.motionfusion.app.record.InterruptedSessions
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.launch
@@ -30,6 +28,7 @@ import java.util.Date
 class SessionsActivity : AppCompatActivity() {
     private var loading: Job? = null
     private val adapter = Adapter()
+    private val deps by lazy { (application as SessionsDependencies.Provider).sessionsDependencies }
 
     /** One row of the list: a readable summary, or why the session cannot be read. */
     internal class Item(val dir: File, val summary: SessionSummary?, val error: String?)
@@ -53,7 +52,7 @@ class SessionsActivity : AppCompatActivity() {
     internal fun reload() {
         loading?.cancel()
         loading = lifecycleScope.launch {
-            val items = withContext(SessionsDeps.io) { load() }
+            val items = withContext(deps.io) { load() }
             adapter.items = items
             adapter.notifyDataSetChanged()
             findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
@@ -61,9 +60,9 @@ class SessionsActivity : AppCompatActivity() {
     }
 
     private fun load(): List<Item> {
-        InterruptedSessions.recoverAll(this)
-        val library = SessionsDeps.library
-        return SessionFolders.list(this).map { dir ->
+        deps.sessions.repairInterrupted()
+        val library = deps.library
+        return deps.sessions.list().map { dir ->
             try {
                 Item(dir, library.summary(dir), null)
             } catch (e: Exception) {
@@ -92,7 +91,7 @@ class SessionsActivity : AppCompatActivity() {
                 line1.text = getString(R.string.session_unreadable, item.error)
                 line2.text = ""
             } else {
-                line1.text = describe(this@SessionsActivity, s, item.dir)
+                line1.text = describe(this@SessionsActivity, s, deps.sessions.isRecording(item.dir))
                 line2.text = s.streams.filter { it.rows > 0 }.joinToString("  ") { "${shortName(it.name)} ${"%.0f".format(java.util.Locale.ROOT, it.rateHz)} Hz" }
             }
             return v
@@ -101,13 +100,13 @@ class SessionsActivity : AppCompatActivity() {
 
     internal companion object {
         /** "date · duration · size", then samples, and whether recovered or recording now. */
-        fun describe(activity: Context, s: SessionSummary, dir: File): String {
+        fun describe(activity: Context, s: SessionSummary, recordingNow: Boolean): String {
             val date = s.startWallClockMs?.let { DateFormat.getDateTimeInstance(DateFormat.MEDIUM, DateFormat.SHORT).format(Date(it)) } ?: "—"
             val duration = DateUtils.formatElapsedTime(s.durationNs / 1_000_000_000L)
             val size = Formatter.formatShortFileSize(activity, s.sizeBytes)
             val counts = activity.getString(R.string.session_list_counts, activity.getString(R.string.session_line1, date, duration, size), s.totalRows)
             val extra = when {
-                SessionStore.isRecording(dir) -> activity.getString(R.string.session_recording_now)
+                recordingNow -> activity.getString(R.string.session_recording_now)
                 s.recovered -> activity.getString(R.string.session_recovered)
                 else -> null
             }

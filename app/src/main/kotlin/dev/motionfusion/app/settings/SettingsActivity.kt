@@ -8,18 +8,16 @@ import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.FusionEngine
-import dev.motionfusion.app.live.LiveEngines
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.ui.fitToSystemBars
 
 /**
  * Filter, display and rate settings. "Apply" validates the form ([SettingsForm]), marks the
- * fields in error, or persists the settings and hands them to the running engine at once.
+ * fields in error, or persists the settings and hands them to the live filter at once (a recording keeps its own until it ends).
  */
 class SettingsActivity : AppCompatActivity() {
-    private lateinit var engine: FusionEngine
+    private lateinit var settings: SettingsRepository
     private lateinit var beta: EditText
     private lateinit var zeta: EditText
     private lateinit var rateHz: EditText
@@ -29,13 +27,13 @@ class SettingsActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_settings)
         fitToSystemBars(findViewById(R.id.settings_root))
-        engine = LiveEngines.get(this)
+        settings = (application as SettingsRepository.Provider).settingsRepository
         beta = findViewById(R.id.beta)
         zeta = findViewById(R.id.zeta)
         rateHz = findViewById(R.id.rate_hz_value)
         message = findViewById(R.id.settings_message)
         // A restored instance keeps what the user typed; a new one shows the settings in force.
-        if (savedInstanceState == null) showForm(SettingsForm.of(engine.settings.value))
+        if (savedInstanceState == null) showForm(SettingsForm.of(settings.settings.value))
         findViewById<RadioGroup>(R.id.rate).setOnCheckedChangeListener { _, id -> rateHz.isEnabled = id == R.id.rate_hz }
         rateHz.isEnabled = findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId == R.id.rate_hz
         findViewById<android.view.View>(R.id.apply).setOnClickListener { apply() }
@@ -57,7 +55,7 @@ class SettingsActivity : AppCompatActivity() {
             }
             is SettingsForm.Result.Valid -> {
                 beta.error = null; zeta.error = null; rateHz.error = null
-                engine.updateSettings(r.settings)
+                settings.update(r.settings)
                 message.setText(R.string.settings_saved)
                 true
             }

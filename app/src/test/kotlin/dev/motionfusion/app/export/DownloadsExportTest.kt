@@ -8,7 +8,6 @@ import android.os.ParcelFileDescriptor
 import android.provider.MediaStore
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.RecordingEnd
-import dev.motionfusion.app.record.SessionFolders
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
@@ -69,7 +68,7 @@ class DownloadsExportTest {
     }
 
     private fun session(name: String, finish: Boolean = true): File {
-        val dir = File(SessionFolders.root(RuntimeEnvironment.getApplication()), name)
+        val dir = File(File(RuntimeEnvironment.getApplication().filesDir, "sessions"), name)
         val sink = CoreSessionFormat.create(dir, SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(0, 0)))
         for (i in 0 until 100) sink.raw(SessionStream.GYROSCOPE, 1_000L * i, 3, floatArrayOf(0.1f, 0.2f, 0.3f), 0)
         if (finish) sink.finish(RecordingEnd.Stopped) else sink.flush()
@@ -104,7 +103,7 @@ class DownloadsExportTest {
     fun `neither a folder that is not a session nor a session being recorded is exported`() {
         val app = RuntimeEnvironment.getApplication()
         val media = Robolectric.setupContentProvider(FakeMediaStore::class.java, MediaStore.AUTHORITY)
-        val notASession = File(SessionFolders.root(app), "empty").apply { mkdirs() }
+        val notASession = File(File(app.filesDir, "sessions"), "empty").apply { mkdirs() }
         assertTrue(runCatching { Exporter.toDownloads(app, notASession) }.exceptionOrNull() is java.io.IOException)
         val recording = session("recording", finish = false)
         val e = runCatching { Exporter.writeZip(recording, File(app.cacheDir, "x.zip")) }.exceptionOrNull()

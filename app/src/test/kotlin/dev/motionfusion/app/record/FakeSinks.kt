@@ -5,7 +5,7 @@ import java.io.IOException
 import java.util.concurrent.CopyOnWriteArrayList
 
 /** A sink that keeps what it is given in memory (timestamps and first values) and can fail on cue. */
-internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : SessionSink {
+internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE, private val clock: () -> Long = System::nanoTime) : SessionSink {
     val times = ArrayList<Long>()
     val streams = ArrayList<SessionStream>()
     val firstValues = ArrayList<Float>()
@@ -40,7 +40,7 @@ internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE) : Se
     }
 
     override fun flush() {
-        flushes += System.nanoTime()
+        flushes += clock()
     }
 
     override fun finish(end: RecordingEnd) {

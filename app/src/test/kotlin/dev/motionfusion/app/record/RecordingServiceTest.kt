@@ -12,6 +12,8 @@ import android.os.Looper
 import android.widget.Button
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
+import dev.motionfusion.app.TestGraph
+import dev.motionfusion.app.sensor.SensorStreams
 import org.junit.After
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
@@ -41,24 +43,26 @@ class RecordingServiceTest {
     private lateinit var all: Map<SessionStream, Sensor>
     private val format = LineFormat()
 
+    private lateinit var graph: TestGraph
+    private var refusal: RuntimeException? = null
+
     @Before
     fun setUp() {
-        RecordingDeps.format = format
-        RecordingDeps.minFreeBytes = 0
-        RecordingStatus.state = RecordingStatus.State.Idle
         sensors = shadowOf(app.getSystemService(SensorManager::class.java))
         all = SensorStreams.all.associateWith { s ->
             SensorBuilder.newBuilder().setType(s.androidType).setName("Test ${s.name}").build().also(sensors::addSensor)
         }
+        graph = graph(format)
     }
 
-    @After
-    fun tearDown() {
-        RecordingDeps.reset()
-        RecordingStatus.state = RecordingStatus.State.Idle
-    }
+    private fun graph(f: SessionFormat) = TestGraph(format = f, enterForeground = { service, id, n, type ->
+        refusal?.let { throw it }
+        androidx.core.app.ServiceCompat.startForeground(service, id, n, type)
+    })
 
-    private fun idle() = shadowOf(Looper.getMainLooper()).idle()
+    private val state get() = graph.graph.recordings.state.value
+
+    private fun idle() = graph.settle()
 
     private fun send(stream: SessionStream, t: Long) {
         val values = FloatArray(stream.valueCount) { (t % 1000).toFloat() + it }
@@ -77,23 +81,15 @@ class RecordingServiceTest {
         return c
     }
 
-    private fun awaitEnded(): RecordingStatus.State.Ended {
-        val deadline = System.currentTimeMillis() + 10_000
-        while (System.currentTimeMillis() < deadline) {
-            idle()
-            (RecordingStatus.state as? RecordingStatus.State.Ended)?.let { return it }
-            Thread.sleep(5)
-        }
-        error("recording did not end; state ${RecordingStatus.state}")
+    private fun awaitEnded(): RecordingState.Ended {
+        graph.pump()
+        idle()
+        return state as? RecordingState.Ended ?: error("recording did not end; state $state")
     }
 
-    private fun awaitRows(n: Long) {
-        val deadline = System.currentTimeMillis() + 10_000
-        val active = RecordingStatus.state as? RecordingStatus.State.Active ?: error("not recording: ${RecordingStatus.state}")
-        while (active.rows() < n) {
-            check(System.currentTimeMillis() < deadline) { "only ${active.rows()} of $n rows" }
-            Thread.sleep(5)
-        }
+    private fun rows(): Long {
+        graph.pump()
+        return (state as? RecordingState.Active ?: error("not recording: $state")).rows()
     }
 
     @Test
@@ -106,7 +102,7 @@ class RecordingServiceTest {
         assertTrue("partial wake lock held", lock.isHeld)
         val listener = sensors.listeners.single()
         all.values.forEach { assertTrue(sensors.hasListener(listener, it)) }
-        assertTrue(RecordingStatus.isRecording)
+        assertTrue(graph.graph.recordings.isRecording)
         c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
         awaitEnded()
         assertFalse("wake lock released", lock.isHeld)
@@ -128,15 +124,15 @@ class RecordingServiceTest {
         activity.pause().stop().destroy()
         idle()
         for (i in 100 until 300) sendRound(1_000_000_000L + i * 5_000_000L)
-        awaitRows(300L * 7)
-        assertTrue("still recording", RecordingStatus.isRecording)
+        assertEquals(300L * SensorStreams.all.size, rows())
+        assertTrue("still recording", graph.graph.recordings.isRecording)
 
         // The elapsed time and the sample count are in the notification, which has Stop.
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(2))
         val nm = app.getSystemService(NotificationManager::class.java)
         val n: Notification = shadowOf(nm).getNotification(RecordingService.NOTIFICATION_ID)
         val text = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
-        assertTrue(text, text.contains("2,100 samples"))
+        assertTrue(text, text.contains("2,400 samples"))
         assertTrue(n.flags and Notification.FLAG_ONGOING_EVENT != 0)
         val stop = n.actions.single { it.title == app.getString(R.string.record_stop) }
         val stopIntent = shadowOf(stop.actionIntent).savedIntent
@@ -144,15 +140,15 @@ class RecordingServiceTest {
         c.get().onStartCommand(stopIntent, 0, 2)
         val ended = awaitEnded()
         assertEquals(RecordingEnd.Stopped, ended.result.end)
-        assertEquals(2100L, ended.result.rows)
+        assertEquals(2400L, ended.result.rows)
         val dir = format.created!!
         val rows = LineFormat.rows(dir).filterNot { it.startsWith("FUSED") }
-        assertEquals(2100, rows.size)
+        assertEquals(2400, rows.size)
         assertTrue(File(dir, "finished").exists())
         // Every stream in order of timestamps as sent.
         val times = rows.map { it.split(',')[1].toLong() }
         assertEquals(times.sorted(), times)
-        assertTrue("sessions are in app-private storage", dir.startsWith(SessionFolders.root(app)))
+        assertTrue("sessions are in app-private storage", dir.startsWith(File(app.filesDir, "sessions")))
     }
 
     @Test
@@ -161,14 +157,14 @@ class RecordingServiceTest {
             SecurityException("Starting FGS with type health requires permissions"),
             IllegalStateException("startForeground() not allowed due to mAllowStartForeground false"),
         )) {
-            RecordingDeps.startForeground = { _, _, _, _ -> throw refusal }
-            val before = SessionFolders.root(app).list()?.size ?: 0
+            this.refusal = refusal
+            val before = File(app.filesDir, "sessions").list()?.size ?: 0
             val c = startService()
-            val state = RecordingStatus.state
-            assertTrue(state.toString(), state is RecordingStatus.State.NotStarted && state.reason == refusal.message)
+            val state = this.state
+            assertTrue(state.toString(), state is RecordingState.NotStarted && state.reason == refusal.message)
             assertTrue(shadowOf(c.get()).isStoppedBySelf)
             assertTrue(sensors.listeners.isEmpty())
-            assertEquals(before, SessionFolders.root(app).list()?.size ?: 0)
+            assertEquals(before, File(app.filesDir, "sessions").list()?.size ?: 0)
             val nm = app.getSystemService(NotificationManager::class.java)
             val text = shadowOf(nm).getNotification(RecordingService.END_NOTIFICATION_ID).extras.getCharSequence(Notification.EXTRA_TEXT).toString()
             assertEquals(app.getString(R.string.record_not_started, refusal.message), text)
@@ -183,22 +179,25 @@ class RecordingServiceTest {
 
     @Test
     fun `storage failure stops cleanly, keeps what was written and tells the user`() {
-        RecordingDeps.format = LineFormat(failAfterBytes = 20_000)
+        graph = graph(LineFormat(failAfterBytes = 20_000))
         startService()
-        for (i in 0 until 2000) sendRound(1_000_000_000L + i * 5_000_000L)
+        for (i in 0 until 2000) {
+            sendRound(1_000_000_000L + i * 5_000_000L)
+            if (i % 100 == 0) graph.capture.pump()
+        }
         val ended = awaitEnded()
         val end = ended.result.end
         assertTrue(end.toString(), end is RecordingEnd.WriteFailed)
         assertTrue(ShadowPowerManager.getLatestWakeLock().let { !it.isHeld })
         assertTrue(sensors.listeners.isEmpty())
         // Recovered in place: the partial line cut off; every complete row is a prefix of what was sent.
-        val dir = ended.session
+        val dir = ended.session!!
         assertTrue(File(dir, "recovered").exists())
         val rows = LineFormat.rows(dir)
         assertTrue(rows.size > 100)
         assertTrue(File(dir, "rows.txt").length() <= 20_000)
         val times = rows.filterNot { it.startsWith("FUSED") }.map { it.split(',')[1].toLong() }
-        val sent = (0 until 2000).flatMap { i -> (0 until 7).map { 1_000_000_000L + i * 5_000_000L + it } }
+        val sent = (0 until 2000).flatMap { i -> SensorStreams.all.indices.map { 1_000_000_000L + i * 5_000_000L + it } }
         assertEquals(sent.take(times.size), times)
         // The user is told, in a notification and on the main screen.
         val nm = app.getSystemService(NotificationManager::class.java)
@@ -211,7 +210,7 @@ class RecordingServiceTest {
 
     @Test
     fun `an interrupted session is recovered on the next start`() {
-        val root = SessionFolders.root(app)
+        val root = File(app.filesDir, "sessions")
         val old = File(root, "session_2026-01-01_00-00-00").apply { mkdirs() }
         File(old, "rows.txt").writeText("ACCELEROMETER,1,3,0.0,0.0,9.81\nGYROSCOPE,2,3,0.0,0.")
         val c = startService()
@@ -219,5 +218,43 @@ class RecordingServiceTest {
         assertEquals(listOf("ACCELEROMETER,1,3,0.0,0.0,9.81"), LineFormat.rows(old))
         c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
         awaitEnded()
+    }
+
+    @Test
+    fun `Record after killed recordings, repair runs on the disk executor while the screen shows its progress`() {
+        val root = File(app.filesDir, "sessions")
+        for (k in 1..3) File(root, "session_2026-01-0${k}_00-00-00").apply { mkdirs() }.let { File(it, "rows.txt").writeText("GYROSCOPE,$k,3,0.0,0.") }
+        val repairThreads = ArrayList<Thread>()
+        val slow = object : SessionFormat by format {
+            override fun recover(dir: File) {
+                repairThreads += Thread.currentThread()
+                format.recover(dir)
+            }
+        }
+        graph = graph(slow)
+        val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        val status = main.findViewById<android.widget.TextView>(R.id.record_status)
+        val c = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START))
+            .create().startCommand(0, 1)
+        // The press returned at once: nothing was repaired on the main thread, the work waits on the disk executor.
+        assertTrue(graph.disk.pending > 0)
+        assertTrue(repairThreads.isEmpty())
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+        assertEquals(app.getString(R.string.record_preparing), status.text.toString())
+        assertTrue(state is RecordingState.Preparing)
+        idle()
+        assertEquals(3, repairThreads.size)
+        assertTrue("repaired off the main thread", repairThreads.none { it === Looper.getMainLooper().thread })
+        assertTrue(state is RecordingState.Active)
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+        assertEquals(app.getString(R.string.record_stop), main.findViewById<Button>(R.id.record_toggle).text.toString())
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+    }
+
+    @Test
+    fun `disk work on the main thread fails`() {
+        val e = runCatching { graph.graph.sessions.list() }.exceptionOrNull()
+        assertTrue("$e", e is IllegalStateException && e.message == "disk work on the main thread")
     }
 }

@@ -16,13 +16,12 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.record.CoreSessionFormat
-import dev.motionfusion.app.record.EventRing
 import dev.motionfusion.app.record.Recorder
-import dev.motionfusion.app.record.RecordingDeps
+import dev.motionfusion.app.record.RecordingState
+import dev.motionfusion.app.live.TestCapture
+import dev.motionfusion.app.TestGraph
+import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.app.record.RecordingService
-import dev.motionfusion.app.record.RecordingStatus
-import dev.motionfusion.app.record.SensorStreams
-import dev.motionfusion.app.record.SessionFolders
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
@@ -58,47 +57,34 @@ import java.io.File
 class SessionsScreensTest {
     private val app = RuntimeEnvironment.getApplication()
 
+    private lateinit var graph: TestGraph
+
     @Before
     fun setUp() {
-        SessionsDeps.io = Dispatchers.Unconfined
-        RecordingStatus.state = RecordingStatus.State.Idle
+        graph = TestGraph()
     }
 
-    @After
-    fun tearDown() {
-        SessionsDeps.reset()
-        RecordingDeps.reset()
-        RecordingStatus.state = RecordingStatus.State.Idle
-    }
+    private fun idle() = graph.settle()
 
-    private fun idle() = shadowOf(Looper.getMainLooper()).idle()
-
-    /** A real session of [seconds] of simulated motion at 200 Hz, recorded through the recorder; left unfinished if [kill]. */
+    /** A real session of [seconds] of simulated motion at 200 Hz, recorded through the capture; left unfinished if [kill]. */
     private fun record(name: String, seconds: Double, wallMs: Long, seed: Long, kill: Boolean = false): File {
-        val dir = File(SessionFolders.root(app), name)
+        val dir = File(File(app.filesDir, "sessions"), name)
         val meta = SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(wallMs, 1_000_000_000L), filterSettings = FilterSettings())
-        val ring = EventRing(1 shl 16)
-        val recorder = Recorder(ring, CoreSessionFormat.create(dir, meta), MadgwickFilter(), onEnd = {}, flushIntervalNs = 50_000_000L)
-        recorder.start()
-        val v = FloatArray(6)
+        val c = TestCapture()
+        val recorder = Recorder(CoreSessionFormat.create(dir, meta), onEnd = {}, flushIntervalNs = 50_000_000L)
+        c.record(recorder)
         for (s in MotionSimulator(SimulationSettings(seed = seed, rateHz = 200.0, durationS = seconds)).run()) {
-            fun put(stream: SessionStream, dt: Long, vararg x: Double) {
-                for (k in x.indices) v[k] = x[k].toFloat()
-                check(ring.offer(stream, s.timestampNs + dt, 3, v, x.size))
-            }
-            put(SessionStream.ACCELEROMETER, 0, s.acc.x, s.acc.y, s.acc.z)
-            put(SessionStream.MAGNETOMETER, 1_000, s.mag.x, s.mag.y, s.mag.z)
-            put(SessionStream.GYROSCOPE, 2_000, s.gyro.x, s.gyro.y, s.gyro.z)
-            put(SessionStream.GAME_ROTATION_VECTOR, 3_000, s.truth.x, s.truth.y, s.truth.z, s.truth.w)
-            while (ring.size > ring.capacity / 2) Thread.sleep(1)
+            c.offer(SessionStream.ACCELEROMETER, s.timestampNs, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat())
+            c.offer(SessionStream.MAGNETOMETER, s.timestampNs + 1_000, s.mag.x.toFloat(), s.mag.y.toFloat(), s.mag.z.toFloat())
+            c.offer(SessionStream.GYROSCOPE, s.timestampNs + 2_000, s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat())
+            c.offer(SessionStream.GAME_ROTATION_VECTOR, s.timestampNs + 3_000, s.truth.x.toFloat(), s.truth.y.toFloat(), s.truth.z.toFloat(), s.truth.w.toFloat())
+            c.nowNs = s.timestampNs
+            if (c.ring.size > 256) c.drain()
         }
-        if (kill) {
-            while (ring.size > 0) Thread.sleep(1)
-            Thread.sleep(200) // flushed, then abandoned without closing
-        } else {
-            recorder.stop()
-            assertTrue(recorder.awaitEnd(10_000))
-        }
+        c.drain()
+        c.nowNs += 1_000_000_000L
+        c.capture.pump() // the reorder window emptied, then flushed
+        if (!kill) c.stop(recorder) // killed: flushed, then abandoned without closing
         return dir
     }
 
@@ -166,6 +152,7 @@ class SessionsScreensTest {
         a.findViewById<Button>(R.id.detail_rename).performClick()
         assertNotNull(a.dialog)
         a.rename("../escape")
+        idle()
         assertEquals(a.getString(R.string.session_rename_invalid), a.findViewById<TextView>(R.id.detail_message).text.toString())
         assertTrue(dir.exists())
         a.rename("Morning walk")
@@ -244,9 +231,11 @@ class SessionsScreensTest {
         val sensors = SensorStreams.all.associateWith { s ->
             SensorBuilder.newBuilder().setType(s.androidType).setName("Test ${s.key}").build().also(sm::addSensor)
         }
+        graph = TestGraph() // after the sensors: the capture sees them
         val service = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction("dev.motionfusion.app.record.START"))
             .create().startCommand(0, 1)
         val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        graph.settle()
         for (i in 0 until 500) {
             val t = 1_000_000_000L + i * 5_000_000L
             fun send(s: SessionStream, vararg v: Float) = sm.sendSensorEventToListeners(
@@ -256,9 +245,9 @@ class SessionsScreensTest {
             send(SessionStream.GYROSCOPE, 0f, 0f, 0f)
             send(SessionStream.MAGNETOMETER, 0f, 22f, -40f)
         }
-        val active = RecordingStatus.state as RecordingStatus.State.Active
-        val deadline = System.currentTimeMillis() + 10_000
-        while (active.rows() < 1500 && System.currentTimeMillis() < deadline) Thread.sleep(5)
+        graph.pump()
+        val active = graph.graph.recordings.state.value as RecordingState.Active
+        assertEquals(1500L, active.rows())
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
         val toggle = main.findViewById<Button>(R.id.record_toggle)
         assertEquals(main.getString(R.string.record_stop), toggle.text.toString())
@@ -266,9 +255,8 @@ class SessionsScreensTest {
         assertTrue(status, status.contains("1,500 samples"))
         Screenshots.capture(main, "main-recording")
         service.get().onStartCommand(Intent(app, RecordingService::class.java).setAction("dev.motionfusion.app.record.STOP"), 0, 2)
-        while (RecordingStatus.state !is RecordingStatus.State.Ended && System.currentTimeMillis() < deadline) {
-            idle(); Thread.sleep(5)
-        }
+        graph.settle()
+        assertTrue(graph.graph.recordings.state.value is RecordingState.Ended)
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
         assertEquals(main.getString(R.string.record_start), toggle.text.toString())
         Screenshots.capture(main, "main-recording-saved")

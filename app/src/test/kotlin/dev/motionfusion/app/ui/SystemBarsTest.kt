@@ -15,7 +15,6 @@ import com.google.android.material.color.MaterialColors
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
-import dev.motionfusion.app.record.SessionFolders
 import dev.motionfusion.app.sessions.SessionDetailActivity
 import dev.motionfusion.app.sessions.SessionsActivity
 import dev.motionfusion.app.settings.SettingsActivity
@@ -91,7 +90,7 @@ class SystemBarsTest {
 
     @Test
     fun `a session's detail`() {
-        File(SessionFolders.root(app), "empty session").mkdirs()
+        File(File(app.filesDir, "sessions"), "empty session").mkdirs()
         val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, "empty session")
         check(ActivityScenario.launch<SessionDetailActivity>(intent), R.id.detail_root, "edge-to-edge-session-detail")
     }

@@ -45,6 +45,15 @@ public enum class SessionStream(
     ),
 
     /**
+     * TYPE_ACCELEROMETER_UNCALIBRATED (API 26): values[0..2] specific force without bias
+     * compensation, values[3..5] the estimated bias, m/s².
+     */
+    ACCELEROMETER_UNCALIBRATED(
+        "accelerometer_uncalibrated.csv",
+        listOf("x_m_s2", "y_m_s2", "z_m_s2", "bias_x_m_s2", "bias_y_m_s2", "bias_z_m_s2"), true, 35,
+    ),
+
+    /**
      * TYPE_ROTATION_VECTOR, values as Android gives them: x·sin(θ/2), y·sin(θ/2), z·sin(θ/2),
      * cos(θ/2) (device → ENU), then the estimated heading accuracy in rad (−1 or empty if unknown).
      */

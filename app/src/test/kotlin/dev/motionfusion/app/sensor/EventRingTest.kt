@@ -1,4 +1,4 @@
-package dev.motionfusion.app.record
+package dev.motionfusion.app.sensor
 
 import dev.motionfusion.core.session.SessionStream
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -8,11 +8,11 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
 
 class EventRingTest {
-    private class Row(val stream: SessionStream, val t: Long, val accuracy: Int, val values: List<Float>)
+    private class Row(val stream: SessionStream, val t: Long, val accuracy: Int, val values: List<Float>, val afterGap: Boolean = false)
 
     private fun EventRing.drainAll(): List<Row> {
         val out = ArrayList<Row>()
-        drain({ s, t, a, v, o -> out += Row(s, t, a, (0 until SensorStreams.maxValues).map { v[o + it] }) })
+        drain({ s, t, a, v, o, gap -> out += Row(s, t, a, (0 until SensorStreams.maxValues).map { v[o + it] }, gap) })
         return out
     }
 
@@ -46,16 +46,17 @@ class EventRingTest {
     }
 
     @Test
-    fun `overflow is final so a recording never has a hole`() {
+    fun `a full ring refuses, and the next event it takes carries the gap`() {
         val ring = EventRing(4)
         val v = floatArrayOf(0f, 0f, 0f)
         repeat(4) { assertTrue(ring.offer(SessionStream.GYROSCOPE, it.toLong(), 3, v, 3)) }
         assertFalse(ring.offer(SessionStream.GYROSCOPE, 4, 3, v, 3))
-        assertEquals(4L, ring.overflowTimestampNs)
-        assertEquals(4, ring.drainAll().size)
-        assertFalse(ring.offer(SessionStream.GYROSCOPE, 5, 3, v, 3), "space freed, but the ring keeps refusing")
+        assertFalse(ring.offer(SessionStream.GYROSCOPE, 5, 3, v, 3))
+        assertEquals(listOf(false, false, false, false), ring.drainAll().map { it.afterGap })
+        assertTrue(ring.offer(SessionStream.GYROSCOPE, 6, 3, v, 3), "space freed: the live screen goes on")
+        assertTrue(ring.offer(SessionStream.GYROSCOPE, 7, 3, v, 3))
+        assertEquals(listOf(6L to true, 7L to false), ring.drainAll().map { it.t to it.afterGap })
         assertEquals(2L, ring.refused)
-        assertTrue(ring.overflowed)
     }
 
     @Test
@@ -65,7 +66,7 @@ class EventRingTest {
         repeat(3) { ring.offer(SessionStream.GYROSCOPE, it.toLong(), 3, v, 3) }
         var seen = 0
         assertThrows<IllegalStateException> {
-            ring.drain({ _, t, _, _, _ -> if (t == 1L) error("disk"); seen++ })
+            ring.drain({ _, t, _, _, _, _ -> if (t == 1L) error("disk"); seen++ })
         }
         assertEquals(1, seen)
         assertEquals(listOf(1L, 2L), ring.drainAll().map { it.t })
@@ -97,7 +98,7 @@ class EventRingTest {
         var expected = 0L
         var bad = 0L
         while (expected < n) {
-            ring.drain({ s, t, _, vs, o ->
+            ring.drain({ s, t, _, vs, o, _ ->
                 if (t != expected || s != SensorStreams.all[(t % 7).toInt()] || vs[o] != t.toFloat()) bad++
                 expected++
             })
@@ -105,6 +106,6 @@ class EventRingTest {
         producer.join()
         assertEquals(0L, bad)
         assertEquals(n, expected)
-        assertFalse(ring.overflowed)
+        assertEquals(0L, ring.refused)
     }
 }

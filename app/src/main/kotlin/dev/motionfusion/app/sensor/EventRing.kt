@@ -1,22 +1,22 @@
-package dev.motionfusion.app.record
+package dev.motionfusion.app.sensor
 
 import dev.motionfusion.core.session.SessionStream
 import java.util.concurrent.atomic.AtomicLong
 
 /**
  * A bounded single-producer single-consumer queue of sensor events kept as primitives, so
- * that the sensor thread hands an event to the writer thread without allocating, locking or
+ * that the sensor thread hands an event to the consumer thread without allocating, locking or
  * waiting. Memory is fixed at construction: per slot one timestamp, one stream/accuracy int
  * and [SensorStreams.maxValues] floats (36 bytes; 2^17 slots ≈ 4.7 MB).
  *
- * The producer is the one sensor HandlerThread; the consumer is the one writer thread.
+ * The producer is the one sensor HandlerThread; the consumer is the one capture thread.
  * Publication: the producer writes the slot, then advances [head] with a release store
  * (`lazySet`); the consumer reads [head] (acquire) before reading slots, and advances [tail]
  * after it is done with them, which frees the slots for the producer.
  *
- * Overflow is final: once an offer finds the queue full, the ring refuses every later offer
- * too, even after the consumer frees space. A recording therefore ends at the overflow and
- * never has a hole in the middle.
+ * A full ring refuses the event (counted in [refused]) and marks the next event it accepts
+ * with a gap flag, which the consumer sees as [Consumer.event]'s `afterGap`: a recording then
+ * ends before that event and so never has a hole in the middle, while the live screen goes on.
  */
 internal class EventRing(capacity: Int) {
     init {
@@ -30,18 +30,12 @@ internal class EventRing(capacity: Int) {
     private val values = FloatArray(capacity * SensorStreams.maxValues)
     private val head = AtomicLong() // next slot the producer writes
     private val tail = AtomicLong() // next slot the consumer reads
-    @Volatile private var refusing = false
-    @Volatile private var overflowAtNs = Long.MIN_VALUE
+    @Volatile private var closed = false
+    private var gap = false // producer only
 
-    /** Producer-side count of offers refused (after overflow or [close]). */
+    /** Producer-side count of offers refused (ring full, or after [close]). */
     @Volatile var refused: Long = 0L
         private set
-
-    /** True once an offer found the queue full. */
-    val overflowed: Boolean get() = overflowAtNs != Long.MIN_VALUE
-
-    /** Sensor timestamp of the first event refused because the queue was full, or null. */
-    val overflowTimestampNs: Long? get() = overflowAtNs.takeIf { it != Long.MIN_VALUE }
 
     /** Events waiting for the consumer. */
     val size: Int get() = (head.get() - tail.get()).toInt()
@@ -51,23 +45,19 @@ internal class EventRing(capacity: Int) {
 
     /**
      * Producer: queues one event, copying [count] values from [src] (the rest of the slot is
-     * NaN). Returns false, without waiting, when the ring is full or refusing.
+     * NaN). Returns false, without waiting, when the ring is full or closed.
      */
     fun offer(stream: SessionStream, timestampNs: Long, accuracy: Int, src: FloatArray, count: Int): Boolean {
-        if (refusing) {
-            refused++
-            return false
-        }
         val h = head.get()
-        if (h - tail.get() >= capacity) {
-            overflowAtNs = timestampNs
-            refusing = true
+        if (closed || h - tail.get() >= capacity) {
             refused++
+            gap = true
             return false
         }
         val slot = (h and mask).toInt()
         times[slot] = timestampNs
-        meta[slot] = (stream.ordinal shl 8) or (accuracy and 0xff)
+        meta[slot] = (if (gap) GAP else 0) or (stream.ordinal shl 8) or (accuracy and 0xff)
+        gap = false
         val base = slot * SensorStreams.maxValues
         val n = minOf(count, stream.valueCount, src.size)
         System.arraycopy(src, 0, values, base, n)
@@ -76,14 +66,15 @@ internal class EventRing(capacity: Int) {
         return true
     }
 
-    /** Refuses all later offers (the recording is stopping); queued events stay drainable. */
+    /** Refuses all later offers; queued events stay drainable. */
     fun close() {
-        refusing = true
+        closed = true
     }
 
     /** Receives drained events; [values] is only valid during the call. */
     fun interface Consumer {
-        fun event(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+        /** [afterGap]: events were refused just before this one. */
+        fun event(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int, afterGap: Boolean)
     }
 
     /**
@@ -100,12 +91,19 @@ internal class EventRing(capacity: Int) {
             while (i < n) {
                 val slot = ((t + i) and mask).toInt()
                 val m = meta[slot]
-                consumer.event(SensorStreams.ofOrdinal(m ushr 8), times[slot], m.toByte().toInt(), values, slot * SensorStreams.maxValues)
+                consumer.event(
+                    SensorStreams.ofOrdinal((m ushr 8) and 0xff), times[slot], m.toByte().toInt(),
+                    values, slot * SensorStreams.maxValues, m and GAP != 0,
+                )
                 i++
             }
         } finally {
             tail.lazySet(t + i)
         }
         return i
+    }
+
+    private companion object {
+        const val GAP = 1 shl 30
     }
 }

@@ -1,0 +1,79 @@
+package dev.motionfusion.app
+
+import android.app.Notification
+import android.app.Service
+import android.content.Context
+import android.hardware.SensorManager
+import androidx.core.app.ServiceCompat
+import dev.motionfusion.app.live.Capture
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.platform.Clock
+import dev.motionfusion.app.platform.DiskExecutor
+import dev.motionfusion.app.platform.FolderLocks
+import dev.motionfusion.app.platform.SerialDiskExecutor
+import dev.motionfusion.app.record.CoreSessionFormat
+import dev.motionfusion.app.record.RecordingDependencies
+import dev.motionfusion.app.record.Recordings
+import dev.motionfusion.app.record.SessionFormat
+import dev.motionfusion.app.sensor.EventRing
+import dev.motionfusion.app.sensor.SensorHub
+import dev.motionfusion.app.sessions.CoreSessionLibrary
+import dev.motionfusion.app.sessions.SessionLibrary
+import dev.motionfusion.app.sessions.SessionsDependencies
+import dev.motionfusion.app.sessions.SessionsRepository
+import dev.motionfusion.app.settings.SettingsRepository
+import dev.motionfusion.app.settings.SettingsStore
+import java.io.File
+import java.util.concurrent.Executor
+import kotlinx.coroutines.CoroutineDispatcher
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.asCoroutineDispatcher
+import kotlinx.coroutines.flow.StateFlow
+
+/**
+ * The application's object graph: one of each long-lived part, built once and passed by
+ * constructor. Screens and the recording service reach the parts they need through the small
+ * interfaces of their packages ([RecordingDependencies], [SessionsDependencies],
+ * [SettingsRepository.Provider]), which [MotionFusionApp] implements; tests build the graph with
+ * fakes (a manual disk executor, a fake clock, a failing session format).
+ */
+internal class AppGraph(
+    sensorManager: SensorManager,
+    filesDir: File,
+    val settingsRepository: SettingsRepository,
+    override val disk: DiskExecutor = SerialDiskExecutor(),
+    override val clock: Clock = Clock.System,
+    override val format: SessionFormat = CoreSessionFormat,
+    override val library: SessionLibrary = CoreSessionLibrary,
+    override val minFreeBytes: Long = 32L * 1024 * 1024,
+    locks: FolderLocks = FolderLocks(),
+    /** False in tests that run the capture step by step ([Capture.pump]). */
+    captureThread: Boolean = true,
+    ringCapacity: Int = Capture.DEFAULT_RING_CAPACITY,
+    captureClock: () -> Long = System::nanoTime,
+    private val enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
+) : RecordingDependencies, SessionsDependencies {
+    /** Main-thread scope of the application (it lives as long as the process). */
+    val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
+
+    override val settings: StateFlow<LiveSettings> get() = settingsRepository.settings
+    private val ring = EventRing(ringCapacity)
+    override val capture = Capture(ring, SensorHub(sensorManager, ring), settingsRepository.settings, scope, nanoTime = captureClock, runThread = captureThread)
+    override val recordings = Recordings()
+    override val sessions = SessionsRepository(filesDir, format, locks)
+    override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
+
+    override fun startForeground(service: Service, id: Int, notification: Notification, type: Int) =
+        enterForeground(service, id, notification, type)
+
+    companion object {
+        /** The graph of a running app. */
+        fun create(context: Context): AppGraph = AppGraph(
+            context.getSystemService(SensorManager::class.java),
+            context.filesDir,
+            SettingsRepository(SettingsStore(context)),
+        )
+    }
+}

@@ -1,0 +1,290 @@
+package dev.motionfusion.app.live
+
+import dev.motionfusion.app.sensor.EventRing
+import dev.motionfusion.app.sensor.ReorderWindow
+import dev.motionfusion.app.sensor.SensorHub
+import dev.motionfusion.app.sensor.SensorSource
+import dev.motionfusion.app.sensor.SensorInfo
+import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.sensor.SensorStreams
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.session.SessionStream
+import java.util.concurrent.locks.LockSupport
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.flow.MutableStateFlow
+import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.flow.asStateFlow
+import kotlinx.coroutines.launch
+
+/**
+ * A consumer of the capture's ordered events besides the live screen: the recorder. Called on
+ * the capture thread only, in timestamp order. Any method but [end] may throw; the tap is then
+ * ended with [TapEnd.Failed].
+ */
+internal interface CaptureTap {
+    /** One sensor event, values at [values]`[offset..]` ([SessionStream.valueCount] of them). */
+    fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+
+    /** After the gyroscope event at [timestampNs] stepped the one live [filter] (initialised). */
+    fun stepped(timestampNs: Long, filter: MadgwickFilter)
+
+    /** After each batch, with the monotonic clock: flush, checkpoint, check space. False: it has ended itself. */
+    fun afterBatch(nowNs: Long): Boolean
+
+    /** Detached: called once, last. */
+    fun end(end: TapEnd)
+}
+
+/** Why a tap was detached. */
+internal sealed interface TapEnd {
+    /** [Capture.detach]: every event up to the request was handed over. */
+    data object Detached : TapEnd
+
+    /** The ring was full and refused events just before the one at [atTimestampNs]. */
+    data class EventsLost(val atTimestampNs: Long) : TapEnd
+
+    /** A tap method threw. */
+    data class Failed(val error: Exception) : TapEnd
+}
+
+/**
+ * The app's one capture path: every sensor registered once ([SensorHub], one sensor thread, at
+ * the user's rate) into one lock-free [EventRing]; one capture thread drains it through a
+ * [ReorderWindow] into timestamp order and feeds ONE [FusionPipeline], whose filter has the
+ * user's settings, and an attached recorder ([CaptureTap]), which writes the raw events and
+ * that same filter's output. The live state is published as [state] (at most every
+ * [publishIntervalNs]; the snapshot is the only allocation, per batch, not per event).
+ *
+ * Owned by the application's object graph. It runs between the first [acquire] and the last
+ * [release]: the visible live screen and the foreground recording service each hold it. Filter
+ * and rate changes wait while a recording is attached, so that a session has one set of
+ * settings, the one in its meta.json. [acquire], [release] and [attach]/[detach] are called on
+ * the main thread.
+ */
+class Capture internal constructor(
+    /** The one queue between the sensor thread and the capture thread. */
+    internal val ring: EventRing,
+    private val hub: SensorSource,
+    private val settings: StateFlow<LiveSettings>,
+    private val scope: CoroutineScope,
+    reorderWindowNs: Long = ReorderWindow.DEFAULT_WINDOW_NS,
+    private val nanoTime: () -> Long = System::nanoTime,
+    /** False in tests: nothing runs the capture thread; the test calls [pump]. */
+    private val runThread: Boolean = true,
+    private val publishIntervalNs: Long = 4_000_000L,
+    /** With no event for this long (monotonic clock), the reorder window is emptied. */
+    private val quietFlushNs: Long = 100_000_000L,
+) {
+    private val reorder = ReorderWindow(windowNs = reorderWindowNs)
+
+    /** The live-screen kinds the device has. */
+    val available: Set<SensorKind> = hub.availableKinds
+
+    /** Name, vendor and limits of each sensor the device has. */
+    val sensorInfo: Map<SensorKind, SensorInfo> = hub.info
+
+    /** The streams the device has, with their sensors (for a session's meta.json). */
+    internal val sensors get() = hub.sensors
+
+    private val pipeline = FusionPipeline(available, settings.value)
+    private val stateFlow = MutableStateFlow(pipeline.snapshot())
+
+    /** The latest published fusion result. */
+    val state: StateFlow<FusionState> = stateFlow.asStateFlow()
+
+    private var users = 0
+    private var thread: Thread? = null
+    @Volatile private var running = false
+
+    // Requests from the main thread, taken by the capture thread at its next batch.
+    @Volatile private var attachRequest: Pair<CaptureTap, LiveSettings>? = null
+    @Volatile private var detachRequest: CaptureTap? = null
+    private var tap: CaptureTap? = null
+    @Volatile private var recording = false
+
+    private var lastEventNs = 0L
+    private var lastPublishNs = Long.MIN_VALUE / 2
+    private var changed = false
+
+    private val dispatch = EventRing.Consumer { stream, t, accuracy, values, offset, afterGap -> dispatch(stream, t, accuracy, values, offset, afterGap) }
+    private val toReorder = EventRing.Consumer { stream, t, accuracy, values, offset, afterGap ->
+        reorder.add(stream, t, accuracy, values, offset, afterGap, dispatch)
+    }
+
+    init {
+        scope.launch { settings.collect { onSettings(it) } }
+    }
+
+    /** True while listeners are registered. */
+    val isRunning: Boolean get() = users > 0
+
+    /** Events the ring refused because the capture thread fell behind. */
+    val refusedEvents: Long get() = ring.refused
+
+    /** Events that arrived later than the reorder window allowed (passed on out of order). */
+    val lateEvents: Long get() = synchronized(pipeline) { reorder.late }
+
+    /** The filter settings a recording started now would run with (and write into meta.json). */
+    fun filterSettingsFor(s: LiveSettings): FilterSettings = FusionPipeline(available, s).filterSettings
+
+    /** The settings of the filter in use. */
+    internal fun filterSettingsInUse(): FilterSettings = synchronized(pipeline) { pipeline.filterSettings }
+
+    /** One more user (the visible live screen, a recording): the first one registers the sensors. */
+    fun acquire() {
+        users++
+        if (users > 1) return
+        hub.start(settings.value.rate)
+        if (runThread) {
+            running = true
+            thread = Thread(::loop, "capture").apply {
+                priority = Thread.NORM_PRIORITY + 1
+                start()
+            }
+        }
+    }
+
+    /** One user less: the last one unregisters the sensors and stops the capture thread. */
+    fun release() {
+        if (users == 0) return
+        users--
+        if (users > 0) return
+        hub.stop()
+        running = false
+        thread?.let {
+            LockSupport.unpark(it)
+            it.join(2_000)
+        }
+        thread = null
+        synchronized(pipeline) {
+            ring.drain(toReorder)
+            reorder.flush(dispatch)
+            publish()
+        }
+    }
+
+    /**
+     * Starts feeding [tap] from the next event, with a filter started afresh with [settings]'
+     * filter settings (those of [filterSettingsFor], which the caller wrote into meta.json).
+     * Call while acquired.
+     */
+    internal fun attach(tap: CaptureTap, settings: LiveSettings) {
+        check(isRunning) { "attach needs a running capture" }
+        recording = true
+        attachRequest = tap to settings
+        thread?.let(LockSupport::unpark)
+    }
+
+    /** Hands [tap] every event up to now, then ends it ([CaptureTap.end] on the capture thread). */
+    internal fun detach(tap: CaptureTap) {
+        detachRequest = tap
+        thread?.let(LockSupport::unpark)
+    }
+
+    /** One batch of the capture thread: returns the events drained. Tests call it directly. */
+    internal fun pump(): Int = synchronized(pipeline) {
+        attachRequest?.let { (t, s) ->
+            attachRequest = null
+            // Events queued before the start belong to the time before it.
+            ring.drain(toReorder)
+            reorder.flush(dispatch)
+            pipeline.reconfigure(s)
+            pipeline.restartFilter()
+            tap = t
+        }
+        val n = ring.drain(toReorder, BATCH)
+        val now = nanoTime()
+        if (n > 0) {
+            lastEventNs = now
+            changed = true
+        } else if (reorder.size > 0 && now - lastEventNs >= quietFlushNs) {
+            reorder.flush(dispatch)
+            changed = true
+        }
+        val t = tap
+        if (t != null && detachRequest === t) {
+            detachRequest = null
+            ring.drain(toReorder)
+            reorder.flush(dispatch)
+            endTap(TapEnd.Detached)
+        }
+        tap?.let { current ->
+            val goOn = try {
+                current.afterBatch(now)
+            } catch (e: Exception) {
+                endTap(TapEnd.Failed(e))
+                true
+            }
+            if (!goOn) endTap(null)
+        }
+        if (!recording) applySettings(settings.value)
+        if (changed && now - lastPublishNs >= publishIntervalNs) {
+            lastPublishNs = now
+            publish()
+        }
+        n
+    }
+
+    private fun loop() {
+        while (running) {
+            if (pump() == 0) LockSupport.parkNanos(IDLE_PARK_NS)
+        }
+    }
+
+    private fun dispatch(stream: SessionStream, t: Long, accuracy: Int, values: FloatArray, offset: Int, afterGap: Boolean) {
+        if (afterGap && tap != null) endTap(TapEnd.EventsLost(t))
+        tap?.let {
+            try {
+                it.raw(stream, t, accuracy, values, offset)
+            } catch (e: Exception) {
+                endTap(TapEnd.Failed(e))
+            }
+        }
+        val kind = SensorStreams.kindOf(stream) ?: return
+        if (pipeline.onEvent(kind, t, accuracy, values, offset, stream.valueCount)) {
+            tap?.let {
+                try {
+                    it.stepped(t, pipeline.filter)
+                } catch (e: Exception) {
+                    endTap(TapEnd.Failed(e))
+                }
+            }
+        }
+    }
+
+    /** Detaches the tap; [end] null: it ended itself. */
+    private fun endTap(end: TapEnd?) {
+        val t = tap ?: return
+        tap = null
+        recording = attachRequest != null
+        if (end != null) t.end(end)
+        // A rate chosen during the recording is registered now.
+        scope.launch { onSettings(settings.value) }
+    }
+
+    private fun onSettings(s: LiveSettings) {
+        if (recording) return // applied when the recording ends
+        // The new registration's events follow in order; any late ones are counted.
+        if (isRunning && hub.registeredRate != s.rate) hub.start(s.rate)
+        if (!runThread || thread == null) synchronized(pipeline) { applySettings(s); publish() }
+    }
+
+    private fun applySettings(s: LiveSettings) {
+        if (s == pipeline.settings) return
+        pipeline.reconfigure(s)
+        changed = true
+    }
+
+    private fun publish() {
+        changed = false
+        stateFlow.value = pipeline.snapshot()
+    }
+
+    internal companion object {
+        /** Slots in the ring (36 bytes each): 2^17 ≈ 4.7 MB, ~37 s of 7 streams at 500 Hz. */
+        const val DEFAULT_RING_CAPACITY = 1 shl 17
+        private const val BATCH = 4096
+        private const val IDLE_PARK_NS = 2_000_000L
+    }
+}

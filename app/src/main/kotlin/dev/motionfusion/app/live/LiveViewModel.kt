@@ -1,0 +1,45 @@
+package dev.motionfusion.app.live
+
+import androidx.lifecycle.ViewModel
+import androidx.lifecycle.ViewModelProvider
+import dev.motionfusion.app.sensor.SensorInfo
+import dev.motionfusion.app.sensor.SensorKind
+import kotlinx.coroutines.flow.StateFlow
+
+/**
+ * The live screen's state: the application's [Capture], which survives configuration changes
+ * (it belongs to the application, not to the activity), held while the screen is visible.
+ */
+class LiveViewModel(private val capture: Capture) : ViewModel() {
+    /** The latest fusion result, published by the capture thread. */
+    val state: StateFlow<FusionState> get() = capture.state
+
+    /** Name, vendor and limits of each sensor the device has. */
+    val sensorInfo: Map<SensorKind, SensorInfo> get() = capture.sensorInfo
+
+    private var visible = false
+
+    /** The screen became visible: the capture runs (a recording may hold it too). */
+    fun onVisible() {
+        if (visible) return
+        visible = true
+        capture.acquire()
+    }
+
+    /** The screen was hidden. */
+    fun onHidden() {
+        if (!visible) return
+        visible = false
+        capture.release()
+    }
+
+    override fun onCleared() = onHidden()
+
+    class Factory(private val capture: Capture) : ViewModelProvider.Factory {
+        @Suppress("UNCHECKED_CAST")
+        override fun <T : ViewModel> create(modelClass: Class<T>): T {
+            require(modelClass.isAssignableFrom(LiveViewModel::class.java)) { "unknown ViewModel $modelClass" }
+            return LiveViewModel(capture) as T
+        }
+    }
+}

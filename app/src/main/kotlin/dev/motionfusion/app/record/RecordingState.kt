@@ -1,0 +1,67 @@
+package dev.motionfusion.app.record
+
+import android.app.Notification
+import android.app.Service
+import dev.motionfusion.app.live.Capture
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.platform.Clock
+import dev.motionfusion.app.platform.DiskExecutor
+import dev.motionfusion.app.sessions.SessionsRepository
+import java.io.File
+import kotlinx.coroutines.flow.MutableStateFlow
+import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.flow.asStateFlow
+
+/** The recording state, for screens to show (always visible: the record bar renders it). */
+sealed interface RecordingState {
+    data object Idle : RecordingState
+
+    /** Record was pressed: interrupted sessions are being repaired ([repaired] of [toRepair]) and the new one created. */
+    data class Preparing(val repaired: Int, val toRepair: Int) : RecordingState
+
+    data class Active(
+        val session: File,
+        /** `SystemClock.elapsedRealtime()` when recording started, ms. */
+        val startedElapsedMs: Long,
+        val rows: () -> Long,
+    ) : RecordingState
+
+    data class Ended internal constructor(val session: File?, internal val result: RecorderResult) : RecordingState
+
+    /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
+    data class NotStarted(val reason: String) : RecordingState
+}
+
+/** The process's recording state: written by [RecordingService] on the main thread, read by anyone. */
+class Recordings {
+    private val flow = MutableStateFlow<RecordingState>(RecordingState.Idle)
+    val state: StateFlow<RecordingState> = flow.asStateFlow()
+
+    val isRecording: Boolean get() = state.value.let { it is RecordingState.Active || it is RecordingState.Preparing }
+
+    internal fun set(s: RecordingState) {
+        flow.value = s
+    }
+}
+
+/** What the recording service needs, from the application's object graph. */
+internal interface RecordingDependencies {
+    val capture: Capture
+    val recordings: Recordings
+    val sessions: SessionsRepository
+    val format: SessionFormat
+    val disk: DiskExecutor
+    val clock: Clock
+    val settings: StateFlow<LiveSettings>
+
+    /** Recording stops cleanly when free space falls below this. */
+    val minFreeBytes: Long
+
+    /** Enters the foreground (ServiceCompat.startForeground); tests make it refuse as the system can. */
+    fun startForeground(service: Service, id: Int, notification: Notification, type: Int)
+
+    /** Implemented by the application. */
+    interface Provider {
+        val recordingDependencies: RecordingDependencies
+    }
+}

@@ -1,0 +1,89 @@
+package dev.motionfusion.app
+
+import android.app.Notification
+import android.app.Service
+import android.hardware.SensorManager
+import android.os.Looper
+import androidx.core.app.ServiceCompat
+import dev.motionfusion.app.platform.Clock
+import dev.motionfusion.app.platform.DiskExecutor
+import dev.motionfusion.app.platform.FolderLocks
+import dev.motionfusion.app.record.CoreSessionFormat
+import dev.motionfusion.app.record.SessionFormat
+import dev.motionfusion.app.settings.SettingsRepository
+import dev.motionfusion.app.settings.SettingsStore
+import java.io.File
+import java.util.concurrent.LinkedBlockingDeque
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+
+/**
+ * The disk executor of the tests: tasks wait in a queue until the test runs them ([runAll]) on
+ * a background thread of its own, so a test sees the UI between "Record pressed" and "repair
+ * done", and a task that would run on the main thread fails (FolderLocks' check).
+ */
+internal class ManualDiskExecutor(private val locks: FolderLocks = FolderLocks()) : DiskExecutor {
+    private val tasks = LinkedBlockingDeque<() -> Unit>()
+    val pending: Int get() = tasks.size
+
+    override fun execute(folder: File?, task: () -> Unit) {
+        tasks += { locks.withFolder(folder, task) }
+    }
+
+    /** Runs every queued task (and those they queue) on a background thread; rethrows a task's failure. */
+    fun runAll(): Int {
+        var n = 0
+        var failure: Throwable? = null
+        while (failure == null) {
+            val task = tasks.poll() ?: break
+            val t = Thread { try { task() } catch (e: Throwable) { failure = e } }
+            t.start()
+            t.join()
+            n++
+        }
+        failure?.let { throw AssertionError("disk task failed", it) }
+        return n
+    }
+}
+
+/** A clock the test sets. */
+internal class FakeClock(var elapsedNs: Long = 5_000_000_000L, var wallMs: Long = 1_764_165_792_123L) : Clock {
+    override fun elapsedRealtimeNanos(): Long = elapsedNs
+    override fun wallClockMs(): Long = wallMs
+}
+
+/** The application graph of a Robolectric test: capture pumped by the test, disk tasks run by the test. */
+internal class TestGraph(
+    format: SessionFormat = CoreSessionFormat,
+    minFreeBytes: Long = 0L,
+    enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
+) {
+    val app = RuntimeEnvironment.getApplication() as MotionFusionApp
+    val disk = ManualDiskExecutor()
+    val clock = FakeClock()
+    var captureNs = 0L
+    val graph = AppGraph(
+        app.getSystemService(SensorManager::class.java), app.filesDir, SettingsRepository(SettingsStore(app)),
+        disk = disk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
+        captureClock = { captureNs }, enterForeground = enterForeground,
+    ).also { app.graph = it }
+    val capture get() = graph.capture
+
+    /** The capture thread's work for what was delivered, including the end of the reorder window; then the main thread's. */
+    fun pump() {
+        while (capture.pump() > 0) Unit
+        captureNs += 1_000_000_000L
+        capture.pump()
+        shadowOf(Looper.getMainLooper()).idle()
+    }
+
+    /** Disk tasks and main-thread work until both are quiet. */
+    fun settle() {
+        do {
+            shadowOf(Looper.getMainLooper()).idle()
+            val n = disk.runAll()
+            capture.pump()
+            shadowOf(Looper.getMainLooper()).idle()
+        } while (n > 0 || disk.pending > 0)
+    }
+}

@@ -1,0 +1,76 @@
+package dev.motionfusion.app.live
+
+import android.hardware.Sensor
+import dev.motionfusion.app.record.Recorder
+import dev.motionfusion.app.sensor.EventRing
+import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.app.sensor.SensorInfo
+import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.sensor.SensorSource
+import dev.motionfusion.core.session.SessionStream
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.flow.MutableStateFlow
+
+/** Sensors that are only a set of kinds: the test offers their events into the ring itself (it is the sensor thread). */
+internal class FakeSensorSource(override val availableKinds: Set<SensorKind> = SensorKind.entries.toSet()) : SensorSource {
+    override val sensors: Map<SessionStream, Sensor> = emptyMap()
+    override val info: Map<SensorKind, SensorInfo> = emptyMap()
+    override var registeredRate: SamplingRate? = null
+    val registrations = ArrayList<SamplingRate>()
+
+    override fun start(rate: SamplingRate) {
+        registeredRate = rate
+        registrations += rate
+    }
+
+    override fun stop() {
+        registeredRate = null
+    }
+}
+
+/**
+ * A [Capture] on the JVM without threads: the test is the sensor thread ([offer]) and the
+ * capture thread ([pump]); time is [nowNs], set by the test.
+ */
+internal class TestCapture(
+    settings: LiveSettings = LiveSettings(),
+    kinds: Set<SensorKind> = SensorKind.entries.toSet(),
+    ringCapacity: Int = 1 shl 16,
+    reorderWindowNs: Long = 30_000_000L,
+    /** 0: the state is published after every batch (the app: at most every 4 ms). */
+    publishIntervalNs: Long = 0L,
+) {
+    var nowNs = 0L
+    val settings = MutableStateFlow(settings)
+    val source = FakeSensorSource(kinds)
+    val ring = EventRing(ringCapacity)
+    val capture = Capture(
+        ring, source, this.settings, CoroutineScope(Dispatchers.Unconfined),
+        reorderWindowNs = reorderWindowNs, nanoTime = { nowNs }, runThread = false, publishIntervalNs = publishIntervalNs,
+    ).apply { acquire() }
+    private val v = FloatArray(6)
+
+    fun offer(stream: SessionStream, t: Long, vararg values: Float, accuracy: Int = 3): Boolean {
+        values.copyInto(v)
+        return ring.offer(stream, t, accuracy, v, values.size)
+    }
+
+    /** Pumps until the ring is empty. */
+    fun drain() {
+        while (capture.pump() > 0) Unit
+    }
+
+    /** Attaches [recorder] with the current settings, as the recording service does. */
+    fun record(recorder: Recorder) {
+        capture.attach(recorder, settings.value)
+        capture.pump()
+    }
+
+    /** Stop: the capture hands the recorder everything up to now and ends it. */
+    fun stop(recorder: Recorder) {
+        capture.detach(recorder)
+        capture.pump()
+        check(recorder.result != null) { "the recorder did not end" }
+    }
+}

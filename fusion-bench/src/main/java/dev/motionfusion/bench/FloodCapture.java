@@ -1,0 +1,73 @@
+/*
+ * The app's capture (dev.motionfusion.app.live.Capture) set up for the benchmarks: sensors that
+ * are only a set of kinds (the benchmark is the sensor thread and offers into the ring), the
+ * default settings, and Java names for the capture's module-internal calls (Kotlin gives
+ * internal members a "$app" suffix).
+ */
+package dev.motionfusion.bench;
+
+import dev.motionfusion.app.live.Capture;
+import dev.motionfusion.app.live.CaptureTap;
+import dev.motionfusion.app.live.LiveSettings;
+import dev.motionfusion.app.sensor.EventRing;
+import dev.motionfusion.app.sensor.SamplingRate;
+import dev.motionfusion.app.sensor.SensorInfo;
+import dev.motionfusion.app.sensor.SensorKind;
+import dev.motionfusion.app.sensor.SensorSource;
+import dev.motionfusion.core.session.SessionStream;
+import java.util.Collections;
+import java.util.EnumSet;
+import java.util.Map;
+import java.util.Set;
+import kotlinx.coroutines.CoroutineScopeKt;
+import kotlinx.coroutines.Dispatchers;
+import kotlinx.coroutines.flow.StateFlowKt;
+
+final class FloodCapture {
+    private FloodCapture() {}
+
+    /** Every live-screen kind present; registration does nothing. */
+    static final class Kinds implements SensorSource {
+        private SamplingRate rate;
+
+        // Raw Map: the Android framework (android.hardware.Sensor) is not on this module's classpath.
+        @SuppressWarnings("rawtypes")
+        @Override public Map getSensors() { return Collections.emptyMap(); }
+        @Override public Set<SensorKind> getAvailableKinds() { return EnumSet.allOf(SensorKind.class); }
+        @Override public Map<SensorKind, SensorInfo> getInfo() { return Collections.emptyMap(); }
+        @Override public SamplingRate getRegisteredRate() { return rate; }
+        @Override public void start(SamplingRate r) { rate = r; }
+        @Override public void stop() { rate = null; }
+    }
+
+    /** A capture with its own capture thread, running. */
+    static Capture threaded(EventRing ring) {
+        return create(ring, true);
+    }
+
+    /** A capture without a thread: the caller pumps it. */
+    static Capture manual(EventRing ring) {
+        return create(ring, false);
+    }
+
+    private static Capture create(EventRing ring, boolean thread) {
+        Capture c = new Capture(ring, new Kinds(), StateFlowKt.MutableStateFlow(new LiveSettings()),
+            CoroutineScopeKt.CoroutineScope(Dispatchers.getUnconfined()), 30_000_000L, System::nanoTime, thread, 4_000_000L, 100_000_000L);
+        c.acquire();
+        return c;
+    }
+
+    static void attach(Capture c, CaptureTap tap) {
+        c.attach$app(tap, new LiveSettings());
+        if (!c.isRunning()) throw new IllegalStateException("not running");
+    }
+
+    static void detach(Capture c, CaptureTap tap) {
+        c.detach$app(tap);
+        c.pump$app(); // the capture is synchronised: safe beside its thread, and finishes at once without one
+    }
+
+    static int pump(Capture c) {
+        return c.pump$app();
+    }
+}
