@@ -1,14 +1,14 @@
 package dev.motionfusion.app
 
 import android.content.Intent
-import android.content.res.Configuration
 import android.hardware.display.DisplayManager
 import android.os.Bundle
 import android.os.Handler
 import android.os.Looper
 import android.view.Choreographer
 import android.view.Surface
-import android.view.View
+import android.view.Menu
+import android.view.MenuItem
 import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
@@ -23,7 +23,8 @@ import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
 /**
- * The live screen. The fusion runs in the process-wide [FusionEngine] (off the main thread, and
+ * The live screen (layout, layout-land, layout-sw600dp: a turn recreates the activity with the
+ * layout for its new shape; the engine and its filter carry on). The fusion runs in the process-wide [FusionEngine] (off the main thread, and
  * surviving configuration changes); this activity keeps it running while visible
  * (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
  * state at most once per display frame: each new state or display change asks for the next
@@ -51,16 +52,27 @@ class MainActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
         fitToSystemBars(findViewById(R.id.live_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
         engine = LiveEngines.get(this)
         screen = LiveScreen(this, engine.sensorInfo)
-        findViewById<View>(R.id.open_settings).setOnClickListener {
-            startActivity(Intent(this, SettingsActivity::class.java))
-        }
         RecordBar.attach(this, findViewById(R.id.record_bar))
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { engine.state.collect { requestFrame() } }
         }
         render()
+    }
+
+    override fun onCreateOptionsMenu(menu: Menu): Boolean {
+        menuInflater.inflate(R.menu.live, menu)
+        return true
+    }
+
+    override fun onOptionsItemSelected(item: MenuItem): Boolean = when (item.itemId) {
+        R.id.action_settings -> {
+            startActivity(Intent(this, SettingsActivity::class.java))
+            true
+        }
+        else -> super.onOptionsItemSelected(item)
     }
 
     override fun onStart() {
@@ -75,11 +87,6 @@ class MainActivity : AppCompatActivity() {
         framePending = false
         engine.stop()
         super.onStop()
-    }
-
-    override fun onConfigurationChanged(newConfig: Configuration) {
-        super.onConfigurationChanged(newConfig)
-        requestFrame()
     }
 
     private fun requestFrame() {

@@ -38,6 +38,8 @@ class SessionsActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_sessions)
         fitToSystemBars(findViewById(R.id.sessions_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
+        supportActionBar?.setDisplayHomeAsUpEnabled(true)
         val list = findViewById<ListView>(R.id.sessions_list)
         list.adapter = adapter
         list.setOnItemClickListener { _, _, position, _ ->
@@ -53,11 +55,20 @@ class SessionsActivity : AppCompatActivity() {
     internal fun reload() {
         loading?.cancel()
         loading = lifecycleScope.launch {
-            val items = withContext(SessionsDeps.io) { load() }
-            adapter.items = items
-            adapter.notifyDataSetChanged()
-            findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
+            show(withContext(SessionsDeps.io) { load() })
         }
+    }
+
+    override fun onSupportNavigateUp(): Boolean {
+        finish()
+        return true
+    }
+
+    /** Lists [items] (newest first), or says there are none. */
+    internal fun show(items: List<Item>) {
+        adapter.items = items
+        adapter.notifyDataSetChanged()
+        findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
     }
 
     private fun load(): List<Item> {

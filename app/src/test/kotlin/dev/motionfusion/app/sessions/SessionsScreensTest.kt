@@ -15,6 +15,7 @@ import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
 import dev.motionfusion.app.export.ExportProvider
+import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.EventRing
 import dev.motionfusion.app.record.Recorder
