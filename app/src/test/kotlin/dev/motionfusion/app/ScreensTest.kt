@@ -61,16 +61,16 @@ import kotlin.math.sin
 class ScreensTest {
     private val app = RuntimeEnvironment.getApplication()
 
-    /** A screen shape: Robolectric qualifiers and the file name's part. */
-    private enum class Shape(val qualifiers: String) {
-        PHONE("w400dp-h860dp-port-xhdpi"),
-        LANDSCAPE("w860dp-h400dp-land-xhdpi"),
-        TABLET("sw800dp-w800dp-h1280dp-port-hdpi"),
-        TABLET_LANDSCAPE("sw800dp-w1280dp-h800dp-land-hdpi"),
+    /** A screen shape: Robolectric qualifiers (before and after the night one) and the file name's part. */
+    private enum class Shape(val size: String, val density: String) {
+        PHONE("w400dp-h860dp-port", "xhdpi"),
+        LANDSCAPE("w860dp-h400dp-land", "xhdpi"),
+        TABLET("sw800dp-w800dp-h1280dp-port", "hdpi"),
+        TABLET_LANDSCAPE("sw800dp-w1280dp-h800dp-land", "hdpi"),
     }
 
     private fun configure(shape: Shape, dark: Boolean) {
-        RuntimeEnvironment.setQualifiers(shape.qualifiers + if (dark) "-night" else "-notnight")
+        RuntimeEnvironment.setQualifiers("${shape.size}-${if (dark) "night" else "notnight"}-${shape.density}")
     }
 
     private fun name(screen: String, shape: Shape, dark: Boolean) = "$screen-${shape.name.lowercase().replace('_', '-')}-${if (dark) "dark" else "light"}"

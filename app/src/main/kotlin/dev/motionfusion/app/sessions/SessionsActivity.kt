@@ -104,8 +104,10 @@ class SessionsActivity : AppCompatActivity() {
                 line2.text = ""
             } else {
                 line1.text = describe(this@SessionsActivity, s, item.dir)
-                line2.text = s.streams.filter { it.rows > 0 }.joinToString("  ") { "${shortName(it.name)} ${"%.0f".format(java.util.Locale.ROOT, it.rateHz)} Hz" }
+                // A stream's name and rate never split over two lines (no-break spaces).
+                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { "${shortName(it.name)}\u00A0${"%.0f".format(java.util.Locale.ROOT, it.rateHz)}\u00A0Hz" }
             }
+            line2.visibility = if (line2.text.isEmpty()) View.GONE else View.VISIBLE
             return v
         }
     }

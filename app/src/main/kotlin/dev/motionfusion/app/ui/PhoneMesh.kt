@@ -28,7 +28,7 @@ import kotlin.math.sqrt
  */
 internal class PhoneMesh {
     /** What a face is, for its colour. */
-    enum class Part { BODY_FRONT, BODY_BACK, BODY_SIDE, SCREEN, BUMP, BUMP_SIDE, LENS }
+    enum class Part { BODY_FRONT, BODY_BACK, BODY_SIDE, SCREEN, FRONT_CAMERA, BUMP, BUMP_SIDE, LENS }
 
     private val faceCount: Int
     private val parts: Array<Part>
@@ -56,21 +56,14 @@ internal class PhoneMesh {
         val front = b.faceOf(Part.BODY_FRONT)
         // The screen on the front face, inset from the edges, slightly above it.
         b.face(Part.SCREEN, front, floatArrayOf(-HX + 0.04f, -HY + 0.05f, HZ, HX - 0.04f, -HY + 0.05f, HZ, HX - 0.04f, HY - 0.05f, HZ, -HX + 0.04f, HY - 0.05f, HZ))
+        // The front camera's hole near the screen's top edge: which end is the top.
+        b.face(Part.FRONT_CAMERA, b.faceOf(Part.SCREEN), circle(0f, HY - 0.13f, HZ, 0.035f, towardsPlusZ = true))
         // Camera bump on the back, top left as seen from the back (device +x, +y).
         val bx = 0.22f; val by = 0.72f; val bw = 0.17f; val bh = 0.19f; val bd = 0.035f
         b.box(bw, bh, bd / 2, bx, by, -HZ - bd / 2, Part.BUMP_SIDE, Part.BUMP, Part.BUMP_SIDE, parent = b.faceOf(Part.BODY_BACK), skipFront = true)
         val bump = b.faceOf(Part.BUMP)
         for ((lx, ly) in listOf(bx - 0.05f to by + 0.07f, bx - 0.05f to by - 0.08f, bx + 0.08f to by)) {
-            val r = 0.055f
-            val v = FloatArray(LENS_SIDES * 3)
-            for (k in 0 until LENS_SIDES) {
-                // Counter-clockwise as seen from the back (−z): the face normal points along −z.
-                val a = -2.0 * PI * k / LENS_SIDES
-                v[3 * k] = lx + r * cos(a).toFloat()
-                v[3 * k + 1] = ly + r * sin(a).toFloat()
-                v[3 * k + 2] = -HZ - bd
-            }
-            b.face(Part.LENS, bump, v)
+            b.face(Part.LENS, bump, circle(lx, ly, -HZ - bd, 0.055f, towardsPlusZ = false))
         }
         faceCount = b.parts.size
         parts = b.parts.toTypedArray()
@@ -79,6 +72,19 @@ internal class PhoneMesh {
         parent = b.parents.toIntArray()
         screenX = Array(faceCount) { FloatArray(sides[it]) }
         screenY = Array(faceCount) { FloatArray(sides[it]) }
+    }
+
+    /** A disc of radius [r] about (x, y, z) in a plane of constant z, facing +z or −z. */
+    private fun circle(x: Float, y: Float, z: Float, r: Float, towardsPlusZ: Boolean): FloatArray {
+        val v = FloatArray(LENS_SIDES * 3)
+        for (k in 0 until LENS_SIDES) {
+            // Counter-clockwise as seen from the side it faces.
+            val a = (if (towardsPlusZ) 2.0 else -2.0) * PI * k / LENS_SIDES
+            v[3 * k] = x + r * cos(a).toFloat()
+            v[3 * k + 1] = y + r * sin(a).toFloat()
+            v[3 * k + 2] = z
+        }
+        return v
     }
 
     fun part(face: Int): Part = parts[face]

@@ -52,8 +52,9 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
     private val path = Path()
     private val p = FloatArray(2)
 
-    private val bodyColour = themeColor(MaterialR.attr.colorSecondary, Color.DKGRAY)
-    private val screenColour = Color.rgb(0x12, 0x18, 0x22)
+    private val bodyColour = themeColor(MaterialR.attr.colorPrimary, Color.DKGRAY)
+    private val screenColour = Color.rgb(0x1C, 0x26, 0x36)
+    private val frontCameraColour = Color.rgb(0x5A, 0x66, 0x78)
     private val lensColour = Color.rgb(0x08, 0x0A, 0x0E)
     private val outlineColour = themeColor(MaterialR.attr.colorOnSurface, Color.BLACK)
 
@@ -74,10 +75,11 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
     }
 
     override fun onDraw(canvas: Canvas) {
+        // A half length of the phone in pixels, so that the ring and its labels (±1.5 across,
+        // −1.15..1.7 down the view for the camera's 35°) fit; centred on that extent.
+        val scale = min(width / 3.3f, height / 3.1f)
         val cx = width / 2f
-        val cy = height / 2f
-        // A half length of the phone: the model with its ring fits in the smaller side.
-        val scale = min(width, height) * 0.36f
+        val cy = height / 2f - 0.27f * scale
         drawGround(canvas, cx, cy, scale)
         val q = orientation ?: Quaternion.IDENTITY
         val alpha = if (orientation == null) 0x60 else 0xFF
@@ -87,7 +89,7 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
             face(f, mesh, cx, cy, scale)
             fill.color = shaded(colourOf(mesh.part(f)), mesh.shade[f], alpha)
             canvas.drawPath(path, fill)
-            if (mesh.part(f) != PhoneMesh.Part.LENS) {
+            if (mesh.part(f) != PhoneMesh.Part.LENS && mesh.part(f) != PhoneMesh.Part.FRONT_CAMERA) {
                 edge.color = outlineColour
                 edge.alpha = alpha * 0x50 / 0xFF
                 canvas.drawPath(path, edge)
@@ -98,7 +100,7 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
         for (i in 0 until ghostMesh.drawCount) {
             val f = ghostMesh.order[i]
             val part = ghostMesh.part(f)
-            if (part == PhoneMesh.Part.LENS || part == PhoneMesh.Part.SCREEN) continue
+            if (part == PhoneMesh.Part.LENS || part == PhoneMesh.Part.SCREEN || part == PhoneMesh.Part.FRONT_CAMERA) continue
             face(f, ghostMesh, cx, cy, scale)
             canvas.drawPath(path, ghostPaint)
         }
@@ -139,8 +141,9 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
     private fun colourOf(part: PhoneMesh.Part): Int = when (part) {
         PhoneMesh.Part.SCREEN -> screenColour
         PhoneMesh.Part.LENS -> lensColour
+        PhoneMesh.Part.FRONT_CAMERA -> frontCameraColour
         PhoneMesh.Part.BODY_SIDE, PhoneMesh.Part.BUMP_SIDE -> darker(bodyColour, 0.8f)
-        PhoneMesh.Part.BODY_FRONT -> darker(bodyColour, 0.55f)
+        PhoneMesh.Part.BODY_FRONT -> darker(bodyColour, 0.35f)
         PhoneMesh.Part.BODY_BACK, PhoneMesh.Part.BUMP -> bodyColour
     }
 

@@ -29,7 +29,7 @@ class AnglePlotViewTest {
             // The window plus the one point before it that carries the line to the left edge.
             assertEquals("span at $rate Hz", 10.0, plot.spanSeconds, 1.5 * frame)
             assertTrue("span at $rate Hz reaches the window: ${plot.spanSeconds}", plot.spanSeconds >= 10.0)
-            assertEquals("points at $rate Hz", 10 * rate + 1, plot.pointCount, 1)
+            assertEquals("points at $rate Hz", 10.0 * rate + 1, plot.pointCount.toDouble(), 1.0)
         }
     }
 

@@ -26,7 +26,7 @@ class PhoneMeshTest {
     }
 
     @Test
-    fun `flat on a table, top towards north: the screen is seen from above, its top edge away from the viewer`() {
+    fun `flat on a table with the top towards north, the screen is seen from above, its top edge away from the viewer`() {
         mesh.project(Quaternion.IDENTITY)
         val parts = drawn()
         assertTrue(PhoneMesh.Part.SCREEN in parts, parts.toString())
@@ -43,7 +43,7 @@ class PhoneMeshTest {
     }
 
     @Test
-    fun `flat, top towards east: the top edge points to the right`() {
+    fun `flat with the top towards east, the top edge points to the right`() {
         // Turned −90° about up: the device's y axis goes from north to east.
         val q = Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(-90.0))
         assertEquals(1.0, q.rotate(Vector3(0.0, 1.0, 0.0)).x, 1e-12)
@@ -53,7 +53,7 @@ class PhoneMeshTest {
     }
 
     @Test
-    fun `screen down: the back, the camera bump and its lenses are seen, drawn after the back`() {
+    fun `screen down, the back, the camera bump and its lenses are seen, drawn after the back`() {
         mesh.project(Quaternion.fromAxisAngle(Vector3(0.0, 1.0, 0.0), Math.PI))
         val parts = drawn()
         assertFalse(PhoneMesh.Part.SCREEN in parts, parts.toString())
@@ -65,7 +65,7 @@ class PhoneMeshTest {
     }
 
     @Test
-    fun `upright facing the viewer: the screen is seen, the top edge up`() {
+    fun `upright facing the viewer, the screen is seen, the top edge up`() {
         // Standing up, screen towards the south (the viewer): +90° about east turns the screen's normal from up to south.
         val q = Quaternion.fromAxisAngle(Vector3.UNIT_X, Math.toRadians(90.0))
         assertEquals(-1.0, q.rotate(Vector3.UNIT_Z).y, 1e-12)
