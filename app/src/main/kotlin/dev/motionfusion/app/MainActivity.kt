@@ -24,8 +24,9 @@ import kotlinx.coroutines.launch
 
 /**
  * The live screen (layout, layout-land, layout-sw600dp: a turn recreates the activity with the
- * layout for its new shape; the engine and its filter carry on). The fusion runs in the process-wide [FusionEngine] (off the main thread, and
- * surviving configuration changes); this activity keeps it running while visible
+ * layout for its new shape; the engine and its filter carry on). The fusion runs in the
+ * process-wide [FusionEngine] (off the main thread, and surviving configuration changes); its
+ * app bar's actions are res/menu/live.xml. This activity keeps it running while visible
  * (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
  * state at most once per display frame: each new state or display change asks for the next
  * frame, and the frame draws whatever is newest then.

@@ -223,6 +223,10 @@ class ScreensTest {
             val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
             val a = live(shape, dark, markers)
             Screenshots.captureScreen(a, name("live-recording", shape, dark))
+            // Scrolled to the plot, where the markers are.
+            val plot = a.findViewById<View>(R.id.plot)
+            plot.requestRectangleOnScreen(android.graphics.Rect(0, 0, plot.width, plot.height), true)
+            Screenshots.captureScreen(a, name("live-recording-plot", shape, dark))
         }
     }
 
