@@ -60,17 +60,21 @@ object Screenshots {
 
     /**
      * Every text shown lies within the screen's width, is not cut short (no ellipsis) and
-     * overlaps no other text.
+     * overlaps no other text where it is seen.
      */
     fun assertLaidOut(activity: Activity, name: String) {
         val root = activity.window.decorView
         val texts = ArrayList<Pair<TextView, Rect>>()
+        val seen = ArrayList<Pair<TextView, Rect>>()
         fun walk(v: View) {
             if (v.visibility != View.VISIBLE) return
             if (v is TextView && v.text.isNotEmpty() && v.width > 0 && v.height > 0) {
                 val at = IntArray(2)
                 v.getLocationInWindow(at)
                 texts += v to Rect(at[0], at[1], at[0] + v.width, at[1] + v.height)
+                // What is seen of it: a scrolled-away part is clipped by its scroll view.
+                val visible = Rect()
+                if (v.getGlobalVisibleRect(visible)) seen += v to visible
             }
             if (v is ViewGroup) for (i in 0 until v.childCount) walk(v.getChildAt(i))
         }
@@ -82,9 +86,9 @@ object Screenshots {
             val layout = v.layout
             if (layout != null) for (line in 0 until layout.lineCount) assertEquals("$what is cut short", 0, layout.getEllipsisCount(line))
         }
-        for (i in texts.indices) for (j in i + 1 until texts.size) {
-            val (a, ra) = texts[i]
-            val (b, rb) = texts[j]
+        for (i in seen.indices) for (j in i + 1 until seen.size) {
+            val (a, ra) = seen[i]
+            val (b, rb) = seen[j]
             assertFalse("$name: '${a.text.take(30)}' $ra overlaps '${b.text.take(30)}' $rb", Rect.intersects(ra, rb))
         }
     }
