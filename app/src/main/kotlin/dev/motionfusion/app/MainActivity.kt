@@ -1,7 +1,6 @@
 package dev.motionfusion.app
 
 import android.content.Intent
-import android.content.res.Configuration
 import android.hardware.display.DisplayManager
 import android.os.Bundle
 import android.os.Handler
@@ -10,7 +9,6 @@ import android.view.Choreographer
 import android.view.Menu
 import android.view.MenuItem
 import android.view.Surface
-import android.view.View
 import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
@@ -26,8 +24,10 @@ import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
 /**
- * The live screen. The fusion runs in the application's capture (off the main thread, and
- * surviving configuration changes), reached through [LiveViewModel]; this activity keeps it
+ * The live screen (layout, layout-land, layout-sw600dp: a turn recreates the activity with the
+ * layout for its new shape; the capture and its filter carry on). The fusion runs in the
+ * application's capture (off the main thread, and surviving configuration changes), reached
+ * through [LiveViewModel]; the app bar's actions are res/menu/live.xml. This activity keeps it
  * running while visible (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
  * state at most once per display frame: each new state or display change asks for the next
  * frame, and the frame draws whatever is newest then.
@@ -54,10 +54,8 @@ class MainActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_main)
         fitToSystemBars(findViewById(R.id.live_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
         screen = LiveScreen(this, model.sensorInfo)
-        findViewById<View>(R.id.open_settings).setOnClickListener {
-            startActivity(Intent(this, SettingsActivity::class.java))
-        }
         RecordBar.attach(this, findViewById(R.id.record_bar))
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { requestFrame() } }
@@ -66,14 +64,20 @@ class MainActivity : AppCompatActivity() {
     }
 
     override fun onCreateOptionsMenu(menu: Menu): Boolean {
-        menuInflater.inflate(R.menu.main_calibration, menu)
+        menuInflater.inflate(R.menu.live, menu)
         return true
     }
 
-    override fun onOptionsItemSelected(item: MenuItem): Boolean {
-        if (item.itemId != R.id.open_calibration) return super.onOptionsItemSelected(item)
-        startActivity(Intent(this, CalibrationActivity::class.java))
-        return true
+    override fun onOptionsItemSelected(item: MenuItem): Boolean = when (item.itemId) {
+        R.id.action_settings -> {
+            startActivity(Intent(this, SettingsActivity::class.java))
+            true
+        }
+        R.id.open_calibration -> {
+            startActivity(Intent(this, CalibrationActivity::class.java))
+            true
+        }
+        else -> super.onOptionsItemSelected(item)
     }
 
     override fun onStart() {
@@ -88,11 +92,6 @@ class MainActivity : AppCompatActivity() {
         framePending = false
         model.onHidden()
         super.onStop()
-    }
-
-    override fun onConfigurationChanged(newConfig: Configuration) {
-        super.onConfigurationChanged(newConfig)
-        requestFrame()
     }
 
     private fun requestFrame() {

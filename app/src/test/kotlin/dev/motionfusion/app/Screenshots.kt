@@ -4,7 +4,12 @@ import android.app.Activity
 import android.graphics.Bitmap
 import android.graphics.Canvas
 import android.graphics.Color
+import android.graphics.Rect
 import android.view.View
+import android.view.ViewGroup
+import android.widget.TextView
+import org.junit.Assert.assertEquals
+import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
 import java.io.File
 
@@ -39,6 +44,53 @@ object Screenshots {
         File(dir, "$name.png").outputStream().use { bitmap.compress(Bitmap.CompressFormat.PNG, 100, it) }
         assertTrue("$name rendered blank", distinctColours(bitmap) > 2)
         return bitmap
+    }
+
+    /**
+     * Renders [activity] at the size its configuration gives (the qualifiers' screen in dp times
+     * the density) and checks its layout with [assertLaidOut].
+     */
+    fun captureScreen(activity: Activity, name: String): Bitmap {
+        val c = activity.resources.configuration
+        val d = activity.resources.displayMetrics.density
+        val bitmap = capture(activity, name, width = (c.screenWidthDp * d).toInt(), height = (c.screenHeightDp * d).toInt())
+        assertLaidOut(activity, name)
+        return bitmap
+    }
+
+    /**
+     * Every text shown lies within the screen's width, is not cut short (no ellipsis) and
+     * overlaps no other text where it is seen.
+     */
+    fun assertLaidOut(activity: Activity, name: String) {
+        val root = activity.window.decorView
+        val texts = ArrayList<Pair<TextView, Rect>>()
+        val seen = ArrayList<Pair<TextView, Rect>>()
+        fun walk(v: View) {
+            if (v.visibility != View.VISIBLE) return
+            if (v is TextView && v.text.isNotEmpty() && v.width > 0 && v.height > 0) {
+                val at = IntArray(2)
+                v.getLocationInWindow(at)
+                texts += v to Rect(at[0], at[1], at[0] + v.width, at[1] + v.height)
+                // What is seen of it: a scrolled-away part is clipped by its scroll view.
+                val visible = Rect()
+                if (v.getGlobalVisibleRect(visible)) seen += v to visible
+            }
+            if (v is ViewGroup) for (i in 0 until v.childCount) walk(v.getChildAt(i))
+        }
+        walk(root)
+        assertTrue("$name: no text on screen", texts.isNotEmpty())
+        for ((v, r) in texts) {
+            val what = "$name: '${v.text.take(40)}'"
+            assertTrue("$what lies outside the screen's width: $r (width ${root.width})", r.left >= 0 && r.right <= root.width)
+            val layout = v.layout
+            if (layout != null) for (line in 0 until layout.lineCount) assertEquals("$what is cut short", 0, layout.getEllipsisCount(line))
+        }
+        for (i in seen.indices) for (j in i + 1 until seen.size) {
+            val (a, ra) = seen[i]
+            val (b, rb) = seen[j]
+            assertFalse("$name: '${a.text.take(30)}' $ra overlaps '${b.text.take(30)}' $rb", Rect.intersects(ra, rb))
+        }
     }
 
     private fun distinctColours(b: Bitmap): Int {

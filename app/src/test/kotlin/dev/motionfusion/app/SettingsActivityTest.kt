@@ -4,7 +4,9 @@ import android.hardware.Sensor
 import android.hardware.SensorManager
 import android.widget.EditText
 import android.widget.RadioGroup
-import android.widget.Switch
+import android.widget.CompoundButton
+import android.view.View
+import com.google.android.material.slider.Slider
 import android.widget.TextView
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
@@ -39,14 +41,17 @@ class SettingsActivityTest {
         }
     }
 
+    private fun SettingsActivity.slider(setting: Int): Slider = findViewById<View>(setting).findViewById(R.id.setting_slider)
+
     private fun store() = SettingsStore(RuntimeEnvironment.getApplication())
 
     @Test
     fun `the form shows the stored settings`() {
         store().save(LiveSettings(beta = 0.07, mode = FilterMode.IMU, convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
         val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        assertEquals("0.07", a.findViewById<EditText>(R.id.beta).text.toString())
-        assertFalse(a.findViewById<Switch>(R.id.nine_d).isChecked)
+        assertEquals(0.07f, a.slider(R.id.beta_setting).value, 1e-6f)
+        assertEquals("0.07 rad/s", a.findViewById<View>(R.id.beta_setting).findViewById<TextView>(R.id.setting_value).text.toString())
+        assertFalse(a.findViewById<CompoundButton>(R.id.nine_d).isChecked)
         assertEquals(R.id.convention_aerospace, a.findViewById<RadioGroup>(R.id.convention).checkedRadioButtonId)
         assertEquals(R.id.rate_game, a.findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId)
         Screenshots.capture(a, "settings")
@@ -55,13 +60,11 @@ class SettingsActivityTest {
     @Test
     fun `invalid entries are marked and nothing is saved`() {
         val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        a.findViewById<EditText>(R.id.beta).setText("-3")
         a.findViewById<RadioGroup>(R.id.rate).check(R.id.rate_hz)
         a.findViewById<EditText>(R.id.rate_hz_value).setText("0")
         assertFalse(a.apply())
-        assertNotNull(a.findViewById<EditText>(R.id.beta).error)
         assertNotNull(a.findViewById<EditText>(R.id.rate_hz_value).error)
-        assertNull(a.findViewById<EditText>(R.id.zeta).error)
+        assertNull(a.findViewById<View>(R.id.beta_setting).findViewById<TextView>(R.id.setting_help).error)
         assertEquals(a.getString(R.string.settings_invalid), a.findViewById<TextView>(R.id.settings_message).text.toString())
         assertEquals(LiveSettings(), store().load())
         Screenshots.capture(a, "settings-invalid")
@@ -70,10 +73,10 @@ class SettingsActivityTest {
     @Test
     fun `valid entries are persisted and change the filter`() {
         val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        a.findViewById<EditText>(R.id.beta).setText("0.1")
-        a.findViewById<EditText>(R.id.zeta).setText("0,01")
-        a.findViewById<Switch>(R.id.nine_d).isChecked = false
-        a.findViewById<Switch>(R.id.acc_rejection).isChecked = true
+        a.slider(R.id.beta_setting).value = 0.1f
+        a.slider(R.id.zeta_setting).value = 0.01f
+        a.findViewById<CompoundButton>(R.id.nine_d).isChecked = false
+        a.findViewById<CompoundButton>(R.id.acc_rejection).isChecked = true
         a.findViewById<RadioGroup>(R.id.rate).check(R.id.rate_hz)
         a.findViewById<EditText>(R.id.rate_hz_value).setText("400")
         assertTrue(a.apply())

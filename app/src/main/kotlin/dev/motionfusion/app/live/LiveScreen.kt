@@ -11,13 +11,17 @@ import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.AttitudeIndicatorView
 import dev.motionfusion.app.ui.CompassView
+import dev.motionfusion.app.ui.PhoneModelView
+import dev.motionfusion.app.ui.PlotMarker
 import java.util.EnumMap
 import java.util.Locale
 
 /**
- * Binds the views of activity_main to one frame's [FusionState]: texts, attitude indicator,
+ * Binds the views of activity_main (any of its layouts: they share the ids) to one frame's
+ * [FusionState]: texts, the 3D model with the rotation vector's ghost, attitude indicator,
  * compass, plot, rotation vector comparison, magnetometer warnings, filter flags and the
- * per-sensor status. Called on the main thread once per display frame when the state changed.
+ * per-sensor status. Called on the main thread once per display frame when the state changed;
+ * the state may come from anywhere (the engine, or a test's hand-made one).
  */
 class LiveScreen(private val activity: Activity, private val sensorInfo: Map<SensorKind, SensorInfo>) {
     private fun text(id: Int): TextView = activity.findViewById(id)
@@ -32,6 +36,7 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
     private val attitude: AttitudeIndicatorView = activity.findViewById(R.id.attitude)
     private val compass: CompassView = activity.findViewById(R.id.compass)
     private val plot: AnglePlotView = activity.findViewById(R.id.plot)
+    private val model: PhoneModelView = activity.findViewById(R.id.phone_model)
     private val rvAngles = text(R.id.rv_angles)
     private val rvDifference = text(R.id.rv_difference)
     private val magStatus = text(R.id.mag_status)
@@ -44,20 +49,24 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
     private var lastPlotT = Long.MIN_VALUE
 
     init {
+        sensorList.removeAllViews()
         for (kind in SensorKind.entries) {
             val row = TextView(activity, null, 0, R.style.Mono)
             row.setPadding(0, dp(4), 0, dp(8))
             sensorList.addView(row, LinearLayout.LayoutParams(LinearLayout.LayoutParams.MATCH_PARENT, LinearLayout.LayoutParams.WRAP_CONTENT))
             sensorRows[kind] = row
         }
-        text(R.id.plot_legend).text = legend()
+        plot.emptyText = activity.getString(R.string.waiting_for_samples)
     }
 
-    fun show(s: FusionState, displayRotation: Int) {
+    /** Shows [s] for the display rotation [displayRotation] (Surface.ROTATION_*), with [markers] on the plot (sample clock). */
+    fun show(s: FusionState, displayRotation: Int, markers: List<PlotMarker> = emptyList()) {
         val ui = LiveUiState.of(s, displayRotation)
         val convention = s.settings.convention
         val yawName = activity.getString(if (convention == AngleConvention.ANDROID) R.string.azimuth else R.string.yaw)
         yawLabel.text = yawName
+        plot.setYawName(yawName)
+        model.setOrientation(ui.orientation, ui.rotationVector)
         val a = ui.angles
         if (a != null) {
             yaw.text = heading(a.yaw)
@@ -89,9 +98,11 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
             else -> activity.getString(R.string.compass_description, heading(h))
         }
         if (a != null && s.timestampNs != lastPlotT) {
-            plot.add(s.timestampNs, a.yaw, a.pitch, a.roll)
+            val g = ui.rotationVectorAngles
+            plot.append(s.timestampNs, a.yaw, a.pitch, a.roll, g?.yaw ?: Double.NaN, g?.pitch ?: Double.NaN, g?.roll ?: Double.NaN)
             lastPlotT = s.timestampNs
         }
+        plot.setMarkers(markers)
 
         showRotationVector(s, ui, yawName)
         showMagnetometer(s, ui)
@@ -176,17 +187,6 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         SamplingRate.Delay.UI -> activity.getString(R.string.settings_rate_ui)
         SamplingRate.Delay.NORMAL -> activity.getString(R.string.settings_rate_normal)
         is SamplingRate.Hz -> String.format(Locale.ROOT, "%d Hz", r.hz)
-    }
-
-    private fun legend(): CharSequence {
-        val sb = android.text.SpannableStringBuilder()
-        val names = listOf(R.string.yaw, R.string.pitch, R.string.roll)
-        names.forEachIndexed { i, id ->
-            val start = sb.length
-            sb.append("■ ").append(activity.getString(id)).append("    ")
-            sb.setSpan(android.text.style.ForegroundColorSpan(plot.colour(i)), start, start + 1, 0)
-        }
-        return sb
     }
 
     private fun deg(v: Double): String = activity.getString(R.string.angle_deg, displayDegrees(v))

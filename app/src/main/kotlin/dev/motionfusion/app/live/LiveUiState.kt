@@ -1,6 +1,7 @@
 package dev.motionfusion.app.live
 
 import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.core.Quaternion
 
 /** Why the heading may be wrong. */
 enum class MagWarning {
@@ -29,6 +30,8 @@ enum class HeadingQuality { NONE, RELATIVE, WARNING, OK }
  * @property tiltDifferenceDeg angle between their up directions, 0..180° (blind to heading).
  * @property gameTiltDifferenceDeg same against GAME_ROTATION_VECTOR.
  * @property magWarnings what is wrong with the magnetometer now (empty when fine or absent).
+ * @property orientation the fused orientation itself (device → ENU, [w, x, y, z]), for the 3D model.
+ * @property rotationVector the phone's own ROTATION_VECTOR (device → ENU), drawn as a ghost beside it.
  */
 data class LiveUiState(
     val angles: DisplayAngles?,
@@ -40,6 +43,8 @@ data class LiveUiState(
     val tiltDifferenceDeg: Double?,
     val gameTiltDifferenceDeg: Double?,
     val magWarnings: Set<MagWarning>,
+    val orientation: Quaternion? = null,
+    val rotationVector: Quaternion? = null,
 ) {
     /** A figure-8 calibration hint is worth showing. */
     val showCalibrationHint: Boolean get() = magWarnings.isNotEmpty()
@@ -83,6 +88,8 @@ data class LiveUiState(
                 tiltDifferenceDeg = if (q != null && rv != null) Readout.tiltBetweenDeg(q, rv) else null,
                 gameTiltDifferenceDeg = s.gameRotationVector?.let { g -> q?.let { Readout.tiltBetweenDeg(it, g) } },
                 magWarnings = warnings,
+                orientation = q,
+                rotationVector = rv,
             )
         }
     }

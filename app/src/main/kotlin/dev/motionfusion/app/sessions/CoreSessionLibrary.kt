@@ -1,6 +1,8 @@
 package dev.motionfusion.app.sessions
 
 import dev.motionfusion.app.sensor.SensorStreams
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.sensormanager.androidOrientation
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionStream
 import java.io.File
@@ -33,7 +35,6 @@ internal object CoreSessionLibrary : SessionLibrary {
         val a = FloatArray(cap)
         val p = FloatArray(cap)
         val ro = FloatArray(cap)
-        val out = FloatArray(3)
         var n = 0
         var step = 1L
         var index = 0L
@@ -49,12 +50,12 @@ internal object CoreSessionLibrary : SessionLibrary {
                     if ((index - 1) % step != 0L) continue
                 }
                 val v = e.values
-                androidAnglesDeg(v[0], v[1], v[2], v[3], out)
-                t[n] = e.timestampNs; a[n] = out[0]; p[n] = out[1]; ro[n] = out[2]
+                val angles = androidOrientation(Quaternion(v[0], v[1], v[2], v[3]).normalized().toRotationMatrix())
+                t[n] = e.timestampNs; a[n] = angles.azimuthDeg.toFloat(); p[n] = angles.pitchDeg.toFloat(); ro[n] = angles.rollDeg.toFloat()
                 n++
             }
         }
         val t0 = if (n > 0) t[0] else 0L
-        AngleSeries(FloatArray(n) { ((t[it] - t0) / 1e9).toFloat() }, a.copyOf(n), p.copyOf(n), ro.copyOf(n))
+        AngleSeries(FloatArray(n) { ((t[it] - t0) / 1e9).toFloat() }, a.copyOf(n), p.copyOf(n), ro.copyOf(n), t0)
     }
 }

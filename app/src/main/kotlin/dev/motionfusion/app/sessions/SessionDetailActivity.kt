@@ -15,6 +15,9 @@ import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.export.ExportProvider
+import dev.motionfusion.app.ui.AnglePlotView
+import dev.motionfusion.app.ui.PlotMarker
+import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.withContext
@@ -38,6 +41,8 @@ class SessionDetailActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_session_detail)
         fitToSystemBars(findViewById(R.id.detail_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
+        supportActionBar?.setDisplayHomeAsUpEnabled(true)
         val name = intent.getStringExtra(EXTRA_SESSION)
         dir = deps.sessions.folder(name ?: "")
         if (name.isNullOrEmpty()) { // a missing folder shows as unreadable (no disk access here)
@@ -84,12 +89,26 @@ class SessionDetailActivity : AppCompatActivity() {
         }
     }
 
-    private fun show(s: SessionSummary, angles: AngleSeries) {
+    override fun onSupportNavigateUp(): Boolean {
+        finish()
+        return true
+    }
+
+    /**
+     * Shows session [s]: its summary, the fused [angles] with [markers] (timestamps on the
+     * session's sensor clock) on the plot, and each stream's samples and achieved rate.
+     */
+    internal fun show(s: SessionSummary, angles: AngleSeries, markers: List<PlotMarker> = emptyList()) {
         findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, deps.sessions.isRecording(dir))
         val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
             getString(R.string.session_fused_line, s.fusedRows)
         findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
-        findViewById<AnglePlotView>(R.id.detail_plot).setSeries(angles)
+        findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(it.name), it.rateHz) })
+        findViewById<AnglePlotView>(R.id.detail_plot).apply {
+            emptyText = getString(R.string.session_plot_empty)
+            showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, markers)
+            contentDescription = getString(if (angles.size == 0) R.string.session_plot_empty else R.string.session_plot_title)
+        }
     }
 
     private fun export(action: () -> String) {

@@ -22,8 +22,11 @@ internal data class SessionSummary(
     val totalRows: Long get() = streams.sumOf { it.rows }
 }
 
-/** Android azimuth, pitch and roll of the fused orientation over time, in degrees, for plotting. */
-internal class AngleSeries(val timeS: FloatArray, val azimuthDeg: FloatArray, val pitchDeg: FloatArray, val rollDeg: FloatArray) {
+/**
+ * Android azimuth, pitch and roll of the fused orientation over time, in degrees, for plotting;
+ * [timeS] in seconds after [originNs] (the session's sensor clock, ns: the clock of its markers).
+ */
+internal class AngleSeries(val timeS: FloatArray, val azimuthDeg: FloatArray, val pitchDeg: FloatArray, val rollDeg: FloatArray, val originNs: Long = 0L) {
     val size: Int get() = timeS.size
 }
 

@@ -37,6 +37,8 @@ class SessionsActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_sessions)
         fitToSystemBars(findViewById(R.id.sessions_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
+        supportActionBar?.setDisplayHomeAsUpEnabled(true)
         val list = findViewById<ListView>(R.id.sessions_list)
         list.adapter = adapter
         list.setOnItemClickListener { _, _, position, _ ->
@@ -52,11 +54,20 @@ class SessionsActivity : AppCompatActivity() {
     internal fun reload() {
         loading?.cancel()
         loading = lifecycleScope.launch {
-            val items = withContext(deps.io) { load() }
-            adapter.items = items
-            adapter.notifyDataSetChanged()
-            findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
+            show(withContext(deps.io) { load() })
         }
+    }
+
+    override fun onSupportNavigateUp(): Boolean {
+        finish()
+        return true
+    }
+
+    /** Lists [items] (newest first), or says there are none. */
+    internal fun show(items: List<Item>) {
+        adapter.items = items
+        adapter.notifyDataSetChanged()
+        findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
     }
 
     private fun load(): List<Item> {
@@ -92,8 +103,10 @@ class SessionsActivity : AppCompatActivity() {
                 line2.text = ""
             } else {
                 line1.text = describe(this@SessionsActivity, s, deps.sessions.isRecording(item.dir))
-                line2.text = s.streams.filter { it.rows > 0 }.joinToString("  ") { "${shortName(it.name)} ${"%.0f".format(java.util.Locale.ROOT, it.rateHz)} Hz" }
+                // A stream's name and rate never split over two lines (no-break spaces).
+                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { "${shortName(it.name)}\u00A0${"%.0f".format(java.util.Locale.ROOT, it.rateHz)}\u00A0Hz" }
             }
+            line2.visibility = if (line2.text.isEmpty()) View.GONE else View.VISIBLE
             return v
         }
     }

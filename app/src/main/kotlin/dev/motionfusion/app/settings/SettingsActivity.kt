@@ -1,9 +1,10 @@
 package dev.motionfusion.app.settings
 
 import android.os.Bundle
+import android.view.View
+import android.widget.CompoundButton
 import android.widget.EditText
 import android.widget.RadioGroup
-import android.widget.Switch
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
 import dev.motionfusion.app.R
@@ -13,13 +14,15 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.ui.fitToSystemBars
 
 /**
- * Filter, display and rate settings. "Apply" validates the form ([SettingsForm]), marks the
- * fields in error, or persists the settings and hands them to the live filter at once (a recording keeps its own until it ends).
+ * Filter, display and rate settings. β and ζ are sliders whose name, unit and default come from
+ * fusion-core's settings table ([SettingSlider]); the flags are switches; "Apply" validates the
+ * form ([SettingsForm], with the core's own checks), marks the fields in error, or persists the
+ * settings and hands them to the live filter at once (a recording keeps its own until it ends); "Defaults" shows the defaults.
  */
 class SettingsActivity : AppCompatActivity() {
     private lateinit var settings: SettingsRepository
-    private lateinit var beta: EditText
-    private lateinit var zeta: EditText
+    private lateinit var beta: SettingSlider
+    private lateinit var zeta: SettingSlider
     private lateinit var rateHz: EditText
     private lateinit var message: TextView
 
@@ -27,20 +30,27 @@ class SettingsActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_settings)
         fitToSystemBars(findViewById(R.id.settings_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
+        supportActionBar?.setDisplayHomeAsUpEnabled(true)
         settings = (application as SettingsRepository.Provider).settingsRepository
-        beta = findViewById(R.id.beta)
-        zeta = findViewById(R.id.zeta)
+        beta = SettingSlider(findViewById(R.id.beta_setting), SettingSlider.BETA, getString(R.string.settings_beta), getString(R.string.settings_beta_help))
+        zeta = SettingSlider(findViewById(R.id.zeta_setting), SettingSlider.ZETA, getString(R.string.settings_zeta), getString(R.string.settings_zeta_help))
         rateHz = findViewById(R.id.rate_hz_value)
         message = findViewById(R.id.settings_message)
-        // A restored instance keeps what the user typed; a new one shows the settings in force.
+        // A restored instance keeps what the user set; a new one shows the settings in force.
         if (savedInstanceState == null) showForm(SettingsForm.of(settings.settings.value))
         findViewById<RadioGroup>(R.id.rate).setOnCheckedChangeListener { _, id -> rateHz.isEnabled = id == R.id.rate_hz }
         rateHz.isEnabled = findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId == R.id.rate_hz
-        findViewById<android.view.View>(R.id.apply).setOnClickListener { apply() }
-        findViewById<android.view.View>(R.id.reset).setOnClickListener {
+        findViewById<View>(R.id.apply).setOnClickListener { apply() }
+        findViewById<View>(R.id.reset).setOnClickListener {
             showForm(SettingsForm.of(LiveSettings()))
             message.text = ""
         }
+    }
+
+    override fun onSupportNavigateUp(): Boolean {
+        finish()
+        return true
     }
 
     /** Validates and applies the form; true when the settings were saved. */
@@ -63,8 +73,8 @@ class SettingsActivity : AppCompatActivity() {
     }
 
     private fun showForm(f: SettingsForm) {
-        beta.setText(f.beta)
-        zeta.setText(f.zeta)
+        beta.text = f.beta
+        zeta.text = f.zeta
         switch(R.id.nine_d).isChecked = f.nineD
         switch(R.id.rest_bias).isChecked = f.restBias
         switch(R.id.mag_rejection).isChecked = f.magRejection
@@ -85,8 +95,8 @@ class SettingsActivity : AppCompatActivity() {
     }
 
     private fun readForm(): SettingsForm = SettingsForm(
-        beta = beta.text.toString(),
-        zeta = zeta.text.toString(),
+        beta = beta.text,
+        zeta = zeta.text,
         nineD = switch(R.id.nine_d).isChecked,
         restBias = switch(R.id.rest_bias).isChecked,
         magRejection = switch(R.id.mag_rejection).isChecked,
@@ -106,5 +116,5 @@ class SettingsActivity : AppCompatActivity() {
         rateHz = rateHz.text.toString(),
     )
 
-    private fun switch(id: Int): Switch = findViewById(id)
+    private fun switch(id: Int): CompoundButton = findViewById(id)
 }

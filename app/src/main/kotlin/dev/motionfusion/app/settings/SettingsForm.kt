@@ -4,6 +4,7 @@ import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettingDescriptors
 
 /** A field of the settings form that can hold an invalid entry. */
 enum class SettingsField { BETA, ZETA, RATE_HZ }
@@ -30,9 +31,9 @@ data class SettingsForm(
     fun parse(): Result {
         val errors = LinkedHashMap<SettingsField, String>()
         val b = number(beta)
-        if (b == null || b < 0.0 || b > LiveSettings.MAX_BETA) errors[SettingsField.BETA] = "β: a number from 0 to ${LiveSettings.MAX_BETA}"
+        refusal("beta", b, LiveSettings.MAX_BETA)?.let { errors[SettingsField.BETA] = it }
         val z = number(zeta)
-        if (z == null || z < 0.0 || z > LiveSettings.MAX_ZETA) errors[SettingsField.ZETA] = "ζ: a number from 0 to ${LiveSettings.MAX_ZETA} rad/s"
+        refusal("zeta", z, LiveSettings.MAX_ZETA)?.let { errors[SettingsField.ZETA] = it }
         var rate: SamplingRate? = delay
         if (delay == null) {
             val hz = rateHz.trim().toIntOrNull()
@@ -70,6 +71,21 @@ data class SettingsForm(
             delay = s.rate as? SamplingRate.Delay,
             rateHz = (s.rate as? SamplingRate.Hz)?.hz?.toString() ?: "",
         )
+
+        /**
+         * Why [v] cannot be the filter setting [name]: not a number, refused by fusion-core's
+         * FilterSettings (through its settings table), or above the app's bound [max]; null if fine.
+         */
+        private fun refusal(name: String, v: Double?, max: Double): String? {
+            val d = FilterSettingDescriptors.named(name) ?: error("no filter setting $name")
+            if (v == null) return "$name: a number in ${d.unit}"
+            try {
+                d.with(LiveSettings.DEFAULT_FILTER, v)
+            } catch (e: IllegalArgumentException) {
+                return e.message
+            }
+            return if (v > max) "$name: at most $max ${d.unit}" else null
+        }
 
         /** A finite number, accepting a decimal comma; null otherwise. */
         private fun number(text: String): Double? = text.trim().replace(',', '.').toDoubleOrNull()?.takeIf { it.isFinite() }

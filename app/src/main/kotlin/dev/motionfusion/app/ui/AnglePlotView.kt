@@ -3,83 +3,245 @@ package dev.motionfusion.app.ui
 import android.content.Context
 import android.graphics.Canvas
 import android.graphics.Color
+import android.graphics.DashPathEffect
 import android.graphics.Paint
+import android.graphics.Path
 import android.util.AttributeSet
+import android.util.TypedValue
 import android.view.View
+import com.google.android.material.R as MaterialR
+import dev.motionfusion.app.R
+import java.util.Locale
 import kotlin.math.abs
 
+/** A labelled instant on a plot: [timestampNs] on the plotted samples' clock, [text] shown beside its line. */
+data class PlotMarker(val timestampNs: Long, val text: String)
+
 /**
- * A strip chart of three angles (degrees) over the last [windowSeconds]: yaw (0..360 shown as
- * −180..180), pitch and roll on a shared −180..180° axis with grid lines every 90°. A line is not
- * drawn across a wrap-around (a jump of more than 180° between points). Points go into a fixed
- * ring buffer: adding allocates nothing.
+ * The one plot of three angles (degrees) against time, for the live screen and a session's
+ * detail: yaw or azimuth (0..360 shown as −180..180), pitch and roll on a shared −180..180° axis,
+ * grid lines every 90°, a legend, and markers as labelled vertical lines. A line is not drawn
+ * across a wrap-around (a jump of more than 180° between points).
+ *
+ * Live ([append]): the x axis covers the last [windowSeconds] of sample time ending at the
+ * newest sample, whatever the rate points arrive at: points are kept by timestamp, older ones
+ * dropped, and the buffer grows (rarely, amortised) when a window holds more points than it
+ * has room for, so a 120 Hz display shows 10 s as a 60 Hz one does. A second set of angles, the
+ * "ghost" (the phone's own rotation vector), is drawn dashed in the same colours.
+ * Whole series ([showSeries]): the x axis spans the series, in seconds from its first point.
  */
 class AnglePlotView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+    /** The live window, seconds of sample time. */
     var windowSeconds = 10.0
-    private val capacity = 1024
-    private val times = LongArray(capacity)
-    private val values = Array(3) { FloatArray(capacity) }
+
+    private var capacity = 1024
+    private var times = LongArray(capacity)
+    private var values = Array(6) { FloatArray(capacity) }
     private var size = 0
     private var head = 0
+    private var live = true
+    private var hasGhost = false
+    private var markers: List<PlotMarker> = emptyList()
 
-    private val colours = intArrayOf(Color.rgb(0x4F, 0xC3, 0xF7), Color.rgb(0xAE, 0xD5, 0x81), Color.rgb(0xFF, 0x8A, 0x65))
-    private val paints = Array(3) { i -> Paint(Paint.ANTI_ALIAS_FLAG).apply { color = colours[i]; strokeWidth = dp(2f) } }
-    private val grid = Paint().apply { color = Color.rgb(0x37, 0x47, 0x4F); strokeWidth = dp(1f) }
-    private val label = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x9A, 0xA7, 0xB0); textSize = dp(11f) }
-    private val background = Paint().apply { color = Color.rgb(0x1B, 0x21, 0x28) }
+    private val density = resources.displayMetrics.density
+    private val textPx = TypedValue.applyDimension(TypedValue.COMPLEX_UNIT_SP, 12f, resources.displayMetrics)
+    private val colours = intArrayOf(context.getColor(R.color.plot_azimuth), context.getColor(R.color.plot_pitch), context.getColor(R.color.plot_roll))
+    private val lines = Array(3) { i ->
+        Paint(Paint.ANTI_ALIAS_FLAG).apply {
+            color = colours[i]; style = Paint.Style.STROKE; strokeWidth = 2f * density; strokeJoin = Paint.Join.ROUND
+        }
+    }
+    private val ghostLines = Array(3) { i ->
+        Paint(lines[i]).apply {
+            strokeWidth = 1.5f * density; alpha = 0xA0
+            pathEffect = DashPathEffect(floatArrayOf(5f * density, 4f * density), 0f)
+        }
+    }
+    private val grid = Paint().apply { color = themeColor(MaterialR.attr.colorOutlineVariant, Color.LTGRAY); strokeWidth = density }
+    private val label = Paint(Paint.ANTI_ALIAS_FLAG).apply {
+        color = themeColor(MaterialR.attr.colorOnSurfaceVariant, Color.GRAY); textSize = textPx
+    }
+    private val markerLine = Paint(Paint.ANTI_ALIAS_FLAG).apply {
+        color = themeColor(MaterialR.attr.colorTertiary, Color.MAGENTA); strokeWidth = 1.5f * density
+    }
+    private val markerText = Paint(label).apply { color = markerLine.color }
+    private val names = arrayOf(context.getString(R.string.azimuth), context.getString(R.string.pitch), context.getString(R.string.roll))
+    private val ghostName = context.getString(R.string.plot_ghost)
+    private val path = Path()
 
-    /** The colour of series [i] (0 yaw, 1 pitch, 2 roll), for a legend. */
+    /** Shown in the middle while there is nothing to plot; null for nothing. */
+    var emptyText: String? = null
+        set(value) { field = value; invalidate() }
+
+    /** The first angle's name in the legend: azimuth (Android) or yaw (aerospace). */
+    fun setYawName(name: String) {
+        if (names[0] == name) return
+        names[0] = name
+        invalidate()
+    }
+
+    /** The colour of series [i] (0 yaw, 1 pitch, 2 roll). */
     fun colour(i: Int): Int = colours[i]
 
-    /** Appends angles at [timeNs] (any monotonic clock, ns); older points than the window scroll off. */
-    fun add(timeNs: Long, yawDeg: Double, pitchDeg: Double, rollDeg: Double) {
-        val yaw = if (yawDeg > 180.0) yawDeg - 360.0 else yawDeg
-        times[head] = timeNs
-        values[0][head] = yaw.toFloat()
-        values[1][head] = pitchDeg.toFloat()
-        values[2][head] = rollDeg.toFloat()
-        head = (head + 1) % capacity
-        if (size < capacity) size++
+    /** Points kept now (live: those within the window and a little more). */
+    val pointCount: Int get() = size
+
+    /** Sample time from the oldest point kept to the newest, seconds. */
+    val spanSeconds: Double get() = if (size < 2) 0.0 else (times[index(size - 1)] - times[index(0)]) / 1e9
+
+    /**
+     * Appends angles at [timeNs] (the samples' clock, ns; not earlier than the last point) with
+     * the ghost's angles (NaN when there is none). Points older than the window scroll off.
+     */
+    fun append(timeNs: Long, yawDeg: Double, pitchDeg: Double, rollDeg: Double, ghostYawDeg: Double = Double.NaN, ghostPitchDeg: Double = Double.NaN, ghostRollDeg: Double = Double.NaN) {
+        if (!live) clear()
+        val window = (windowSeconds * 1e9).toLong()
+        // Drop what the window no longer shows, but keep one point before it so the line reaches the edge.
+        while (size > 1 && timeNs - times[index(1)] > window) {
+            head = (head + 1) % capacity
+            size--
+        }
+        if (size == capacity) grow()
+        val i = (head + size) % capacity
+        times[i] = timeNs
+        values[0][i] = signed(yawDeg)
+        values[1][i] = pitchDeg.toFloat()
+        values[2][i] = rollDeg.toFloat()
+        values[3][i] = signed(ghostYawDeg)
+        values[4][i] = ghostPitchDeg.toFloat()
+        values[5][i] = ghostRollDeg.toFloat()
+        if (!ghostYawDeg.isNaN()) hasGhost = true
+        size++
+        invalidate()
+    }
+
+    /**
+     * Shows a whole series: [timeS] seconds after [originNs] (the clock of [markers]), with its
+     * angles in degrees; replaces what the plot held.
+     */
+    fun showSeries(originNs: Long, timeS: FloatArray, yawDeg: FloatArray, pitchDeg: FloatArray, rollDeg: FloatArray, markers: List<PlotMarker>) {
+        clear()
+        live = false
+        while (capacity < timeS.size) grow()
+        for (k in timeS.indices) {
+            times[k] = originNs + (timeS[k] * 1e9).toLong()
+            values[0][k] = signed(yawDeg[k].toDouble()); values[1][k] = pitchDeg[k]; values[2][k] = rollDeg[k]
+            values[3][k] = Float.NaN; values[4][k] = Float.NaN; values[5][k] = Float.NaN
+        }
+        size = timeS.size
+        this.markers = markers
+        invalidate()
+    }
+
+    /** Markers to draw (live: those inside the window). */
+    fun setMarkers(markers: List<PlotMarker>) {
+        this.markers = markers
         invalidate()
     }
 
     fun clear() {
-        size = 0; head = 0
+        size = 0; head = 0; live = true; hasGhost = false; markers = emptyList()
         invalidate()
     }
 
-    override fun onDraw(canvas: Canvas) {
-        val w = width.toFloat()
-        val h = height.toFloat()
-        canvas.drawRect(0f, 0f, w, h, background)
-        val left = dp(34f)
-        val plotW = w - left - dp(6f)
-        val top = dp(6f)
-        val plotH = h - 2 * top
-        for (g in -2..2) {
-            val y = top + plotH * (0.5f - g / 4f)
-            canvas.drawLine(left, y, w, y, grid)
-            canvas.drawText("${g * 90}°", dp(2f), y + dp(4f), label)
+    private fun index(k: Int) = (head + k) % capacity
+
+    private fun signed(yaw: Double): Float = (if (yaw > 180.0) yaw - 360.0 else yaw).toFloat()
+
+    /** Twice the room, the oldest point first. */
+    private fun grow() {
+        val n = capacity * 2
+        val t = LongArray(n)
+        val v = Array(6) { FloatArray(n) }
+        for (k in 0 until size) {
+            val i = index(k)
+            t[k] = times[i]
+            for (s in 0 until 6) v[s][k] = values[s][i]
         }
-        if (size < 2) return
-        val newest = times[(head - 1 + capacity) % capacity]
-        val span = (windowSeconds * 1e9).toLong()
-        for (s in 0 until 3) {
-            var px = Float.NaN
-            var py = Float.NaN
-            var pv = 0f
+        times = t; values = v; capacity = n; head = 0
+    }
+
+    override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
+        val w = MeasureSpec.getSize(widthMeasureSpec)
+        setMeasuredDimension(w, resolveSize((200 * density).toInt(), heightMeasureSpec))
+    }
+
+    override fun onDraw(canvas: Canvas) {
+        val left = label.measureText("-180°") + 6 * density
+        val top = textPx * 2.2f
+        val right = width - 8 * density
+        val bottom = height - textPx * 1.8f
+        val plotH = bottom - top
+        fun yOf(deg: Float) = top + (180f - deg) / 360f * plotH
+        for (deg in -180..180 step 90) {
+            val y = yOf(deg.toFloat())
+            canvas.drawLine(left, y, right, y, grid)
+            canvas.drawText("$deg°", 2 * density, y + textPx / 3, label)
+        }
+        drawLegend(canvas, left)
+        if (size == 0) {
+            emptyText?.let { canvas.drawText(it, left + 8 * density, top + plotH / 2 - textPx, label) }
+            return
+        }
+        // The x range: the live window ending at the newest point, or the whole series.
+        val newest = times[index(size - 1)]
+        val start = if (live) newest - (windowSeconds * 1e9).toLong() else times[index(0)]
+        val spanNs = (newest - start).coerceAtLeast(1_000_000L).toFloat()
+        fun xOf(t: Long) = left + (t - start) / spanNs * (right - left)
+        drawTimeAxis(canvas, left, right, spanNs / 1e9f)
+        canvas.save()
+        canvas.clipRect(left, 0f, right, height.toFloat())
+        for (s in 0 until if (hasGhost) 6 else 3) {
+            val v = values[s]
+            path.rewind()
+            var open = false
+            var previous = 0f
             for (k in 0 until size) {
-                val i = (head - size + k + capacity) % capacity
-                val age = newest - times[i]
-                if (age > span) continue
-                val v = values[s][i]
-                val x = left + plotW * (1f - age.toFloat() / span)
-                val y = top + plotH * (0.5f - v / 360f)
-                if (!px.isNaN() && abs(v - pv) <= 180f) canvas.drawLine(px, py, x, y, paints[s])
-                px = x; py = y; pv = v
+                val i = index(k)
+                val value = v[i]
+                if (value.isNaN()) { open = false; continue }
+                val x = xOf(times[i])
+                val y = yOf(value)
+                if (open && abs(value - previous) <= 180f) path.lineTo(x, y) else path.moveTo(x, y)
+                open = true
+                previous = value
             }
+            canvas.drawPath(path, if (s < 3) lines[s] else ghostLines[s - 3])
+        }
+        for (m in markers) {
+            if (m.timestampNs < start || m.timestampNs > newest) continue
+            val x = xOf(m.timestampNs)
+            canvas.drawLine(x, top, x, bottom, markerLine)
+            val w = markerText.measureText(m.text)
+            // The label to the right of its line, or to its left near the right edge.
+            val tx = if (x + 4 * density + w <= right) x + 4 * density else x - 4 * density - w
+            canvas.drawText(m.text, tx, top + textPx, markerText)
+        }
+        canvas.restore()
+    }
+
+    private fun drawLegend(canvas: Canvas, left: Float) {
+        var x = left
+        val y = textPx * 1.1f
+        for (i in 0..2) {
+            canvas.drawLine(x, y - textPx / 3, x + 16 * density, y - textPx / 3, lines[i])
+            canvas.drawText(names[i], x + 20 * density, y, label)
+            x += 20 * density + label.measureText(names[i]) + 14 * density
+        }
+        if (hasGhost) {
+            path.rewind()
+            path.moveTo(x, y - textPx / 3)
+            path.lineTo(x + 20 * density, y - textPx / 3)
+            canvas.drawPath(path, ghostLines[0])
+            canvas.drawText(ghostName, x + 24 * density, y, label)
         }
     }
 
-    private fun dp(v: Float) = v * resources.displayMetrics.density
+    private fun drawTimeAxis(canvas: Canvas, left: Float, right: Float, spanS: Float) {
+        val y = height - 2 * density
+        val first = if (live) String.format(Locale.ROOT, "−%.0f s", spanS) else "0 s"
+        val last = if (live) context.getString(R.string.plot_now) else String.format(Locale.ROOT, "%.1f s", spanS)
+        canvas.drawText(first, left, y, label)
+        canvas.drawText(last, right - label.measureText(last), y, label)
+    }
 }

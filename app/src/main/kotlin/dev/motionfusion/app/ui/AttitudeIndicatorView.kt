@@ -6,6 +6,7 @@ import android.graphics.Color
 import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
+import com.google.android.material.R as MaterialR
 
 /**
  * An artificial horizon: sky and ground as seen from the phone flown with the screen's top edge
@@ -25,8 +26,8 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
     private val symbol = Paint(Paint.ANTI_ALIAS_FLAG).apply {
         color = Color.rgb(0xFF, 0xC1, 0x07); strokeWidth = dp(4f); style = Paint.Style.STROKE; strokeCap = Paint.Cap.ROUND
     }
-    private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x37, 0x47, 0x4F); strokeWidth = dp(3f); style = Paint.Style.STROKE }
-    private val dim = Paint().apply { color = Color.argb(0xB0, 0x10, 0x14, 0x18) }
+    private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorOutline, Color.GRAY); strokeWidth = dp(3f); style = Paint.Style.STROKE }
+    private val dim = Paint().apply { color = themeColor(MaterialR.attr.colorSurface, Color.BLACK); alpha = 0xB0 }
     private val clip = Path()
 
     /** Shows [pitchDeg] and [rollDeg] (aerospace signs), or "no attitude" when [valid] is false. */

@@ -6,6 +6,8 @@ import android.graphics.Color
 import android.graphics.Paint
 import android.graphics.Path
 import android.util.AttributeSet
+import com.google.android.material.R as MaterialR
+import dev.motionfusion.app.R
 import kotlin.math.cos
 import kotlin.math.sin
 
@@ -23,12 +25,18 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
     /** How far the heading can be trusted. */
     enum class State { NONE, RELATIVE, WARNING, OK }
 
-    private val face = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x1B, 0x21, 0x28) }
-    private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x37, 0x47, 0x4F); strokeWidth = dp(3f); style = Paint.Style.STROKE }
-    private val tick = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x9A, 0xA7, 0xB0); strokeWidth = dp(1.5f) }
-    private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0xEC, 0xEF, 0xF1); textSize = dp(16f); textAlign = Paint.Align.CENTER }
-    private val north = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0xEF, 0x53, 0x50); textSize = dp(18f); textAlign = Paint.Align.CENTER; isFakeBoldText = true }
-    private val lubber = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x4F, 0xC3, 0xF7) }
+    private val face = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorSurface, Color.WHITE) }
+    private val rimColour = themeColor(MaterialR.attr.colorOutline, Color.GRAY)
+    private val warningColour = context.getColor(R.color.warning)
+    private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = rimColour; strokeWidth = dp(3f); style = Paint.Style.STROKE }
+    private val tick = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorOnSurfaceVariant, Color.GRAY); strokeWidth = dp(1.5f) }
+    private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply {
+        color = themeColor(MaterialR.attr.colorOnSurface, Color.BLACK); textSize = dp(16f); textAlign = Paint.Align.CENTER
+    }
+    private val north = Paint(Paint.ANTI_ALIAS_FLAG).apply {
+        color = context.getColor(R.color.compass_north); textSize = dp(18f); textAlign = Paint.Align.CENTER; isFakeBoldText = true
+    }
+    private val lubber = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorPrimary, Color.BLUE) }
     private val marker = Path()
 
     /** Shows [headingDeg] (0..360 from magnetic north, clockwise) in [state]. */
@@ -40,10 +48,7 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
 
     override fun drawDial(canvas: Canvas, cx: Float, cy: Float, r: Float) {
         canvas.drawCircle(cx, cy, r, face)
-        rim.color = when (state) {
-            State.WARNING -> Color.rgb(0xFF, 0xB7, 0x4D)
-            else -> Color.rgb(0x37, 0x47, 0x4F)
-        }
+        rim.color = if (state == State.WARNING) warningColour else rimColour
         canvas.drawCircle(cx, cy, r, rim)
         val alpha = if (state == State.NONE || state == State.RELATIVE) 0x70 else 0xFF
         tick.alpha = alpha; text.alpha = alpha; north.alpha = alpha

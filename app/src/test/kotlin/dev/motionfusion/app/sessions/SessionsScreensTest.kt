@@ -15,6 +15,7 @@ import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
 import dev.motionfusion.app.export.ExportProvider
+import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.Recorder
 import dev.motionfusion.app.record.RecordingState
@@ -114,7 +115,7 @@ class SessionsScreensTest {
         val row = list.adapter.getView(1, null, list)
         val line1 = row.findViewById<TextView>(R.id.session_line1).text.toString()
         assertTrue(line1, line1.contains("00:07") && line1.contains("recovered") && line1.contains("samples"))
-        assertTrue(row.findViewById<TextView>(R.id.session_line2).text.contains("gyr 200 Hz"))
+        assertTrue(row.findViewById<TextView>(R.id.session_line2).text.contains("gyr\u00A0200\u00A0Hz"))
         Screenshots.capture(a, "sessions-list")
     }
 

@@ -1,0 +1,314 @@
+package dev.motionfusion.app
+
+import android.content.Intent
+import android.hardware.Sensor
+import android.hardware.SensorManager
+import android.os.Looper
+import android.os.SystemClock
+import android.view.View
+import androidx.core.graphics.ColorUtils
+import com.google.android.material.R as MaterialR
+import com.google.android.material.color.MaterialColors
+import dev.motionfusion.app.live.EffectiveMode
+import dev.motionfusion.app.live.FusionMode
+import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.live.LiveScreen
+import dev.motionfusion.app.record.RecordingState
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.live.ModeReason
+import dev.motionfusion.app.live.SensorStats
+import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.sessions.AngleSeries
+import dev.motionfusion.app.sessions.SessionDetailActivity
+import dev.motionfusion.app.sessions.SessionSummary
+import dev.motionfusion.app.sessions.SessionsActivity
+import dev.motionfusion.app.sessions.StreamSummary
+import dev.motionfusion.app.settings.SettingsActivity
+import dev.motionfusion.app.ui.AnglePlotView
+import dev.motionfusion.app.ui.PlotMarker
+import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.Vector3
+import org.junit.Assert.assertEquals
+import org.junit.Assert.assertTrue
+import org.junit.Before
+import org.junit.Test
+import org.junit.runner.RunWith
+import org.robolectric.Robolectric
+import org.robolectric.RobolectricTestRunner
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+import org.robolectric.annotation.Config
+import org.robolectric.annotation.GraphicsMode
+import org.robolectric.shadows.SensorBuilder
+import java.io.File
+import kotlin.math.sin
+
+/**
+ * Every screen rendered to PNG (target/screenshots) in its states, on a phone held upright and
+ * sideways and on a tablet, light and dark, with checks on the layout (texts inside the screen,
+ * not cut short, not overlapping) and the plot's colours. The states are made by hand and bound
+ * through the screens' own rendering ([LiveScreen.show], `SessionsActivity.show`,
+ * `SessionDetailActivity.show`), so they do not depend on where the app gets them.
+ */
+@RunWith(RobolectricTestRunner::class)
+@GraphicsMode(GraphicsMode.Mode.NATIVE)
+@Config(sdk = [34])
+class ScreensTest {
+    private val app = RuntimeEnvironment.getApplication()
+
+    /** A screen shape: Robolectric qualifiers (before and after the night one) and the file name's part. */
+    private enum class Shape(val size: String, val density: String) {
+        PHONE("w400dp-h860dp-port", "xhdpi"),
+        LANDSCAPE("w860dp-h400dp-land", "xhdpi"),
+        TABLET("sw800dp-w800dp-h1280dp-port", "hdpi"),
+        TABLET_LANDSCAPE("sw800dp-w1280dp-h800dp-land", "hdpi"),
+    }
+
+    private fun configure(shape: Shape, dark: Boolean) {
+        RuntimeEnvironment.setQualifiers("${shape.size}-${if (dark) "night" else "notnight"}-${shape.density}")
+    }
+
+    private fun name(screen: String, shape: Shape, dark: Boolean) = "$screen-${shape.name.lowercase().replace('_', '-')}-${if (dark) "dark" else "light"}"
+
+    @Before
+    fun setUp() {
+        val sm = shadowOf(app.getSystemService(SensorManager::class.java))
+        for ((type, name) in listOf(
+            Sensor.TYPE_ACCELEROMETER to "BMI260 Accelerometer",
+            Sensor.TYPE_GYROSCOPE to "BMI260 Gyroscope",
+            Sensor.TYPE_MAGNETIC_FIELD to "AK09918 Magnetometer",
+            Sensor.TYPE_ROTATION_VECTOR to "Rotation Vector",
+        )) sm.addSensor(SensorBuilder.newBuilder().setType(type).setName(name).build())
+        graph = TestGraph() // after the sensors: the capture sees them
+    }
+
+    private lateinit var graph: TestGraph
+
+    private fun idle() = graph.settle()
+
+    /** The sessions folder (created off the main thread, as the app does). */
+    private fun sessionsRoot(): File {
+        var root: File? = null
+        Thread { root = graph.graph.sessions.root() }.apply { start(); join() }
+        return root!!
+    }
+
+    // ---- The live screen ----
+
+    private fun stats(rate: Double, accuracy: Int, x: Float, y: Float, z: Float, w: Float = Float.NaN) =
+        SensorStats(samples = 3000, rateHz = rate, jitterMs = 0.21, duplicates = 0, backwards = 0, accuracy = accuracy, x = x, y = y, z = z, w = w)
+
+    /** The orientation at [t] s of a phone held in the hand and swayed: heading about 40°, pitch and roll a few tens of degrees. */
+    private fun swaying(t: Double): Quaternion =
+        Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(-40.0 - 25.0 * sin(0.5 * t))) *
+            Quaternion.fromAxisAngle(Vector3.UNIT_X, Math.toRadians(35.0 + 20.0 * sin(0.8 * t))) *
+            Quaternion.fromAxisAngle(Vector3(0.0, 1.0, 0.0), Math.toRadians(-15.0 + 12.0 * sin(1.1 * t)))
+
+    private fun state(
+        tNs: Long,
+        q: Quaternion?,
+        rv: Quaternion?,
+        mode: EffectiveMode = EffectiveMode(FusionMode.MARG, ModeReason.AS_CHOSEN),
+        magAccuracy: Int = SensorManager.SENSOR_STATUS_ACCURACY_HIGH,
+        fieldUt: Double? = 47.3,
+        disturbed: Boolean = false,
+    ): FusionState {
+        val sensors = HashMap<SensorKind, SensorStats>()
+        sensors[SensorKind.ACCELEROMETER] = stats(200.1, 3, 1.52f, 5.61f, 7.84f)
+        sensors[SensorKind.GYROSCOPE] = stats(200.0, 3, 0.012f, -0.031f, 0.004f)
+        if (mode.mode.hasMagneticHeading) sensors[SensorKind.MAGNETOMETER] = stats(100.0, magAccuracy, 12.4f, 28.9f, -34.2f)
+        if (rv != null) sensors[SensorKind.ROTATION_VECTOR] = stats(100.0, 3, rv.x.toFloat(), rv.y.toFloat(), rv.z.toFloat(), rv.w.toFloat())
+        return FusionState(
+            mode = mode, settings = LiveSettings(), orientation = q, rotationVector = rv,
+            rotationVectorHeadingAccuracyRad = rv?.let { Math.toRadians(4.0) }, gameRotationVector = null,
+            sensors = sensors, magneticFieldUt = if (mode.mode.hasMagneticHeading) fieldUt else null,
+            atRest = false, magneticDisturbance = disturbed, accelerometerRejected = false,
+            gyroBiasRadS = doubleArrayOf(0.0012, -0.0004, 0.0007), filterSteps = 2400, timestampNs = tNs,
+        )
+    }
+
+    /** The live screen after 12 s of swaying at 60 frames/s, the rotation vector 3° off in heading. */
+    private fun live(
+        shape: Shape,
+        dark: Boolean,
+        markers: List<PlotMarker> = emptyList(),
+        last: (Long, Quaternion, Quaternion?) -> FusionState = { t, q, rv -> state(t, q, rv) },
+        ghost: Boolean = true,
+    ): MainActivity {
+        configure(shape, dark)
+        val a = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+        idle()
+        val screen = LiveScreen(a, graph.capture.sensorInfo)
+        val t0 = 1_000_000_000L
+        for (frame in 0..720) {
+            val t = frame / 60.0
+            val q = swaying(t)
+            val rv = if (ghost) Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(-3.0)) * swaying(t - 0.15) else null
+            val tNs = t0 + (t * 1e9).toLong()
+            screen.show(if (frame == 720) last(tNs, q, rv) else state(tNs, q, rv), 0, markers)
+        }
+        return a
+    }
+
+    private fun assertPlotReadable(a: android.app.Activity, plotId: Int, name: String) {
+        val plot = a.findViewById<AnglePlotView>(plotId)
+        val card = MaterialColors.getColor(plot, MaterialR.attr.colorSurfaceContainerHighest)
+        val colours = (0..2).map { plot.colour(it) }
+        assertEquals("$name: three plot colours", 3, colours.toSet().size)
+        for (c in colours) {
+            val contrast = ColorUtils.calculateContrast(c, card or 0xFF000000.toInt())
+            assertTrue("$name: plot colour ${Integer.toHexString(c)} on ${Integer.toHexString(card)}: contrast $contrast", contrast >= 3.0)
+        }
+    }
+
+    @Test
+    fun `live screen waiting for sensors`() {
+        for (dark in listOf(false, true)) {
+            configure(Shape.PHONE, dark)
+            val a = Robolectric.buildActivity(MainActivity::class.java).setup().get()
+            idle()
+            Screenshots.captureScreen(a, name("live-waiting", Shape.PHONE, dark))
+        }
+    }
+
+    @Test
+    fun `live screen moving, in every shape, light and dark`() {
+        for (shape in Shape.entries) for (dark in listOf(false, true)) {
+            val a = live(shape, dark)
+            val n = name("live-moving", shape, dark)
+            Screenshots.captureScreen(a, n)
+            assertPlotReadable(a, R.id.plot, n)
+            // The model, the instruments and the plot are on the screen the user sees first, at a usable size.
+            val screenH = a.window.decorView.height
+            for (id in listOf(R.id.phone_model, R.id.attitude, R.id.compass)) {
+                val v = a.findViewById<View>(id)
+                val at = IntArray(2).also(v::getLocationInWindow)
+                assertTrue("$n: ${a.resources.getResourceEntryName(id)} below the fold at ${at[1]}", at[1] + v.height / 2 < screenH)
+                assertTrue("$n: ${a.resources.getResourceEntryName(id)} ${v.width}×${v.height}", v.width >= 100 && v.height >= 100)
+            }
+        }
+    }
+
+    @Test
+    fun `live screen with magnetic warnings`() {
+        for (dark in listOf(false, true)) {
+            val a = live(Shape.PHONE, dark, last = { t, q, rv ->
+                state(t, q, rv, magAccuracy = SensorManager.SENSOR_STATUS_ACCURACY_LOW, fieldUt = 88.6, disturbed = true)
+            })
+            assertEquals(View.VISIBLE, a.findViewById<View>(R.id.mag_warning).visibility)
+            // Scrolled to the warning, as a user reading it would.
+            val warning = a.findViewById<View>(R.id.mag_warning)
+            Screenshots.captureScreen(a, name("live-mag-warning", Shape.PHONE, dark))
+            warning.requestRectangleOnScreen(android.graphics.Rect(0, 0, warning.width, warning.height), true)
+            Screenshots.captureScreen(a, name("live-mag-warning-scrolled", Shape.PHONE, dark))
+        }
+    }
+
+    @Test
+    fun `live screen without magnetometer`() {
+        val a = live(Shape.PHONE, false, ghost = false, last = { t, q, _ ->
+            state(t, q, null, mode = EffectiveMode(FusionMode.IMU, ModeReason.NO_MAGNETOMETER))
+        })
+        Screenshots.captureScreen(a, name("live-no-magnetometer", Shape.PHONE, false))
+    }
+
+    @Test
+    fun `live screen while recording, with markers`() {
+        val session = File(sessionsRoot(), "session_2026-12-01_18-40-00")
+        for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE)) for (dark in listOf(false, true)) {
+            graph.graph.recordings.set(RecordingState.Active(session, SystemClock.elapsedRealtime() - 83_000, rows = { 41_522L }))
+            val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
+            val a = live(shape, dark, markers)
+            Screenshots.captureScreen(a, name("live-recording", shape, dark))
+            // Scrolled to the plot, where the markers are.
+            val plot = a.findViewById<View>(R.id.plot)
+            plot.requestRectangleOnScreen(android.graphics.Rect(0, 0, plot.width, plot.height), true)
+            Screenshots.captureScreen(a, name("live-recording-plot", shape, dark))
+        }
+    }
+
+    // ---- Settings ----
+
+    @Test
+    fun `settings screen`() {
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
+            configure(shape, dark)
+            val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
+            idle()
+            Screenshots.captureScreen(a, name("settings", shape, dark))
+        }
+    }
+
+    // ---- Sessions ----
+
+    private fun summary(name: String, seconds: Long, hz: Double, wallMs: Long, recovered: Boolean = false): SessionSummary {
+        val rows = (seconds * hz).toLong()
+        return SessionSummary(
+            name = name, startWallClockMs = wallMs, durationNs = seconds * 1_000_000_000L, sizeBytes = rows * 210,
+            streams = listOf(
+                StreamSummary("accelerometer", rows, hz), StreamSummary("gyroscope", rows, hz),
+                StreamSummary("magnetometer", rows / 2, hz / 2), StreamSummary("rotation_vector", rows / 2, hz / 2),
+                StreamSummary("game_rotation_vector", rows / 2, hz / 2 - 0.4),
+            ),
+            fusedRows = rows, recovered = recovered,
+        )
+    }
+
+    @Test
+    fun `sessions list, empty and full`() {
+        for (dark in listOf(false, true)) {
+            configure(Shape.PHONE, dark)
+            val empty = Robolectric.buildActivity(SessionsActivity::class.java).setup().get()
+            idle()
+            assertEquals(View.VISIBLE, empty.findViewById<View>(R.id.sessions_empty).visibility)
+            Screenshots.captureScreen(empty, name("sessions-empty", Shape.PHONE, dark))
+        }
+        val root = sessionsRoot()
+        val items = listOf(
+            summary("walk to the station", 754, 200.0, 1_795_688_100_000L),
+            summary("session_2026-11-26_13-05-00", 62, 100.0, 1_795_698_300_000L, recovered = true),
+            summary("session_2026-11-26_09-15-00", 1830, 400.0, 1_795_684_500_000L),
+            summary("bike, handlebar mount", 2710, 200.0, 1_795_600_000_000L),
+        ).map { SessionsActivity.Item(File(root, it.name), it, null) } +
+            SessionsActivity.Item(File(root, "broken"), null, "meta.json:3:14: expected a number")
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.TABLET to false, Shape.LANDSCAPE to true)) {
+            configure(shape, dark)
+            val a = Robolectric.buildActivity(SessionsActivity::class.java).setup().get()
+            idle()
+            a.show(items)
+            Screenshots.captureScreen(a, name("sessions-list", shape, dark))
+            assertEquals(View.GONE, a.findViewById<View>(R.id.sessions_empty).visibility)
+        }
+    }
+
+    @Test
+    fun `session detail with angles, markers and rates`() {
+        val name = "walk to the station"
+        File(sessionsRoot(), name).mkdirs()
+        val n = 1500
+        val timeS = FloatArray(n) { it * 0.5f }
+        fun angles(f: (Double) -> Double) = FloatArray(n) { f(timeS[it].toDouble()).toFloat() }
+        val series = AngleSeries(
+            timeS,
+            angles { t -> ((40.0 + 0.4 * t + 30 * sin(t / 20)) + 180.0).mod(360.0) - 180.0 },
+            angles { t -> 10 * sin(t / 7) - 5 },
+            angles { t -> 25 * sin(t / 11) },
+            originNs = 2_000_000_000L,
+        )
+        val markers = listOf(
+            PlotMarker(2_000_000_000L + 60_000_000_000L, "leave home"),
+            PlotMarker(2_000_000_000L + 300_000_000_000L, "crossing"),
+            PlotMarker(2_000_000_000L + 700_000_000_000L, "platform"),
+        )
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
+            configure(shape, dark)
+            val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, name)
+            val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
+            idle()
+            a.show(summary(name, 754, 200.0, 1_795_688_100_000L), series, markers)
+            val png = name("session-detail", shape, dark)
+            Screenshots.captureScreen(a, png)
+            assertPlotReadable(a, R.id.detail_plot, png)
+        }
+    }
+}
