@@ -96,11 +96,11 @@ public enum class Initialisation {
  *   tolerances of its own running mean for this long is trusted as the new reference, s. 0 disables
  *   it (then only magMaxRejectionTime ends a rejection). Default 0.
  * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: at the
- *   start (a first reading taken in motion) and after a saturated gyroscope reading (gyroSaturation), once the accelerometer's magnitude has stayed within
- *   accNormTolerance of standard gravity for accTrustTime, the step gain is this instead of β (at most
- *   2× this rad/s of correction) until the accelerometer (low-passed with accLowPassTime) is within 1° of
- *   the estimated up, for at most
- *   10 s; then β again. 0 disables it. ≥ 0. Default 0.5 (up to 57°/s).
+ *   start (a first reading taken in motion) and after a saturated gyroscope reading (gyroSaturation),
+ *   once the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
+ *   accTrustTime, the step gain is this instead of β (at most 2× this rad/s of correction) until the
+ *   accelerometer (low-passed with accLowPassTime) is within 1° of the estimated up, for at most 10 s;
+ *   then β again. 0 disables it. ≥ 0. Default 0.5 (up to 57°/s).
  * @property accTrustTime see inclinationRecoveryBeta, s. Default 0.5 s.
  * @property accLowPassTime inclination from the accelerometer low-passed in a quasi-inertial frame, s:
  *   the readings, turned with the gyroscope into a frame fixed in space, are low-passed with this time

@@ -20,8 +20,8 @@
  * with neither: gyroscope integration. The report's equations hold exactly with
  * FilterSettings.report(). The additions decide which readings enter (magnetic disturbance,
  * accelerometer rejection, the accelerometer low-passed in a quasi-inertial frame), what bias is removed
- * (rest and motion bias estimates) and the gain of a step (inclination recovery after a saturated
- * gyroscope reading); with headingGain > 0 the magnetometer corrects heading in a step of its
+ * (rest and motion bias estimates) and the gain of a step (inclination recovery at the start and after
+ * a saturated gyroscope reading); with headingGain > 0 the magnetometer corrects heading in a step of its
  * own after the IMU step, instead of entering the report's MARG gradient.
  */
 package dev.motionfusion.core.filter
@@ -65,7 +65,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val accLowPassTime = settings.accLowPassTime
     private val gyroSaturation = settings.gyroSaturation
 
-    // Set by a saturated gyroscope reading, cleared once inclination has re-converged.
+    // Set at the start and by a saturated gyroscope reading, cleared once inclination has re-converged.
     private var inclinationOff = false
 
     // The accelerometer low-passed in a frame that turns with the gyroscope only (sensor-frame
@@ -222,7 +222,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         var cy = ay
         var cz = az
         if (accLowPassTime != 0.0) {
-            lowPassAcc(dt, x - wbx, y - wby, z - wbz, useAcc)
+            lowPassAcc(dt, x - wbx, y - wby, z - wbz, accOk)
             cx = lpx; cy = lpy; cz = lpz
         }
         if (recoveryBeta != 0.0) stepBeta = if (inclinationOff) recoveringBeta(dt, useAcc, cx, cy, cz) else beta
@@ -549,7 +549,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * (w_x, w_y, w_z), is first turned with it, v ← R(−ωΔt) v (Rodrigues' formula to fourth order in
      * |ω|Δt), then moved towards the reading with the time constant accLowPassTime. Gravity is fixed in
      * that frame and passes unchanged; linear acceleration, whose integral is a bounded velocity,
-     * averages out. Without a usable reading the low-pass stops; the next reading starts it again, and
+     * averages out. A reading the accelerometer rejection leaves out still enters the low-pass (the steps
+     * then do without it). Without a fresh reading the low-pass stops; the next reading starts it again, and
      * until accLowPassTime has passed since then the value is the mean of the readings since (turned
      * alike), so a start in motion is not held for long.
      */
