@@ -180,7 +180,10 @@ class ReplayCommandsTest {
         ))
         val ios = fusion("replay", p("logger-ios.zip"))
         assertEquals(ExitCode.OK, ios.code, ios.err)
-        assertSameReplay(reference, ios.out, 2e-5) // float rounding of the two parts differs from that of the sum
+        // Float rounding of the two parts differs from that of the sum. With the low-passed accelerometer (a
+        // default since accLowPassTime) the normalised gradient step sees an almost noise-free reading, so a
+        // rounding difference can flip its direction by one step (β·Δt = 1e-4): 2e-5 became 1e-4.
+        assertSameReplay(reference, ios.out, 1e-4)
 
         // Without TotalAcceleration.csv or Gravity.csv the export cannot be replayed, and says why.
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))

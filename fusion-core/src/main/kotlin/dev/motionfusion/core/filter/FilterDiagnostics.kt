@@ -26,6 +26,8 @@ import dev.motionfusion.core.Vector3
  *   than maxGap and therefore not used.
  * @property accelerometerRejections steps whose accelerometer reading was rejected.
  * @property magneticRejections steps whose magnetometer reading was rejected as disturbed.
+ * @property gyroscopeSaturations gyroscope readings with an axis at or beyond gyroSaturation (clipped
+ *   at the sensor's range), after which inclination and heading re-converge fast.
  */
 public data class FilterDiagnostics(
     val initialised: Boolean,
@@ -42,4 +44,5 @@ public data class FilterDiagnostics(
     val staleSamples: Long,
     val accelerometerRejections: Long,
     val magneticRejections: Long,
+    val gyroscopeSaturations: Long = 0,
 )

@@ -100,6 +100,8 @@ public object FilterSettingDescriptors {
         number("accMaxRejectionTime", "acc_max_rejection_time_s", "s", { it.accMaxRejectionTime }) { s, v -> s.copy(accMaxRejectionTime = v) },
         number("inclinationRecoveryBeta", "inclination_recovery_beta", "rad/s", { it.inclinationRecoveryBeta }, absent = 0.0) { s, v -> s.copy(inclinationRecoveryBeta = v) },
         number("accTrustTime", "acc_trust_time_s", "s", { it.accTrustTime }) { s, v -> s.copy(accTrustTime = v) },
+        number("accLowPassTime", "acc_low_pass_time_s", "s", { it.accLowPassTime }, absent = 0.0) { s, v -> s.copy(accLowPassTime = v) },
+        number("gyroSaturation", "gyro_saturation_rad_s", "rad/s", { it.gyroSaturation }, absent = 0.0) { s, v -> s.copy(gyroSaturation = v) },
         number("headingGain", "heading_gain_1_s", "1/s", { it.headingGain }, absent = 0.0) { s, v -> s.copy(headingGain = v) },
         number("headingRecoveryTime", "heading_recovery_time_s", "s", { it.headingRecoveryTime }, absent = 0.0) { s, v -> s.copy(headingRecoveryTime = v) },
         number("motionBiasGain", "motion_bias_gain_rad_s2", "rad/s²", { it.motionBiasGain }, absent = 0.0) { s, v -> s.copy(motionBiasGain = v) },

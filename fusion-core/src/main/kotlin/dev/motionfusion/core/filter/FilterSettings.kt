@@ -39,7 +39,8 @@ public enum class Initialisation {
  * @property mode 6D or 9D. Default [FilterMode.MARG].
  * @property beta β, gain of the normalised gradient step (eq. 42), rad/s: β = √(3/4)·ω̃_β (eq. 50)
  *   with ω̃_β the gyroscope measurement error; the correction turns the estimate at up to 2β rad/s.
- *   ≥ 0. Default 0.03 (ω̃_β ≈ 2°/s), possible because the bias estimates remove most gyroscope bias.
+ *   ≥ 0. Default 0.02 (ω̃_β ≈ 1.3°/s), possible because the bias estimates remove most gyroscope bias
+ *   and the low-passed accelerometer (accLowPassTime) has little noise left.
  * @property zeta ζ, gain of the report's gyroscope bias drift compensation (eq. 48), rad/s²:
  *   ζ = √(3/4)·ω̃_ζ (eq. 51) with ω̃_ζ the gyroscope drift rate. Acts in the report's MARG steps (headingGain 0), as in the report.
  *   0 disables it. ≥ 0. Default 0: on real data it hurts (docs/ACCURACY.md); the rest estimate
@@ -78,7 +79,7 @@ public enum class Initialisation {
  *   estimate turns about the vertical towards magnetic north at this fraction of the heading error
  *   per second (time constant 1/headingGain), and the accelerometer alone corrects inclination with
  *   β. 0 gives the report's MARG step, where one normalised gradient corrects both. ≥ 0. Default
- *   0.03 (33 s).
+ *   0.05 (20 s).
  * @property motionBiasGain gyroscope bias estimation during motion (needs headingGain > 0), rad/s
  *   per unit heading error and second: the heading error sin δ, a rate about the estimated vertical,
  *   is integrated into the bias (a PI observer), so a bias is learnt without rest. 0 disables it.
@@ -94,18 +95,30 @@ public enum class Initialisation {
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
  *   tolerances of its own running mean for this long is trusted as the new reference, s. 0 disables
  *   it (then only magMaxRejectionTime ends a rejection). Default 0.
- * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: once
- *   the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
- *   accTrustTime, and while its direction is further than accAngleTolerance from the estimated up,
- *   the step gain is this instead of β (at most 2× this rad/s of correction). 0 disables it. ≥ 0.
- *   Default 0.
+ * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: at the
+ *   start (a first reading taken in motion) and after a saturated gyroscope reading (gyroSaturation),
+ *   once the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
+ *   accTrustTime, the step gain is this instead of β (at most 2× this rad/s of correction) until the
+ *   accelerometer (low-passed with accLowPassTime) is within 1° of the estimated up, for at most 10 s;
+ *   then β again. 0 disables it. ≥ 0. Default 0.5 (up to 57°/s).
  * @property accTrustTime see inclinationRecoveryBeta, s. Default 0.5 s.
+ * @property accLowPassTime inclination from the accelerometer low-passed in a quasi-inertial frame, s:
+ *   the readings, turned with the gyroscope into a frame fixed in space, are low-passed with this time
+ *   constant and the correction steps use the result instead of the raw reading. Gravity is fixed in that
+ *   frame and passes; linear acceleration, whose integral (a velocity) stays bounded, averages out
+ *   (the idea of VQF, Laidig & Seel 2023). 0 disables it (the raw reading, as in the report). ≥ 0.
+ *   Default 5 s.
+ * @property gyroSaturation a gyroscope reading with an axis at or beyond this, rad/s, is taken as clipped
+ *   at the sensor's range: the low-passed accelerometer starts again, inclination recovery
+ *   (inclinationRecoveryBeta) is armed and fast heading convergence (headingRecoveryTime) starts again.
+ *   Set it just below the sensor's range (Android: Sensor.getMaximumRange()). 0 disables it. ≥ 0.
+ *   Default 34 rad/s, just below the ±2000°/s (34.9 rad/s) of most phones and IMUs.
  * @property maxGap longest accepted time between samples, s: a longer gyroscope gap is not
  *   integrated, and an accelerometer or magnetometer sample older than this is not used. Default 0.5 s.
  */
 public data class FilterSettings(
     val mode: FilterMode = FilterMode.MARG,
-    val beta: Double = 0.03,
+    val beta: Double = 0.02,
     val zeta: Double = 0.0,
     val initialisation: Initialisation = Initialisation.FIRST_SAMPLE,
     val restBiasEstimation: Boolean = true,
@@ -123,9 +136,11 @@ public data class FilterSettings(
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
     val accMaxRejectionTime: Double = 5.0,
-    val inclinationRecoveryBeta: Double = 0.0,
+    val inclinationRecoveryBeta: Double = 0.5,
     val accTrustTime: Double = 0.5,
-    val headingGain: Double = 0.03,
+    val accLowPassTime: Double = 5.0,
+    val gyroSaturation: Double = 34.0,
+    val headingGain: Double = 0.05,
     val headingRecoveryTime: Double = 10.0,
     val motionBiasGain: Double = 0.003,
     val motionBiasRestTime: Double = 300.0,
@@ -154,6 +169,8 @@ public data class FilterSettings(
         requireFinite("magNewFieldTime", magNewFieldTime, min = 0.0)
         requireFinite("inclinationRecoveryBeta", inclinationRecoveryBeta, min = 0.0)
         requirePositive("accTrustTime", accTrustTime)
+        requireFinite("accLowPassTime", accLowPassTime, min = 0.0)
+        requireFinite("gyroSaturation", gyroSaturation, min = 0.0)
         requirePositive("motionBiasLimit", motionBiasLimit)
         requireFinite("motionBiasRestTime", motionBiasRestTime, min = 0.0)
     }
@@ -178,6 +195,8 @@ public data class FilterSettings(
             headingRecoveryTime = 0.0,
             magNewFieldTime = 0.0,
             inclinationRecoveryBeta = 0.0,
+            accLowPassTime = 0.0,
+            gyroSaturation = 0.0,
         )
 
         private const val DEG = PI / 180.0

@@ -19,8 +19,9 @@
  * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
  * with neither: gyroscope integration. The report's equations hold exactly with
  * FilterSettings.report(). The additions decide which readings enter (magnetic disturbance,
- * accelerometer rejection), what bias is removed (rest and motion bias estimates) and the gain of a
- * step (inclination recovery); with headingGain > 0 the magnetometer corrects heading in a step of its
+ * accelerometer rejection, the accelerometer low-passed in a quasi-inertial frame), what bias is removed
+ * (rest and motion bias estimates) and the gain of a step (inclination recovery at the start and after
+ * a saturated gyroscope reading); with headingGain > 0 the magnetometer corrects heading in a step of its
  * own after the IMU step, instead of entering the report's MARG gradient.
  */
 package dev.motionfusion.core.filter
@@ -29,13 +30,15 @@ import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.WorldFrame
+import kotlin.math.abs
 import kotlin.math.sqrt
 
 /**
  * The Madgwick filter of the report (IMU and MARG gradient-descent updates, normalised gradient,
  * magnetic distortion compensation, gyroscope bias drift compensation ζ) with, as settings: a heading
  * correction apart from inclination, gyroscope bias estimation at rest and in motion, fast heading
- * convergence, magnetic disturbance rejection, accelerometer rejection and inclination recovery.
+ * convergence, magnetic disturbance rejection, accelerometer rejection, the accelerometer low-passed in a
+ * quasi-inertial frame, and gyroscope saturation with inclination recovery.
  *
  * Not thread-safe: call from one thread (e.g. the sensor HandlerThread). The update methods
  * allocate nothing.
@@ -59,7 +62,21 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val recoveryBeta = settings.inclinationRecoveryBeta
     private val accTrustTime = settings.accTrustTime
     private val accNormTolerance = settings.accNormTolerance
-    private val cosAccAngleTolerance = kotlin.math.cos(settings.accAngleTolerance)
+    private val accLowPassTime = settings.accLowPassTime
+    private val gyroSaturation = settings.gyroSaturation
+
+    // Set at the start and by a saturated gyroscope reading, cleared once inclination has re-converged.
+    private var inclinationOff = false
+
+    // The accelerometer low-passed in a frame that turns with the gyroscope only (sensor-frame
+    // coordinates, m/s²), the reading the correction steps use when accLowPassTime > 0.
+    private var lpx = 0.0
+    private var lpy = 0.0
+    private var lpz = 0.0
+    private var lpFresh = true
+
+    // Time since the low-pass started, s: until it reaches accLowPassTime the value is the mean since then.
+    private var lpTime = 0.0
 
     // β of the current step (β, or inclinationRecoveryBeta while inclination re-converges).
     private var stepBeta = beta
@@ -125,6 +142,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var staleSamples = 0L
     private var accRejections = 0L
     private var magRejections = 0L
+    private var saturations = 0L
 
     /** True once the filter has an orientation. Before that, [orientation] is the identity (of the output frame). */
     public val isInitialised: Boolean get() = initialised
@@ -173,6 +191,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val dt = gapNs * 1e-9
         steps++
         if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
+        if (gyroSaturation != 0.0 && (abs(x) >= gyroSaturation || abs(y) >= gyroSaturation || abs(z) >= gyroSaturation)) saturated()
 
         if (rest != null && rest.update(dt, x, y, z, accOk, ax, ay, az)) {
             // Mean of the readings since rest began, then a moving average over restBiasTime.
@@ -199,10 +218,17 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             if (!useMag) magRejections++
             if (magDetector.newReference) headingClock = 0.0
         }
-        if (recoveryBeta != 0.0) stepBeta = recoveringBeta(dt, useAcc)
+        var cx = ax
+        var cy = ay
+        var cz = az
+        if (accLowPassTime != 0.0) {
+            lowPassAcc(dt, x - wbx, y - wby, z - wbz, accOk)
+            cx = lpx; cy = lpy; cz = lpz
+        }
+        if (recoveryBeta != 0.0) stepBeta = if (inclinationOff) recoveringBeta(dt, useAcc, cx, cy, cz) else beta
         when {
-            useMag && headingGain == 0.0 -> margStep(dt, x, y, z, useAcc)
-            useAcc -> imuStep(dt, x, y, z)
+            useMag && headingGain == 0.0 -> margStep(dt, x, y, z, useAcc, cx, cy, cz)
+            useAcc -> imuStep(dt, x, y, z, cx, cy, cz)
             else -> gyroStep(dt, x, y, z)
         }
         if (useMag && headingGain != 0.0) {
@@ -212,7 +238,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             headingClock += dt
             val k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
             val sinDelta = headingStep(dt * k)
-            headingOff = kotlin.math.abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
+            headingOff = abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
             if (motionBiasGain != 0.0) motionBias(dt, sinDelta)
         }
     }
@@ -284,12 +310,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         staleSamples = staleSamples,
         accelerometerRejections = accRejections,
         magneticRejections = magRejections,
+        gyroscopeSaturations = saturations,
     )
 
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
         val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0, lpx, lpy, lpz, if (lpFresh) 1.0 else 0.0, if (inclinationOff) 1.0 else 0.0, lpTime)
         own.copyInto(d)
         var at = DOUBLES
         at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
@@ -297,7 +324,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accRejection?.writeState(d, at)
         val l = longArrayOf(
             accT, magT, lastT, firstAccT, flags(),
-            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections,
+            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations,
         )
         return FilterSnapshot(settings, d, l)
     }
@@ -313,6 +340,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         wbx = d[6]; wby = d[7]; wbz = d[8]
         ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
         headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]; headingOff = d[18] != 0.0
+        lpx = d[19]; lpy = d[20]; lpz = d[21]; lpFresh = d[22] != 0.0; inclinationOff = d[23] != 0.0; lpTime = d[24]
         var at = DOUBLES
         at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
         at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
@@ -322,7 +350,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val f = l[4]
         hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L
         steps = l[5]; skippedBeforeInit = l[6]; skippedNonFinite = l[7]; skippedZero = l[8]; skippedTimestamp = l[9]
-        skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]
+        skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]; saturations = l[14]
     }
 
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
@@ -376,6 +404,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             }
         }
         initialised = true
+        inclinationOff = true
         lastT = t
     }
 
@@ -384,7 +413,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * [withAcc] (a rejected accelerometer) the accelerometer's rows of f are left out: with b taken
      * from the estimate (eq. 46) the remaining gradient corrects heading only.
      */
-    private fun margStep(dt: Double, gx: Double, gy: Double, gz: Double, withAcc: Boolean) {
+    private fun margStep(dt: Double, gx: Double, gy: Double, gz: Double, withAcc: Boolean, ax: Double, ay: Double, az: Double) {
         var f1 = 0.0
         var f2 = 0.0
         var f3 = 0.0
@@ -418,7 +447,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     }
 
     /** The report's IMU update (eqs. 25–26, 34, 44, 12, 42–43); the report has no ζ here. */
-    private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double) {
+    private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double, ax: Double, ay: Double, az: Double) {
         val n = invSqrt(ax * ax + ay * ay + az * az)
         val f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
         val f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
@@ -457,24 +486,44 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     }
 
     /**
-     * Inclination recovery after violent motion (inclinationRecoveryBeta > 0): the accelerometer is
-     * trusted again once its magnitude has stayed within accNormTolerance of standard gravity for
-     * accTrustTime; while a trusted reading is further than accAngleTolerance from the estimated up,
-     * the step gain is inclinationRecoveryBeta, else β.
+     * A gyroscope reading clipped at the sensor's range (gyroSaturation): the rotation it integrates
+     * is short of the true one by an unknown amount, so the estimate can be off in any direction. The
+     * low-passed accelerometer (whose frame turned with that rotation) starts again from the next
+     * reading, inclination recovery is armed (inclinationRecoveryBeta) and fast heading convergence
+     * starts again (headingRecoveryTime).
      */
-    private fun recoveringBeta(dt: Double, withAcc: Boolean): Double {
+    private fun saturated() {
+        saturations++
+        lpFresh = true
+        inclinationOff = true
+        accTrusted = 0.0
+        headingClock = 0.0
+        headingOff = true
+    }
+
+    /**
+     * Inclination recovery after violent motion (inclinationRecoveryBeta > 0, armed at the start and by a
+     * saturated gyroscope reading): the accelerometer is trusted again once its magnitude has stayed
+     * within accNormTolerance of standard gravity for accTrustTime; then the step gain is
+     * inclinationRecoveryBeta until the reading the step uses (c, low-passed with accLowPassTime) is
+     * within 1° of the estimated up, for at most 10 s (linear acceleration may keep it further); then β
+     * again and the recovery is over.
+     */
+    private fun recoveringBeta(dt: Double, withAcc: Boolean, cx: Double, cy: Double, cz: Double): Double {
         if (!withAcc) {
             accTrusted = 0.0
             return beta
         }
         val n = sqrt(ax * ax + ay * ay + az * az)
-        if (kotlin.math.abs(n - STANDARD_GRAVITY) > accNormTolerance) {
+        if (abs(n - STANDARD_GRAVITY) > accNormTolerance) {
             accTrusted = 0.0
             return beta
         }
         accTrusted += dt
         if (accTrusted < accTrustTime) return beta
-        return if (ax * upX() + ay * upY() + az * upZ() < cosAccAngleTolerance * n) recoveryBeta else beta
+        if (accTrusted < accTrustTime + MAX_RECOVERY_TIME && cx * upX() + cy * upY() + cz * upZ() < COS_RECOVERY_DONE * sqrt(cx * cx + cy * cy + cz * cz)) return recoveryBeta
+        inclinationOff = false
+        return beta
     }
 
     /**
@@ -492,6 +541,48 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         wbx = (wbx + k * upX()).coerceIn(-biasLimit, biasLimit)
         wby = (wby + k * upY()).coerceIn(-biasLimit, biasLimit)
         wbz = (wbz + k * upZ()).coerceIn(-biasLimit, biasLimit)
+    }
+
+    /**
+     * The accelerometer low-passed in a quasi-inertial frame (beyond the report; accLowPassTime > 0):
+     * the held value, a vector fixed in a frame that turns with the bias-corrected gyroscope
+     * (w_x, w_y, w_z), is first turned with it, v ← R(−ωΔt) v (Rodrigues' formula to fourth order in
+     * |ω|Δt), then moved towards the reading with the time constant accLowPassTime. Gravity is fixed in
+     * that frame and passes unchanged; linear acceleration, whose integral is a bounded velocity,
+     * averages out. A reading the accelerometer rejection leaves out still enters the low-pass (the steps
+     * then do without it). Without a fresh reading the low-pass stops; the next reading starts it again, and
+     * until accLowPassTime has passed since then the value is the mean of the readings since (turned
+     * alike), so a start in motion is not held for long.
+     */
+    private fun lowPassAcc(dt: Double, wx: Double, wy: Double, wz: Double, withAcc: Boolean) {
+        if (!withAcc) {
+            lpFresh = true
+            return
+        }
+        if (lpFresh) {
+            lpx = ax; lpy = ay; lpz = az
+            lpFresh = false
+            lpTime = 0.0
+            return
+        }
+        val rx = wx * dt
+        val ry = wy * dt
+        val rz = wz * dt
+        val t2 = rx * rx + ry * ry + rz * rz
+        val s1 = 1.0 - t2 * (1.0 / 6.0) // sin θ / θ
+        val s2 = 0.5 - t2 * (1.0 / 24.0) // (1 − cos θ) / θ²
+        // r × v and r × (r × v), turned by −θ: v' = v − s1 (r × v) + s2 r × (r × v).
+        val cx = ry * lpz - rz * lpy
+        val cy = rz * lpx - rx * lpz
+        val cz = rx * lpy - ry * lpx
+        val vx = lpx - s1 * cx + s2 * (ry * cz - rz * cy)
+        val vy = lpy - s1 * cy + s2 * (rz * cx - rx * cz)
+        val vz = lpz - s1 * cz + s2 * (rx * cy - ry * cx)
+        val k = dt / (minOf(lpTime, accLowPassTime) + dt)
+        lpTime += dt
+        lpx = vx + k * (ax - vx)
+        lpy = vy + k * (ay - vy)
+        lpz = vz + k * (az - vz)
     }
 
     /** Gyroscope integration only (no usable accelerometer): eq. 12 with the bias removed. */
@@ -576,11 +667,15 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
 
     private companion object {
-        const val DOUBLES = 19
+        const val DOUBLES = 25
 
         /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
         val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)
         val SIN_RECOVERY_DONE = kotlin.math.sin(0.5 * Math.PI / 180.0)
+
+        /** Inclination recovery ends within 1° of the accelerometer, or after 10 s of acting. */
+        val COS_RECOVERY_DONE = kotlin.math.cos(1.0 * Math.PI / 180.0)
+        const val MAX_RECOVERY_TIME = 10.0
 
         /** 1/√x as √x · (1/x): the square root and the division run in parallel (shorter latency than 1/√x). */
         fun invSqrt(x: Double): Double = sqrt(x) * (1.0 / x)

@@ -51,7 +51,10 @@ class FilterSettingDescriptorsTest {
         val s = dev.motionfusion.core.session.MetadataJson.parse(json, "meta.json").filterSettings!!
         assertEquals(0.05, s.beta)
         assertTrue(s.magDisturbanceRejection)
-        assertEquals(listOf(0.0, 0.0, 0.0, 0.0), listOf(s.headingGain, s.headingRecoveryTime, s.motionBiasGain, s.magNewFieldTime))
+        assertEquals(
+            listOf(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            listOf(s.headingGain, s.headingRecoveryTime, s.motionBiasGain, s.magNewFieldTime, s.accLowPassTime, s.gyroSaturation),
+        )
         // A member that is present is taken as it is; one absent without a value of its time takes the default.
         assertEquals(FilterSettings().restMinTime, s.restMinTime)
         val back = dev.motionfusion.core.session.MetadataJson.settings(FilterSettings())
