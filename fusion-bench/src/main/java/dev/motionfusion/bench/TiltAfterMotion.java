@@ -5,7 +5,7 @@ import dev.motionfusion.core.input.Recording;
 import dev.motionfusion.core.replay.ReplayListener;
 import dev.motionfusion.core.replay.ReplayStep;
 import dev.motionfusion.core.replay.Replayer;
-import dev.motionfusion.core.session.SessionEvents;
+import dev.motionfusion.core.event.SensorEvents;
 import dev.motionfusion.core.session.SessionStream;
 
 import java.nio.file.Paths;
@@ -43,7 +43,7 @@ public final class TiltAfterMotion {
             double[] sum = new double[to - from];
             int[] count = new int[to - from];
             try (Recording rec = Recording.Companion.open(Paths.get(path), new dev.motionfusion.core.input.ImportOptions());
-                 SessionEvents events = rec.events(rec.getStreams())) {
+                 SensorEvents events = rec.events(rec.getStreams())) {
                 new Replayer(TuneFilter.parse(spec)).run(events, rec.getOriginNs(), new ReplayListener() {
                     @Override
                     public void step(ReplayStep step) {

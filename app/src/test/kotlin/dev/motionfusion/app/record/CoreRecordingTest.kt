@@ -98,19 +98,17 @@ class CoreRecordingTest {
         return recorder to c
     }
 
-    /** The filter run again on the written raw streams, merged by timestamp as `fusion replay` does. */
     /**
-     * [asFloat]: the CSV's values rounded to float, as the live filter saw them (SensorEvent
-     * values are floats; the reader parses the shortest decimal of each float into the nearest
-     * double, which differs from the float by up to half a float ulp).
+     * The filter run again on the written raw streams, merged by timestamp as `fusion replay`
+     * does; the reader gives each value as the float it was written from, as the live filter saw it.
      */
-    private fun replayOrientation(reader: SessionReader, settings: FilterSettings = FilterSettings(), asFloat: Boolean = true): List<Pair<Long, DoubleArray>> {
+    private fun replayOrientation(reader: SessionReader, settings: FilterSettings = FilterSettings()): List<Pair<Long, DoubleArray>> {
         val filter = MadgwickFilter(settings)
         val out = ArrayList<Pair<Long, DoubleArray>>()
         val v = DoubleArray(3)
         reader.events(setOf(SessionStream.ACCELEROMETER, SessionStream.MAGNETOMETER, SessionStream.GYROSCOPE)).use { e ->
             while (e.next()) {
-                for (k in 0..2) v[k] = if (asFloat) e.values[k].toFloat().toDouble() else e.values[k]
+                for (k in 0..2) v[k] = e.values[k]
                 when (e.stream) {
                     SessionStream.ACCELEROMETER -> filter.updateAccelerometer(e.timestampNs, v[0], v[1], v[2])
                     SessionStream.MAGNETOMETER -> filter.updateMagnetometer(e.timestampNs, v[0], v[1], v[2])
@@ -157,11 +155,9 @@ class CoreRecordingTest {
             val worst = live.indices.maxOf { angleDeg(live[it].second, replay[it].second) }
             val viaMeta = replayOrientation(r, r.metadata.filterSettings!!)
             val worstMeta = live.indices.maxOf { angleDeg(live[it].second, viaMeta[it].second) }
-            val asDouble = replayOrientation(r, asFloat = false)
-            val worstDouble = live.indices.maxOf { angleDeg(live[it].second, asDouble[it].second) }
             println(
-                "export: live vs replay of the zip over ${live.size} steps: worst %.2e° (meta.json's filter settings: %.2e°; values read as double, not float: %.2e°)"
-                    .format(worst, worstMeta, worstDouble),
+                "export: live vs replay of the zip over ${live.size} steps: worst %.2e° (meta.json's filter settings: %.2e°)"
+                    .format(worst, worstMeta),
             )
             assertTrue(worstMeta < 1e-4, "with the settings in meta.json: $worstMeta°")
             // The replay engine of `fusion replay` on the zip itself.
@@ -180,7 +176,6 @@ class CoreRecordingTest {
             val worstCli = live.indices.maxOf { angleDeg(live[it].second, cli[it]) }
             println("export: fusion replay's engine on the zip vs live: worst %.2e°".format(worstCli))
             assertTrue(worstCli < 1e-4, "fusion replay: $worstCli°")
-            assertTrue(worstDouble < 1e-4, "read as doubles: $worstDouble°")
             // The live output is stored as float: agreement to float precision, not a coarse tolerance.
             assertTrue(worst < 1e-4, "worst difference $worst°")
             // And the recording is a real motion: orientation changes by far more than that.

@@ -145,7 +145,12 @@ internal class SessionCsvCursor(
             timestampNs = csv.parseLong(field)
             for (k in valueIndex.indices) {
                 field = valueIndex[k]
-                values[k] = csv.parseDouble(field, emptyIsNaN = stream == SessionStream.ROTATION_VECTOR && k == 4)
+                // Values are 32-bit floats written as their shortest decimal (docs/SESSION_FORMAT.md): taken as that
+                // float, the replay sees exactly what the phone's filter saw, not the nearest double of the decimal.
+                val d = csv.parseDouble(field, emptyIsNaN = stream == SessionStream.ROTATION_VECTOR && k == 4)
+                val f = d.toFloat()
+                if (f.isInfinite() && !d.isInfinite()) throw FieldError("$d is outside the 32-bit float range of session values")
+                values[k] = f.toDouble()
             }
             if (accuracyIndex >= 0) {
                 field = accuracyIndex
