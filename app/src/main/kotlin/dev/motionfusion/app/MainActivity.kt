@@ -55,7 +55,7 @@ class MainActivity : AppCompatActivity() {
         setContentView(R.layout.activity_main)
         fitToSystemBars(findViewById(R.id.live_root))
         setSupportActionBar(findViewById(R.id.toolbar))
-        screen = LiveScreen(this, model.sensorInfo)
+        screen = LiveScreen(this, model.sensorInfo, model.plotTrace)
         RecordBar.attach(this, findViewById(R.id.record_bar))
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { requestFrame() } }

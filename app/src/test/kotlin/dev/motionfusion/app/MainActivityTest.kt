@@ -14,6 +14,7 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertNotNull
@@ -336,7 +337,7 @@ class MainActivityTest {
     fun `a settings change reaches the running filter and the screen`() {
         val c = start(acc, gyro, mag)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
-        graph.graph.settingsRepository.update(LiveSettings(mode = FilterMode.IMU, beta = 0.2))
+        graph.graph.settingsRepository.update(LiveSettings(filter = FilterSettings(mode = FilterMode.IMU, beta = 0.2)))
         frame()
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
         val a = c.get()
@@ -345,7 +346,7 @@ class MainActivityTest {
         assertEquals(a.getString(R.string.mode_imu_chosen), a.text(R.id.mode_explanation))
         // Persisted for the next start of the app.
         val prefs = RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE)
-        assertEquals(LiveSettings(mode = FilterMode.IMU, beta = 0.2), SettingsStore(prefs).load())
+        assertEquals(LiveSettings(filter = FilterSettings(mode = FilterMode.IMU, beta = 0.2)), SettingsStore(prefs).load())
         assertNotNull(a.text(R.id.yaw))
     }
 

@@ -1,23 +1,27 @@
 package dev.motionfusion.app
 
+import android.content.Context
 import android.hardware.Sensor
 import android.hardware.SensorManager
-import android.widget.EditText
-import android.widget.RadioGroup
-import android.widget.CompoundButton
 import android.view.View
-import com.google.android.material.slider.Slider
+import android.widget.Button
+import android.widget.CompoundButton
 import android.widget.TextView
+import com.google.android.material.chip.Chip
+import com.google.android.material.chip.ChipGroup
+import com.google.android.material.slider.Slider
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.app.settings.Setting
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.SettingKind
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
-import org.junit.Assert.assertNotNull
-import org.junit.Assert.assertNull
 import org.junit.Assert.assertTrue
 import org.junit.Before
 import org.junit.Test
@@ -29,7 +33,7 @@ import org.robolectric.Shadows.shadowOf
 import org.robolectric.annotation.GraphicsMode
 import org.robolectric.shadows.SensorBuilder
 
-/** The settings screen: shows the settings in force, validates, persists and applies. */
+/** The settings screen: every setting of the core table, shows the settings in force, persists and applies. */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
 class SettingsActivityTest {
@@ -41,54 +45,126 @@ class SettingsActivityTest {
         }
     }
 
-    private fun SettingsActivity.slider(setting: Int): Slider = findViewById<View>(setting).findViewById(R.id.setting_slider)
+    private fun SettingsActivity.slider(key: String): Slider = row(key).findViewById(R.id.setting_slider)
+    private fun SettingsActivity.switch(key: String): CompoundButton = row(key).findViewById(R.id.setting_switch)
+    private fun SettingsActivity.text(key: String, id: Int): String = row(key).findViewById<TextView>(id).text.toString()
+    private fun SettingsActivity.checkedChoice(key: String): String {
+        val g = row(key).findViewById<ChipGroup>(R.id.setting_choices)
+        return g.findViewById<Chip>(g.checkedChipId).tag as String
+    }
+    private fun SettingsActivity.choose(key: String, choice: String) {
+        val g = row(key).findViewById<ChipGroup>(R.id.setting_choices)
+        (0 until g.childCount).map { g.getChildAt(it) as Chip }.first { it.tag == choice }.performClick()
+    }
 
     private fun store() = SettingsStore(RuntimeEnvironment.getApplication())
+    private fun start() = Robolectric.buildActivity(SettingsActivity::class.java).setup()
+
+    @Test
+    fun `every filter setting of the core table has a row with its unit and default`() {
+        val a = start().get()
+        val shown = FilterSettingDescriptors.all.filter { it.name != "outputFrame" }
+        for (d in shown) {
+            val row = a.row(d.jsonKey)
+            assertEquals(d.title, (row.findViewById<TextView>(R.id.setting_name) ?: row.findViewById<TextView>(R.id.setting_switch)).text.toString())
+            if (d.kind == SettingKind.NUMBER) {
+                val value = a.text(d.jsonKey, R.id.setting_value)
+                if (!(d.zeroDisables && d.default == 0.0)) assertTrue("${d.name}: '$value' lacks ${d.unit}", value.contains(d.unit))
+                // The default is marked, and the value shown is the default's.
+                assertTrue("${d.name}: ${a.text(d.jsonKey, R.id.setting_help)}", a.text(d.jsonKey, R.id.setting_help).startsWith("Default"))
+                assertEquals(d.name, (d.default as Double).toFloat(), a.slider(d.jsonKey).value, 1e-6f)
+                assertEquals(d.name, d.zeroDisables, a.switch(d.jsonKey).visibility == View.VISIBLE)
+                assertFalse("${d.name}: reset enabled at the default", a.row(d.jsonKey).findViewById<Button>(R.id.setting_reset).isEnabled)
+            }
+        }
+        assertEquals(shown.size + Setting.APP.size, Setting.ALL.size)
+        assertEquals("0.02 rad/s (1.1°/s)", a.text("beta", R.id.setting_value))
+    }
 
     @Test
     fun `the form shows the stored settings`() {
-        store().save(LiveSettings(beta = 0.07, mode = FilterMode.IMU, convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
-        val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        assertEquals(0.07f, a.slider(R.id.beta_setting).value, 1e-6f)
-        assertEquals("0.07 rad/s", a.findViewById<View>(R.id.beta_setting).findViewById<TextView>(R.id.setting_value).text.toString())
-        assertFalse(a.findViewById<CompoundButton>(R.id.nine_d).isChecked)
-        assertEquals(R.id.convention_aerospace, a.findViewById<RadioGroup>(R.id.convention).checkedRadioButtonId)
-        assertEquals(R.id.rate_game, a.findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId)
-        Screenshots.capture(a, "settings")
+        store().save(LiveSettings(filter = FilterSettings(beta = 0.07, mode = FilterMode.IMU, gyroSaturation = 0.0), convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
+        val a = start().get()
+        assertEquals(0.07f, a.slider("beta").value, 1e-6f)
+        assertEquals("0.07 rad/s (4.0°/s)", a.text("beta", R.id.setting_value))
+        assertEquals("IMU", a.checkedChoice("mode"))
+        assertEquals("AEROSPACE", a.checkedChoice("convention"))
+        assertEquals("game", a.checkedChoice("rate"))
+        assertFalse(a.switch("gyro_saturation_rad_s").isChecked)
+        assertFalse(a.slider("gyro_saturation_rad_s").isEnabled)
+        assertEquals("off", a.text("gyro_saturation_rad_s", R.id.setting_value))
     }
 
     @Test
-    fun `invalid entries are marked and nothing is saved`() {
-        val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        a.findViewById<RadioGroup>(R.id.rate).check(R.id.rate_hz)
-        a.findViewById<EditText>(R.id.rate_hz_value).setText("0")
-        assertFalse(a.apply())
-        assertNotNull(a.findViewById<EditText>(R.id.rate_hz_value).error)
-        assertNull(a.findViewById<View>(R.id.beta_setting).findViewById<TextView>(R.id.setting_help).error)
-        assertEquals(a.getString(R.string.settings_invalid), a.findViewById<TextView>(R.id.settings_message).text.toString())
-        assertEquals(LiveSettings(), store().load())
-        Screenshots.capture(a, "settings-invalid")
-    }
-
-    @Test
-    fun `valid entries are persisted and change the filter`() {
-        val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
-        a.slider(R.id.beta_setting).value = 0.1f
-        a.slider(R.id.zeta_setting).value = 0.01f
-        a.findViewById<CompoundButton>(R.id.nine_d).isChecked = false
-        a.findViewById<CompoundButton>(R.id.acc_rejection).isChecked = true
-        a.findViewById<RadioGroup>(R.id.rate).check(R.id.rate_hz)
-        a.findViewById<EditText>(R.id.rate_hz_value).setText("400")
-        assertTrue(a.apply())
-        val expected = LiveSettings(beta = 0.1, zeta = 0.01, mode = FilterMode.IMU, accRejection = true, rate = SamplingRate.Hz(400))
+    fun `sliders, switches and choices are persisted and change the filter`() {
+        val a = start().get()
+        a.slider("beta").value = 0.1f
+        a.switch("zeta").isChecked = true // off by default: on gives a tenth of its range
+        a.switch("heading_gain_1_s").isChecked = false
+        a.row("acc_rejection").findViewById<CompoundButton>(R.id.setting_switch).isChecked = true
+        a.choose("mode", "IMU")
+        a.choose("rate", "hz:400")
+        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        a.findViewById<View>(R.id.apply).performClick()
+        val expected = LiveSettings(
+            filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = 0.0, mode = FilterMode.IMU, accRejection = true),
+            rate = SamplingRate.Hz(400),
+        )
         assertEquals(expected, store().load())
         val graph = (a.application as MotionFusionApp).graph
         assertEquals(expected, graph.settingsRepository.settings.value)
-        org.robolectric.Shadows.shadowOf(android.os.Looper.getMainLooper()).idle()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
         val fs = graph.capture.filterSettingsInUse()
         assertEquals(0.1, fs.beta, 0.0)
-        assertEquals(0.01, fs.zeta, 0.0)
+        assertEquals(0.005, fs.zeta, 0.0)
+        assertEquals(0.0, fs.headingGain, 0.0)
         assertEquals(FilterMode.IMU, fs.mode)
         assertTrue(fs.accRejection)
+        assertEquals(a.getString(R.string.settings_saved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        // Turned on again, a setting gets back the value it had.
+        a.switch("heading_gain_1_s").isChecked = true
+        assertEquals(0.05f, a.slider("heading_gain_1_s").value, 1e-6f)
+    }
+
+    @Test
+    fun `reset puts one setting back, Defaults all of them`() {
+        val a = start().get()
+        a.slider("beta").value = 0.3f
+        a.slider("rest_min_time_s").value = 4f
+        val reset = a.row("beta").findViewById<Button>(R.id.setting_reset)
+        assertTrue(reset.isEnabled)
+        reset.performClick()
+        assertEquals(0.02f, a.slider("beta").value, 1e-6f)
+        assertEquals(4f, a.slider("rest_min_time_s").value, 1e-6f)
+        a.findViewById<View>(R.id.reset).performClick()
+        assertEquals(1.5f, a.slider("rest_min_time_s").value, 1e-6f)
+        assertFalse(a.findViewById<View>(R.id.apply).isEnabled)
+    }
+
+    @Test
+    fun `an edit not yet applied survives a rotation`() {
+        val c = start()
+        c.get().slider("beta").value = 0.25f
+        c.recreate()
+        val a = c.get()
+        assertEquals(0.25f, a.slider("beta").value, 1e-6f)
+        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertEquals(LiveSettings(), store().load())
+    }
+
+    @Test
+    fun `a damaged or older settings file loses nothing it can read`() {
+        val prefs = RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE)
+        // The first settings screen stored flags as booleans under shorter keys.
+        prefs.edit().putString("beta", "0.04").putString("zeta", "NaN").putBoolean("rest_bias", false).putBoolean("acc_rejection", true)
+            .putString("rest_min_time_s", "-3").putString("rate", "hz:137").putString("mode", "6D").commit()
+        val s = store().load()
+        assertEquals(LiveSettings(filter = FilterSettings(beta = 0.04, restBiasEstimation = false, accRejection = true), rate = SamplingRate.Hz(137)), s)
+        // A rate outside the offered choices is still offered and shown.
+        val a = start().get()
+        assertEquals("hz:137", a.checkedChoice("rate"))
+        store().save(s)
+        assertEquals(s, store().load())
+        assertFalse(prefs.contains("rest_bias"))
     }
 }

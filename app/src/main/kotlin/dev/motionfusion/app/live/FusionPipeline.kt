@@ -3,6 +3,7 @@ package dev.motionfusion.app.live
 import dev.motionfusion.app.sensor.RateMeter
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSample
+import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationArrays
 import dev.motionfusion.core.filter.FilterMode
@@ -51,8 +52,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
 
     // 6D: rotation about up applied to the filter's output so that the relative heading starts at 0.
     private var hasYawOffset = false
-    private var yawOffsetW = 1.0
-    private var yawOffsetZ = 0.0
+    private var yawOffset = 0.0
 
     /**
      * Applies new settings. The filter is rebuilt (and restarts from the next samples) only when
@@ -60,7 +60,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
      */
     fun reconfigure(newSettings: LiveSettings) {
         val newMode = effectiveMode(available, newSettings.mode)
-        val filterChanged = newSettings.filterSettings() != settings.filterSettings() || newMode != mode
+        val filterChanged = newSettings.filter != settings.filter || newMode != mode
         settings = newSettings
         mode = newMode
         if (filterChanged) restartFilter()
@@ -165,7 +165,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     }
 
     private fun newFilter(): MadgwickFilter {
-        val fs = settings.filterSettings()
+        val fs = settings.filter
         // 9D requested without a magnetometer: the filter runs 6D.
         return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
     }
@@ -191,27 +191,15 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     /**
      * 6D has no north: the filter starts with the device's x axis towards its x ("north"), so the
      * first heading would be an arbitrary number. Turn the output about up by the first azimuth
-     * ψ (q ← [cos ψ/2, 0, 0, sin ψ/2] ⊗ q) so that the relative heading starts at 0; tilt is
-     * unchanged.
+     * ψ (fusion-core's [Orientations.azimuth]; q ← [Orientations.removeHeading] by −ψ, the azimuth
+     * counting towards east, i.e. about −z) so that the relative heading starts at 0; tilt is unchanged.
      */
     private fun relativeHeading() {
         if (!hasYawOffset) {
-            // Azimuth of the device's y axis: atan2(R01, R11) of q's matrix.
-            val r01 = 2.0 * (q[1] * q[2] - q[0] * q[3])
-            val r11 = 1.0 - 2.0 * (q[1] * q[1] + q[3] * q[3])
-            val psi = kotlin.math.atan2(r01, r11)
-            yawOffsetW = kotlin.math.cos(psi / 2)
-            yawOffsetZ = kotlin.math.sin(psi / 2)
+            yawOffset = Orientations.azimuth(q)
             hasYawOffset = true
         }
-        val w = q[0]
-        val x = q[1]
-        val y = q[2]
-        val z = q[3]
-        q[0] = yawOffsetW * w - yawOffsetZ * z
-        q[1] = yawOffsetW * x - yawOffsetZ * y
-        q[2] = yawOffsetW * y + yawOffsetZ * x
-        q[3] = yawOffsetW * z + yawOffsetZ * w
+        Orientations.removeHeading(q, -yawOffset)
     }
 
     private fun accMag() {

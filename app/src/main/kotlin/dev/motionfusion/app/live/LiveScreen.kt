@@ -9,6 +9,7 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.ui.AnglePlotView
+import dev.motionfusion.app.ui.AngleTrace
 import dev.motionfusion.app.ui.AttitudeIndicatorView
 import dev.motionfusion.app.ui.CompassView
 import dev.motionfusion.app.ui.PhoneModelView
@@ -23,7 +24,7 @@ import java.util.Locale
  * per-sensor status. Called on the main thread once per display frame when the state changed;
  * the state may come from anywhere (the engine, or a test's hand-made one).
  */
-class LiveScreen(private val activity: Activity, private val sensorInfo: Map<SensorKind, SensorInfo>) {
+class LiveScreen(private val activity: Activity, private val sensorInfo: Map<SensorKind, SensorInfo>, plotTrace: AngleTrace = AngleTrace()) {
     private fun text(id: Int): TextView = activity.findViewById(id)
 
     private val yaw = text(R.id.yaw)
@@ -46,7 +47,6 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
     private val filterBias = text(R.id.filter_bias)
     private val sensorList: LinearLayout = activity.findViewById(R.id.sensor_list)
     private val sensorRows = EnumMap<SensorKind, TextView>(SensorKind::class.java)
-    private var lastPlotT = Long.MIN_VALUE
 
     init {
         sensorList.removeAllViews()
@@ -57,6 +57,7 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
             sensorRows[kind] = row
         }
         plot.emptyText = activity.getString(R.string.waiting_for_samples)
+        plot.trace = plotTrace
     }
 
     /** Shows [s] for the display rotation [displayRotation] (Surface.ROTATION_*), with [markers] on the plot (sample clock). */
@@ -97,10 +98,9 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
             ui.headingQuality == HeadingQuality.RELATIVE -> activity.getString(R.string.compass_relative_description, heading(h))
             else -> activity.getString(R.string.compass_description, heading(h))
         }
-        if (a != null && s.timestampNs != lastPlotT) {
+        if (a != null) {
             val g = ui.rotationVectorAngles
             plot.append(s.timestampNs, a.yaw, a.pitch, a.roll, g?.yaw ?: Double.NaN, g?.pitch ?: Double.NaN, g?.roll ?: Double.NaN)
-            lastPlotT = s.timestampNs
         }
         plot.setMarkers(markers)
 
@@ -181,13 +181,7 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         return "$head\n$rates\n$values"
     }
 
-    private fun requested(r: SamplingRate): String = when (r) {
-        SamplingRate.Delay.FASTEST -> activity.getString(R.string.settings_rate_fastest)
-        SamplingRate.Delay.GAME -> activity.getString(R.string.settings_rate_game)
-        SamplingRate.Delay.UI -> activity.getString(R.string.settings_rate_ui)
-        SamplingRate.Delay.NORMAL -> activity.getString(R.string.settings_rate_normal)
-        is SamplingRate.Hz -> String.format(Locale.ROOT, "%d Hz", r.hz)
-    }
+    private fun requested(r: SamplingRate): String = r.label
 
     private fun deg(v: Double): String = activity.getString(R.string.angle_deg, displayDegrees(v))
     private fun heading(v: Double): String = activity.getString(R.string.angle_deg, displayHeading(v))

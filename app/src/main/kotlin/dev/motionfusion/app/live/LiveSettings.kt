@@ -3,6 +3,7 @@ package dev.motionfusion.app.live
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.WorldFrame
 
 /** How angles are shown. */
 enum class AngleConvention {
@@ -23,43 +24,24 @@ enum class AngleConvention {
 }
 
 /**
- * Everything the live screen's settings decide, validated: the user-editable part of the
- * filter settings ([beta], [zeta] in the units of [FilterSettings]; [mode] 6D/9D; rest bias
- * estimation; magnetic disturbance and accelerometer rejection), the angle convention and the
- * requested sensor rate. The rest of [FilterSettings] keeps its defaults.
+ * Everything the settings decide, validated: the whole [FilterSettings] (its own type checks
+ * every value; the output frame stays ENU, the frame the app shows and records), the angle
+ * convention and the requested sensor rate. One object for the live filter, the recorder (its
+ * meta.json) and the settings screen; [dev.motionfusion.app.settings.Setting] lists its values.
  */
 data class LiveSettings(
-    val beta: Double = DEFAULT_FILTER.beta,
-    val zeta: Double = DEFAULT_FILTER.zeta,
-    val mode: FilterMode = DEFAULT_FILTER.mode,
-    val restBiasEstimation: Boolean = DEFAULT_FILTER.restBiasEstimation,
-    val magDisturbanceRejection: Boolean = DEFAULT_FILTER.magDisturbanceRejection,
-    val accRejection: Boolean = DEFAULT_FILTER.accRejection,
+    val filter: FilterSettings = DEFAULT_FILTER,
     val convention: AngleConvention = AngleConvention.ANDROID,
     val rate: SamplingRate = SamplingRate.Hz(100),
 ) {
     init {
-        require(beta.isFinite() && beta in 0.0..MAX_BETA) { "β must be 0..$MAX_BETA, got $beta" }
-        require(zeta.isFinite() && zeta in 0.0..MAX_ZETA) { "ζ must be 0..$MAX_ZETA, got $zeta" }
+        require(filter.outputFrame == WorldFrame.ENU) { "the app's filter outputs device → ENU, got ${filter.outputFrame}" }
     }
 
-    /** The filter settings these stand for (fusion-core validates them too). */
-    fun filterSettings(): FilterSettings = DEFAULT_FILTER.copy(
-        beta = beta,
-        zeta = zeta,
-        mode = mode,
-        restBiasEstimation = restBiasEstimation,
-        magDisturbanceRejection = magDisturbanceRejection,
-        accRejection = accRejection,
-    )
+    /** 6D or 9D, as requested (the capture falls back to 6D without magnetometer). */
+    val mode: FilterMode get() = filter.mode
 
     companion object {
         val DEFAULT_FILTER = FilterSettings()
-
-        /** Upper bound for β, 1/s: far above any useful gain (β = 1 already follows the accelerometer within a second). */
-        const val MAX_BETA = 5.0
-
-        /** Upper bound for ζ, rad/s. */
-        const val MAX_ZETA = 1.0
     }
 }

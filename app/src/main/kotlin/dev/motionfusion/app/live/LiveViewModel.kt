@@ -4,11 +4,13 @@ import androidx.lifecycle.ViewModel
 import androidx.lifecycle.ViewModelProvider
 import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.ui.AngleTrace
 import kotlinx.coroutines.flow.StateFlow
 
 /**
  * The live screen's state: the application's [Capture], which survives configuration changes
- * (it belongs to the application, not to the activity), held while the screen is visible.
+ * (it belongs to the application, not to the activity), held while the screen is visible, and the
+ * plot's last 10 s ([plotTrace]), which a new activity after a rotation draws on.
  */
 class LiveViewModel(private val capture: Capture) : ViewModel() {
     /** The latest fusion result, published by the capture thread. */
@@ -16,6 +18,9 @@ class LiveViewModel(private val capture: Capture) : ViewModel() {
 
     /** Name, vendor and limits of each sensor the device has. */
     val sensorInfo: Map<SensorKind, SensorInfo> get() = capture.sensorInfo
+
+    /** The live plot's history, kept across configuration changes (main thread only). */
+    val plotTrace = AngleTrace()
 
     private var visible = false
 

@@ -1,12 +1,11 @@
 package dev.motionfusion.app.live
 
 import dev.motionfusion.core.AerospaceAngles
+import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationMatrix
-import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.sensormanager.androidOrientation
 import dev.motionfusion.core.sensormanager.remapForDisplayRotation
-import kotlin.math.acos
 
 /**
  * Three angles in degrees as shown: [yaw] (Android azimuth or aerospace yaw, 0..360),
@@ -50,19 +49,15 @@ object Readout {
      */
     fun attitude(q: Quaternion, displayRotation: Int): DisplayAngles = angles(q, displayRotation, AngleConvention.AEROSPACE)
 
-    /** The angle of the rotation between two orientations, degrees, 0..180. */
-    fun angleBetweenDeg(a: Quaternion, b: Quaternion): Double = Math.toDegrees(a.normalized().angleTo(b.normalized()))
+    /** The angle of the rotation between two orientations, degrees, 0..180 (fusion-core's [Orientations.error], total). */
+    fun angleBetweenDeg(a: Quaternion, b: Quaternion): Double = Math.toDegrees(Orientations.error(a.normalized(), b.normalized()).total)
 
     /**
      * The angle between the up directions of two orientations (device → world), degrees,
      * 0..180: their difference in tilt alone, blind to heading (meaningful in 6D, where the
-     * heading is arbitrary).
+     * heading is arbitrary); [Orientations.error]'s inclination.
      */
-    fun tiltBetweenDeg(a: Quaternion, b: Quaternion): Double {
-        val ua = a.normalized().inverseRotate(Vector3.UNIT_Z)
-        val ub = b.normalized().inverseRotate(Vector3.UNIT_Z)
-        return Math.toDegrees(acos((ua dot ub).coerceIn(-1.0, 1.0)))
-    }
+    fun tiltBetweenDeg(a: Quaternion, b: Quaternion): Double = Math.toDegrees(Orientations.error(a.normalized(), b.normalized()).inclination)
 
     /** [deg] in [0, 360): a tiny negative angle becomes 0, not a 360 rounded up from 360 − 1e-14. */
     fun wrap360(deg: Double): Double {

@@ -15,12 +15,15 @@ sealed interface SamplingRate {
     /** A stable text for storage ("fastest", "game", "ui", "normal" or "hz:123"). */
     val key: String
 
+    /** What the screens call it: "Game (50 Hz)", "100 Hz". */
+    val label: String
+
     /** Android's named delays with their SENSOR_DELAY_* constants and nominal periods. */
-    enum class Delay(override val registerArgument: Int, override val nominalPeriodUs: Int, override val key: String) : SamplingRate {
-        FASTEST(0, 0, "fastest"),
-        GAME(1, 20_000, "game"),
-        UI(2, 66_667, "ui"),
-        NORMAL(3, 200_000, "normal"),
+    enum class Delay(override val registerArgument: Int, override val nominalPeriodUs: Int, override val key: String, override val label: String) : SamplingRate {
+        FASTEST(0, 0, "fastest", "Fastest"),
+        GAME(1, 20_000, "game", "Game (50 Hz)"),
+        UI(2, 66_667, "ui", "UI (15 Hz)"),
+        NORMAL(3, 200_000, "normal", "Normal (5 Hz)"),
     }
 
     /** A rate in Hz, [MIN_HZ]..[MAX_HZ], requested as the period 10⁶/hz µs. */
@@ -32,6 +35,7 @@ sealed interface SamplingRate {
         override val registerArgument: Int get() = 1_000_000 / hz
         override val nominalPeriodUs: Int get() = 1_000_000 / hz
         override val key: String get() = "hz:$hz"
+        override val label: String get() = "$hz Hz"
     }
 
     companion object {

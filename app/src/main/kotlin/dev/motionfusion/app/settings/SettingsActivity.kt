@@ -1,29 +1,31 @@
 package dev.motionfusion.app.settings
 
 import android.os.Bundle
+import android.view.LayoutInflater
 import android.view.View
-import android.widget.CompoundButton
-import android.widget.EditText
-import android.widget.RadioGroup
+import android.widget.LinearLayout
 import android.widget.TextView
+import androidx.activity.viewModels
 import androidx.appcompat.app.AppCompatActivity
+import androidx.lifecycle.Lifecycle
+import androidx.lifecycle.lifecycleScope
+import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.R
-import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.ui.fitToSystemBars
+import kotlinx.coroutines.launch
 
 /**
- * Filter, display and rate settings. β and ζ are sliders whose name, unit and default come from
- * fusion-core's settings table ([SettingSlider]); the flags are switches; "Apply" validates the
- * form ([SettingsForm], with the core's own checks), marks the fields in error, or persists the
- * settings and hands them to the live filter at once (a recording keeps its own until it ends); "Defaults" shows the defaults.
+ * Every setting, built from [Setting.ALL] (fusion-core's filter settings table and the app's own
+ * few): a card per [Section], in two columns in landscape and on tablets. Edits change the
+ * [SettingsViewModel]'s draft (kept across rotation); "Apply" persists it and hands it to the live
+ * filter and the recorder at once (a recording keeps its own until it ends); "Defaults" puts every
+ * value back to its default, each row's "Reset" its own.
  */
 class SettingsActivity : AppCompatActivity() {
-    private lateinit var settings: SettingsRepository
-    private lateinit var beta: SettingSlider
-    private lateinit var zeta: SettingSlider
-    private lateinit var rateHz: EditText
+    private val model: SettingsViewModel by viewModels {
+        SettingsViewModel.Factory((application as SettingsRepository.Provider).settingsRepository)
+    }
+    private val rows = ArrayList<SettingRow>()
     private lateinit var message: TextView
 
     override fun onCreate(savedInstanceState: Bundle?) {
@@ -32,19 +34,13 @@ class SettingsActivity : AppCompatActivity() {
         fitToSystemBars(findViewById(R.id.settings_root))
         setSupportActionBar(findViewById(R.id.toolbar))
         supportActionBar?.setDisplayHomeAsUpEnabled(true)
-        settings = (application as SettingsRepository.Provider).settingsRepository
-        beta = SettingSlider(findViewById(R.id.beta_setting), SettingSlider.BETA, getString(R.string.settings_beta), getString(R.string.settings_beta_help))
-        zeta = SettingSlider(findViewById(R.id.zeta_setting), SettingSlider.ZETA, getString(R.string.settings_zeta), getString(R.string.settings_zeta_help))
-        rateHz = findViewById(R.id.rate_hz_value)
         message = findViewById(R.id.settings_message)
-        // A restored instance keeps what the user set; a new one shows the settings in force.
-        if (savedInstanceState == null) showForm(SettingsForm.of(settings.settings.value))
-        findViewById<RadioGroup>(R.id.rate).setOnCheckedChangeListener { _, id -> rateHz.isEnabled = id == R.id.rate_hz }
-        rateHz.isEnabled = findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId == R.id.rate_hz
-        findViewById<View>(R.id.apply).setOnClickListener { apply() }
-        findViewById<View>(R.id.reset).setOnClickListener {
-            showForm(SettingsForm.of(LiveSettings()))
-            message.text = ""
+        buildSections(findViewById(R.id.settings_sections), resources.getBoolean(R.bool.settings_two_columns))
+        findViewById<View>(R.id.apply).setOnClickListener { model.apply() }
+        findViewById<View>(R.id.reset).setOnClickListener { model.resetAll() }
+        show(model.state.value)
+        lifecycleScope.launch {
+            repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
     }
 
@@ -53,68 +49,55 @@ class SettingsActivity : AppCompatActivity() {
         return true
     }
 
-    /** Validates and applies the form; true when the settings were saved. */
-    fun apply(): Boolean {
-        return when (val r = readForm().parse()) {
-            is SettingsForm.Result.Invalid -> {
-                beta.error = r.errors[SettingsField.BETA]
-                zeta.error = r.errors[SettingsField.ZETA]
-                rateHz.error = r.errors[SettingsField.RATE_HZ]
-                message.setText(R.string.settings_invalid)
-                false
+    /** The row of the setting stored under [key], for tests. */
+    internal fun row(key: String): View = rows.first { it.setting.key == key }.view
+
+    /** A card per non-empty section, in order; with [twoColumns] the cards alternate between two columns balanced by rows. */
+    private fun buildSections(container: LinearLayout, twoColumns: Boolean) {
+        val columns = List(if (twoColumns) 2 else 1) {
+            LinearLayout(this).apply { orientation = LinearLayout.VERTICAL }.also { c ->
+                container.addView(c, LinearLayout.LayoutParams(0, LinearLayout.LayoutParams.WRAP_CONTENT, 1f).apply { if (it == 1) marginStart = dp(12) })
             }
-            is SettingsForm.Result.Valid -> {
-                beta.error = null; zeta.error = null; rateHz.error = null
-                settings.update(r.settings)
-                message.setText(R.string.settings_saved)
-                true
+        }
+        val load = IntArray(columns.size)
+        for (section in Section.entries) {
+            val settings = Setting.ALL.filter { it.section == section }
+            if (settings.isEmpty()) continue
+            val target = load.indices.minByOrNull { load[it] }!!
+            val card = LayoutInflater.from(this).inflate(R.layout.settings_section, columns[target], false)
+            card.findViewById<TextView>(R.id.section_title).setText(title(section))
+            val list = card.findViewById<LinearLayout>(R.id.section_rows)
+            for (s in settings) {
+                val row = SettingRow(s, list, model::set, model::switch)
+                list.addView(row.view)
+                rows += row
             }
+            columns[target].addView(card)
+            load[target] += settings.size + 2
         }
     }
 
-    private fun showForm(f: SettingsForm) {
-        beta.text = f.beta
-        zeta.text = f.zeta
-        switch(R.id.nine_d).isChecked = f.nineD
-        switch(R.id.rest_bias).isChecked = f.restBias
-        switch(R.id.mag_rejection).isChecked = f.magRejection
-        switch(R.id.acc_rejection).isChecked = f.accRejection
-        findViewById<RadioGroup>(R.id.convention).check(
-            if (f.convention == AngleConvention.ANDROID) R.id.convention_android else R.id.convention_aerospace,
-        )
-        findViewById<RadioGroup>(R.id.rate).check(
-            when (f.delay) {
-                SamplingRate.Delay.FASTEST -> R.id.rate_fastest
-                SamplingRate.Delay.GAME -> R.id.rate_game
-                SamplingRate.Delay.UI -> R.id.rate_ui
-                SamplingRate.Delay.NORMAL -> R.id.rate_normal
-                null -> R.id.rate_hz
-            },
-        )
-        rateHz.setText(f.rateHz)
+    private fun show(state: SettingsUiState) {
+        for (row in rows) row.show(state.draft, state.errors[row.setting.key])
+        message.text = when {
+            state.errors.isNotEmpty() -> getString(R.string.settings_invalid)
+            state.changed -> getString(R.string.settings_unsaved)
+            state.justApplied -> getString(R.string.settings_saved)
+            else -> ""
+        }
+        findViewById<View>(R.id.apply).isEnabled = state.changed
     }
 
-    private fun readForm(): SettingsForm = SettingsForm(
-        beta = beta.text,
-        zeta = zeta.text,
-        nineD = switch(R.id.nine_d).isChecked,
-        restBias = switch(R.id.rest_bias).isChecked,
-        magRejection = switch(R.id.mag_rejection).isChecked,
-        accRejection = switch(R.id.acc_rejection).isChecked,
-        convention = if (findViewById<RadioGroup>(R.id.convention).checkedRadioButtonId == R.id.convention_aerospace) {
-            AngleConvention.AEROSPACE
-        } else {
-            AngleConvention.ANDROID
-        },
-        delay = when (findViewById<RadioGroup>(R.id.rate).checkedRadioButtonId) {
-            R.id.rate_fastest -> SamplingRate.Delay.FASTEST
-            R.id.rate_game -> SamplingRate.Delay.GAME
-            R.id.rate_ui -> SamplingRate.Delay.UI
-            R.id.rate_normal -> SamplingRate.Delay.NORMAL
-            else -> null
-        },
-        rateHz = rateHz.text.toString(),
-    )
+    private fun title(s: Section): Int = when (s) {
+        Section.GAINS -> R.string.settings_section_gains
+        Section.REJECTION -> R.string.settings_section_rejection
+        Section.BIAS -> R.string.settings_section_bias
+        Section.LOW_PASS -> R.string.settings_section_low_pass
+        Section.SATURATION -> R.string.settings_section_saturation
+        Section.RECORDING -> R.string.settings_section_recording
+        Section.CALIBRATION -> R.string.settings_section_calibration
+        Section.DISPLAY -> R.string.settings_section_display
+    }
 
-    private fun switch(id: Int): CompoundButton = findViewById(id)
+    private fun dp(v: Int) = (v * resources.displayMetrics.density).toInt()
 }

@@ -23,24 +23,122 @@ data class PlotMarker(val timestampNs: Long, val text: String)
  * grid lines every 90°, a legend, and markers as labelled vertical lines. A line is not drawn
  * across a wrap-around (a jump of more than 180° between points).
  *
- * Live ([append]): the x axis covers the last [windowSeconds] of sample time ending at the
- * newest sample, whatever the rate points arrive at: points are kept by timestamp, older ones
- * dropped, and the buffer grows (rarely, amortised) when a window holds more points than it
- * has room for, so a 120 Hz display shows 10 s as a 60 Hz one does. A second set of angles, the
- * "ghost" (the phone's own rotation vector), is drawn dashed in the same colours.
+ * Live ([append]): the x axis covers the last [AngleTrace.windowSeconds] of sample time ending at
+ * the newest sample, whatever the rate points arrive at, so a 120 Hz display shows 10 s as a 60 Hz
+ * one does. A second set of angles, the "ghost" (the phone's own rotation vector), is drawn dashed
+ * in the same colours.
  * Whole series ([showSeries]): the x axis spans the series, in seconds from its first point.
  */
-class AnglePlotView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+/**
+ * The points an [AnglePlotView] draws: timestamps (ns) and six angle series (yaw, pitch, roll and
+ * the ghost's, degrees, yaw as −180..180), either a live window ([append]) or a whole series
+ * ([showSeries]). Separate from the view so that a ViewModel can own the live history and a new
+ * view after a configuration change draws the same 10 s.
+ *
+ * Live: the x axis covers the last [windowSeconds] of sample time ending at the newest sample,
+ * whatever the rate points arrive at: points are kept by timestamp, older ones dropped, and the
+ * buffer grows (rarely, amortised) when a window holds more points than it has room for. Main thread only.
+ */
+class AngleTrace(
     /** The live window, seconds of sample time. */
-    var windowSeconds = 10.0
-
+    var windowSeconds: Double = 10.0,
+) {
     private var capacity = 1024
-    private var times = LongArray(capacity)
-    private var values = Array(6) { FloatArray(capacity) }
-    private var size = 0
-    private var head = 0
-    private var live = true
-    private var hasGhost = false
+    internal var times = LongArray(capacity)
+        private set
+    internal var values = Array(6) { FloatArray(capacity) }
+        private set
+    internal var head = 0
+        private set
+
+    /** Points kept now (live: those within the window and one before it). */
+    var size = 0
+        private set
+
+    /** True while the trace is a live window, false for a whole series. */
+    var live = true
+        private set
+
+    /** True once a point had the ghost's angles. */
+    var hasGhost = false
+        private set
+
+    /** Timestamp of the newest point, ns (Long.MIN_VALUE when empty). */
+    val newestNs: Long get() = if (size == 0) Long.MIN_VALUE else times[index(size - 1)]
+
+    /** Sample time from the oldest point kept to the newest, seconds. */
+    val spanSeconds: Double get() = if (size < 2) 0.0 else (times[index(size - 1)] - times[index(0)]) / 1e9
+
+    /**
+     * Appends angles at [timeNs] (the samples' clock, ns) with the ghost's angles (NaN when there
+     * is none); a point not later than the newest is ignored (the same state drawn twice). Points
+     * older than the window scroll off.
+     */
+    fun append(timeNs: Long, yawDeg: Double, pitchDeg: Double, rollDeg: Double, ghostYawDeg: Double = Double.NaN, ghostPitchDeg: Double = Double.NaN, ghostRollDeg: Double = Double.NaN) {
+        if (!live) clear()
+        if (size > 0 && timeNs <= newestNs) return
+        val window = (windowSeconds * 1e9).toLong()
+        // Drop what the window no longer shows, but keep one point before it so the line reaches the edge.
+        while (size > 1 && timeNs - times[index(1)] > window) {
+            head = (head + 1) % capacity
+            size--
+        }
+        if (size == capacity) grow()
+        val i = (head + size) % capacity
+        times[i] = timeNs
+        values[0][i] = signed(yawDeg)
+        values[1][i] = pitchDeg.toFloat()
+        values[2][i] = rollDeg.toFloat()
+        values[3][i] = signed(ghostYawDeg)
+        values[4][i] = ghostPitchDeg.toFloat()
+        values[5][i] = ghostRollDeg.toFloat()
+        if (!ghostYawDeg.isNaN()) hasGhost = true
+        size++
+    }
+
+    /** Replaces the points by a whole series: [timeS] seconds after [originNs], angles in degrees. */
+    fun showSeries(originNs: Long, timeS: FloatArray, yawDeg: FloatArray, pitchDeg: FloatArray, rollDeg: FloatArray) {
+        clear()
+        live = false
+        while (capacity < timeS.size) grow()
+        for (k in timeS.indices) {
+            times[k] = originNs + (timeS[k] * 1e9).toLong()
+            values[0][k] = signed(yawDeg[k].toDouble()); values[1][k] = pitchDeg[k]; values[2][k] = rollDeg[k]
+            values[3][k] = Float.NaN; values[4][k] = Float.NaN; values[5][k] = Float.NaN
+        }
+        size = timeS.size
+    }
+
+    fun clear() {
+        size = 0; head = 0; live = true; hasGhost = false
+    }
+
+    internal fun index(k: Int) = (head + k) % capacity
+
+    private fun signed(yaw: Double): Float = (if (yaw > 180.0) yaw - 360.0 else yaw).toFloat()
+
+    /** Twice the room, the oldest point first. */
+    private fun grow() {
+        val n = capacity * 2
+        val t = LongArray(n)
+        val v = Array(6) { FloatArray(n) }
+        for (k in 0 until size) {
+            val i = index(k)
+            t[k] = times[i]
+            for (s in 0 until 6) v[s][k] = values[s][i]
+        }
+        times = t; values = v; capacity = n; head = 0
+    }
+}
+
+class AnglePlotView @JvmOverloads constructor(context: Context, attrs: AttributeSet? = null) : View(context, attrs) {
+    /**
+     * The points drawn. The live screen sets the one its ViewModel owns, so the history survives
+     * a configuration change; otherwise the view has its own.
+     */
+    var trace: AngleTrace = AngleTrace()
+        set(value) { field = value; invalidate() }
+
     private var markers: List<PlotMarker> = emptyList()
 
     private val density = resources.displayMetrics.density
@@ -83,35 +181,15 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
     /** The colour of series [i] (0 yaw, 1 pitch, 2 roll). */
     fun colour(i: Int): Int = colours[i]
 
-    /** Points kept now (live: those within the window and a little more). */
-    val pointCount: Int get() = size
+    /** Points kept now (live: those within the window and one before it). */
+    val pointCount: Int get() = trace.size
 
     /** Sample time from the oldest point kept to the newest, seconds. */
-    val spanSeconds: Double get() = if (size < 2) 0.0 else (times[index(size - 1)] - times[index(0)]) / 1e9
+    val spanSeconds: Double get() = trace.spanSeconds
 
-    /**
-     * Appends angles at [timeNs] (the samples' clock, ns; not earlier than the last point) with
-     * the ghost's angles (NaN when there is none). Points older than the window scroll off.
-     */
+    /** Appends a live point to [trace] ([AngleTrace.append]) and redraws. */
     fun append(timeNs: Long, yawDeg: Double, pitchDeg: Double, rollDeg: Double, ghostYawDeg: Double = Double.NaN, ghostPitchDeg: Double = Double.NaN, ghostRollDeg: Double = Double.NaN) {
-        if (!live) clear()
-        val window = (windowSeconds * 1e9).toLong()
-        // Drop what the window no longer shows, but keep one point before it so the line reaches the edge.
-        while (size > 1 && timeNs - times[index(1)] > window) {
-            head = (head + 1) % capacity
-            size--
-        }
-        if (size == capacity) grow()
-        val i = (head + size) % capacity
-        times[i] = timeNs
-        values[0][i] = signed(yawDeg)
-        values[1][i] = pitchDeg.toFloat()
-        values[2][i] = rollDeg.toFloat()
-        values[3][i] = signed(ghostYawDeg)
-        values[4][i] = ghostPitchDeg.toFloat()
-        values[5][i] = ghostRollDeg.toFloat()
-        if (!ghostYawDeg.isNaN()) hasGhost = true
-        size++
+        trace.append(timeNs, yawDeg, pitchDeg, rollDeg, ghostYawDeg, ghostPitchDeg, ghostRollDeg)
         invalidate()
     }
 
@@ -120,45 +198,22 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
      * angles in degrees; replaces what the plot held.
      */
     fun showSeries(originNs: Long, timeS: FloatArray, yawDeg: FloatArray, pitchDeg: FloatArray, rollDeg: FloatArray, markers: List<PlotMarker>) {
-        clear()
-        live = false
-        while (capacity < timeS.size) grow()
-        for (k in timeS.indices) {
-            times[k] = originNs + (timeS[k] * 1e9).toLong()
-            values[0][k] = signed(yawDeg[k].toDouble()); values[1][k] = pitchDeg[k]; values[2][k] = rollDeg[k]
-            values[3][k] = Float.NaN; values[4][k] = Float.NaN; values[5][k] = Float.NaN
-        }
-        size = timeS.size
+        trace.showSeries(originNs, timeS, yawDeg, pitchDeg, rollDeg)
         this.markers = markers
         invalidate()
     }
 
     /** Markers to draw (live: those inside the window). */
     fun setMarkers(markers: List<PlotMarker>) {
+        if (markers == this.markers) return
         this.markers = markers
         invalidate()
     }
 
     fun clear() {
-        size = 0; head = 0; live = true; hasGhost = false; markers = emptyList()
+        trace.clear()
+        markers = emptyList()
         invalidate()
-    }
-
-    private fun index(k: Int) = (head + k) % capacity
-
-    private fun signed(yaw: Double): Float = (if (yaw > 180.0) yaw - 360.0 else yaw).toFloat()
-
-    /** Twice the room, the oldest point first. */
-    private fun grow() {
-        val n = capacity * 2
-        val t = LongArray(n)
-        val v = Array(6) { FloatArray(n) }
-        for (k in 0 until size) {
-            val i = index(k)
-            t[k] = times[i]
-            for (s in 0 until 6) v[s][k] = values[s][i]
-        }
-        times = t; values = v; capacity = n; head = 0
     }
 
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
@@ -178,26 +233,30 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
             canvas.drawLine(left, y, right, y, grid)
             canvas.drawText("$deg°", 2 * density, y + textPx / 3, label)
         }
-        drawLegend(canvas, left)
+        val trace = trace
+        val size = trace.size
+        val times = trace.times
+        val live = trace.live
+        drawLegend(canvas, left, trace.hasGhost)
         if (size == 0) {
             emptyText?.let { canvas.drawText(it, left + 8 * density, top + plotH / 2 - textPx, label) }
             return
         }
         // The x range: the live window ending at the newest point, or the whole series.
-        val newest = times[index(size - 1)]
-        val start = if (live) newest - (windowSeconds * 1e9).toLong() else times[index(0)]
+        val newest = trace.newestNs
+        val start = if (live) newest - (trace.windowSeconds * 1e9).toLong() else times[trace.index(0)]
         val spanNs = (newest - start).coerceAtLeast(1_000_000L).toFloat()
         fun xOf(t: Long) = left + (t - start) / spanNs * (right - left)
-        drawTimeAxis(canvas, left, right, spanNs / 1e9f)
+        drawTimeAxis(canvas, left, right, spanNs / 1e9f, live)
         canvas.save()
         canvas.clipRect(left, 0f, right, height.toFloat())
-        for (s in 0 until if (hasGhost) 6 else 3) {
-            val v = values[s]
+        for (s in 0 until if (trace.hasGhost) 6 else 3) {
+            val v = trace.values[s]
             path.rewind()
             var open = false
             var previous = 0f
             for (k in 0 until size) {
-                val i = index(k)
+                val i = trace.index(k)
                 val value = v[i]
                 if (value.isNaN()) { open = false; continue }
                 val x = xOf(times[i])
@@ -220,7 +279,7 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
         canvas.restore()
     }
 
-    private fun drawLegend(canvas: Canvas, left: Float) {
+    private fun drawLegend(canvas: Canvas, left: Float, hasGhost: Boolean) {
         var x = left
         val y = textPx * 1.1f
         for (i in 0..2) {
@@ -237,7 +296,7 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
         }
     }
 
-    private fun drawTimeAxis(canvas: Canvas, left: Float, right: Float, spanS: Float) {
+    private fun drawTimeAxis(canvas: Canvas, left: Float, right: Float, spanS: Float, live: Boolean) {
         val y = height - 2 * density
         val first = if (live) String.format(Locale.ROOT, "−%.0f s", spanS) else "0 s"
         val last = if (live) context.getString(R.string.plot_now) else String.format(Locale.ROOT, "%.1f s", spanS)

@@ -5,6 +5,7 @@ import dev.motionfusion.app.sensor.SensorSample
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertNotNull
@@ -61,7 +62,7 @@ class FusionPipelineTest {
 
     @Test
     fun `gyroscope turns are integrated between samples (6D)`() {
-        val p = FusionPipeline(all, LiveSettings(mode = FilterMode.IMU, restBiasEstimation = false))
+        val p = FusionPipeline(all, LiveSettings(filter = FilterSettings(mode = FilterMode.IMU, restBiasEstimation = false)))
         assertEquals(FusionMode.IMU, p.mode.mode)
         p.onSample(acc(0, 0f, 0f, 9.81f))
         p.onSample(gyro(0))
@@ -137,17 +138,17 @@ class FusionPipelineTest {
         val f0 = p.filter
         p.reconfigure(LiveSettings(convention = AngleConvention.AEROSPACE))
         assertSame(f0, p.filter)
-        p.reconfigure(LiveSettings(convention = AngleConvention.AEROSPACE, beta = 0.1))
+        p.reconfigure(LiveSettings(filter = FilterSettings(beta = 0.1), convention = AngleConvention.AEROSPACE))
         assertNotSame(f0, p.filter)
         assertEquals(0.1, p.filter.settings.beta)
-        p.reconfigure(LiveSettings(mode = FilterMode.IMU))
+        p.reconfigure(LiveSettings(filter = FilterSettings(mode = FilterMode.IMU)))
         assertEquals(FilterMode.IMU, p.filter.settings.mode)
         assertEquals(FusionMode.IMU, p.mode.mode)
     }
 
     @Test
     fun `9D without magnetometer runs the filter in 6D`() {
-        val p = FusionPipeline(setOf(SensorKind.ACCELEROMETER, SensorKind.GYROSCOPE), LiveSettings(mode = FilterMode.MARG))
+        val p = FusionPipeline(setOf(SensorKind.ACCELEROMETER, SensorKind.GYROSCOPE), LiveSettings(filter = FilterSettings(mode = FilterMode.MARG)))
         assertEquals(EffectiveMode(FusionMode.IMU, ModeReason.NO_MAGNETOMETER), p.mode)
         assertEquals(FilterMode.IMU, p.filter.settings.mode)
     }

@@ -3,6 +3,7 @@ package dev.motionfusion.app.live
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSample
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertNull
@@ -45,7 +46,7 @@ class LiveUiStateTest {
 
     @Test
     fun `in 6D the heading is relative and the magnetometer is not judged`() {
-        val p = FusionPipeline(all, LiveSettings(mode = FilterMode.IMU))
+        val p = FusionPipeline(all, LiveSettings(filter = FilterSettings(mode = FilterMode.IMU)))
         flatNorth(p, magAccuracy = 0)
         val ui = LiveUiState.of(p.snapshot(), 0)
         assertEquals(HeadingQuality.RELATIVE, ui.headingQuality)

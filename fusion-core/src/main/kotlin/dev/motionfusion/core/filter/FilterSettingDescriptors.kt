@@ -19,6 +19,24 @@ public enum class SettingKind {
     CHOICE,
 }
 
+/** Which part of the filter a setting belongs to, for a settings screen's sections. */
+public enum class SettingGroup {
+    /** Mode, start, the correction gains (β, ζ, heading) and the output. */
+    GAINS,
+
+    /** Magnetic disturbance and accelerometer rejection. */
+    REJECTION,
+
+    /** Gyroscope bias estimation, at rest and in motion. */
+    BIAS,
+
+    /** The low-passed accelerometer and the inclination recovery it feeds. */
+    LOW_PASS,
+
+    /** The gyroscope's clipping at its range and gaps between samples. */
+    SATURATION,
+}
+
 /**
  * One property of [FilterSettings].
  *
@@ -26,6 +44,11 @@ public enum class SettingKind {
  * @property jsonKey the member name in a session's metadata (`filter_settings`).
  * @property unit SI unit of a number ("" for a ratio, a flag or a choice).
  * @property kind number, flag or choice; [choices] lists the names of a choice.
+ * @property title a short English name for a settings screen ("β, correction gain").
+ * @property group the section it belongs to.
+ * @property range a number's useful span to set by hand, in [unit] (a slider's ends; FilterSettings
+ *   itself accepts more); null for a flag or a choice.
+ * @property zeroDisables true when 0 turns the mechanism off (a screen shows a switch beside the value).
  */
 public class FilterSettingDescriptor internal constructor(
     public val name: String,
@@ -36,9 +59,16 @@ public class FilterSettingDescriptor internal constructor(
     private val read: (FilterSettings) -> Any,
     private val write: (FilterSettings, Any) -> FilterSettings,
     private val absent: Any?,
+    public val title: String,
+    public val group: SettingGroup,
+    public val range: ClosedFloatingPointRange<Double>?,
+    public val zeroDisables: Boolean,
 ) {
     /** The value in [s]: a Double, a Boolean, or the name of a choice. */
     public fun value(s: FilterSettings): Any = read(s)
+
+    /** The value in the default [FilterSettings]. */
+    public val default: Any get() = read(DEFAULTS)
 
     /**
      * [s] with this setting set to [value] (Double or other Number, Boolean, or a choice's name).
@@ -74,41 +104,47 @@ public class FilterSettingDescriptor internal constructor(
     public val valueWhenAbsent: Any? get() = absent
 
     override fun toString(): String = name
+
+    private companion object {
+        val DEFAULTS = FilterSettings()
+    }
 }
+
+private typealias G = SettingGroup
 
 /** All properties of [FilterSettings], in declaration order. */
 public object FilterSettingDescriptors {
     public val all: List<FilterSettingDescriptor> = listOf(
-        choice("mode", "mode", FilterMode.entries.map { it.name }, { it.mode.name }) { s, v -> s.copy(mode = FilterMode.valueOf(v)) },
-        number("beta", "beta", "rad/s", { it.beta }) { s, v -> s.copy(beta = v) },
-        number("zeta", "zeta", "rad/s²", { it.zeta }) { s, v -> s.copy(zeta = v) },
-        choice("initialisation", "initialisation", Initialisation.entries.map { it.name }, { it.initialisation.name }) { s, v -> s.copy(initialisation = Initialisation.valueOf(v)) },
-        flag("restBiasEstimation", "rest_bias_estimation", { it.restBiasEstimation }) { s, v -> s.copy(restBiasEstimation = v) },
-        number("restGyroThreshold", "rest_gyro_threshold_rad_s", "rad/s", { it.restGyroThreshold }) { s, v -> s.copy(restGyroThreshold = v) },
-        number("restAccThreshold", "rest_acc_threshold_m_s2", "m/s²", { it.restAccThreshold }) { s, v -> s.copy(restAccThreshold = v) },
-        number("restMinTime", "rest_min_time_s", "s", { it.restMinTime }) { s, v -> s.copy(restMinTime = v) },
-        number("restBiasTime", "rest_bias_time_s", "s", { it.restBiasTime }) { s, v -> s.copy(restBiasTime = v) },
-        flag("magDisturbanceRejection", "mag_disturbance_rejection", { it.magDisturbanceRejection }) { s, v -> s.copy(magDisturbanceRejection = v) },
-        number("magNormTolerance", "mag_norm_tolerance", "", { it.magNormTolerance }) { s, v -> s.copy(magNormTolerance = v) },
-        number("magDipTolerance", "mag_dip_tolerance_rad", "rad", { it.magDipTolerance }) { s, v -> s.copy(magDipTolerance = v) },
-        number("magMaxRejectionTime", "mag_max_rejection_time_s", "s", { it.magMaxRejectionTime }) { s, v -> s.copy(magMaxRejectionTime = v) },
-        number("magReferenceTime", "mag_reference_time_s", "s", { it.magReferenceTime }) { s, v -> s.copy(magReferenceTime = v) },
-        number("magNewFieldTime", "mag_new_field_time_s", "s", { it.magNewFieldTime }, absent = 0.0) { s, v -> s.copy(magNewFieldTime = v) },
-        flag("accRejection", "acc_rejection", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
-        number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
-        number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },
-        number("accMaxRejectionTime", "acc_max_rejection_time_s", "s", { it.accMaxRejectionTime }) { s, v -> s.copy(accMaxRejectionTime = v) },
-        number("inclinationRecoveryBeta", "inclination_recovery_beta", "rad/s", { it.inclinationRecoveryBeta }, absent = 0.0) { s, v -> s.copy(inclinationRecoveryBeta = v) },
-        number("accTrustTime", "acc_trust_time_s", "s", { it.accTrustTime }) { s, v -> s.copy(accTrustTime = v) },
-        number("accLowPassTime", "acc_low_pass_time_s", "s", { it.accLowPassTime }, absent = 0.0) { s, v -> s.copy(accLowPassTime = v) },
-        number("gyroSaturation", "gyro_saturation_rad_s", "rad/s", { it.gyroSaturation }, absent = 0.0) { s, v -> s.copy(gyroSaturation = v) },
-        number("headingGain", "heading_gain_1_s", "1/s", { it.headingGain }, absent = 0.0) { s, v -> s.copy(headingGain = v) },
-        number("headingRecoveryTime", "heading_recovery_time_s", "s", { it.headingRecoveryTime }, absent = 0.0) { s, v -> s.copy(headingRecoveryTime = v) },
-        number("motionBiasGain", "motion_bias_gain_rad_s2", "rad/s²", { it.motionBiasGain }, absent = 0.0) { s, v -> s.copy(motionBiasGain = v) },
-        number("motionBiasRestTime", "motion_bias_rest_time_s", "s", { it.motionBiasRestTime }) { s, v -> s.copy(motionBiasRestTime = v) },
-        number("motionBiasLimit", "motion_bias_limit_rad_s", "rad/s", { it.motionBiasLimit }) { s, v -> s.copy(motionBiasLimit = v) },
-        choice("outputFrame", "output_frame", WorldFrame.entries.map { it.name }, { it.outputFrame.name }) { s, v -> s.copy(outputFrame = WorldFrame.valueOf(v)) },
-        number("maxGap", "max_gap_s", "s", { it.maxGap }) { s, v -> s.copy(maxGap = v) },
+        choice("mode", "mode", G.GAINS, "Sensors fused (MARG 9D, IMU 6D)", FilterMode.entries.map { it.name }, { it.mode.name }) { s, v -> s.copy(mode = FilterMode.valueOf(v)) },
+        number("beta", "beta", "rad/s", G.GAINS, "β, correction gain", 0.0..0.5, off = false, { it.beta }) { s, v -> s.copy(beta = v) },
+        number("zeta", "zeta", "rad/s²", G.GAINS, "ζ, gyroscope drift compensation", 0.0..0.05, off = true, { it.zeta }) { s, v -> s.copy(zeta = v) },
+        choice("initialisation", "initialisation", G.GAINS, "Start", Initialisation.entries.map { it.name }, { it.initialisation.name }) { s, v -> s.copy(initialisation = Initialisation.valueOf(v)) },
+        flag("restBiasEstimation", "rest_bias_estimation", G.BIAS, "Estimate the gyroscope bias at rest", { it.restBiasEstimation }) { s, v -> s.copy(restBiasEstimation = v) },
+        number("restGyroThreshold", "rest_gyro_threshold_rad_s", "rad/s", G.BIAS, "Rest: gyroscope within", 0.005..0.2, off = false, { it.restGyroThreshold }) { s, v -> s.copy(restGyroThreshold = v) },
+        number("restAccThreshold", "rest_acc_threshold_m_s2", "m/s²", G.BIAS, "Rest: accelerometer within", 0.05..2.0, off = false, { it.restAccThreshold }) { s, v -> s.copy(restAccThreshold = v) },
+        number("restMinTime", "rest_min_time_s", "s", G.BIAS, "Rest: held for", 0.0..10.0, off = false, { it.restMinTime }) { s, v -> s.copy(restMinTime = v) },
+        number("restBiasTime", "rest_bias_time_s", "s", G.BIAS, "Rest: bias averaged over", 0.1..20.0, off = false, { it.restBiasTime }) { s, v -> s.copy(restBiasTime = v) },
+        flag("magDisturbanceRejection", "mag_disturbance_rejection", G.REJECTION, "Ignore a disturbed magnetic field", { it.magDisturbanceRejection }) { s, v -> s.copy(magDisturbanceRejection = v) },
+        number("magNormTolerance", "mag_norm_tolerance", "", G.REJECTION, "Field strength tolerance (ratio)", 0.01..0.5, off = false, { it.magNormTolerance }) { s, v -> s.copy(magNormTolerance = v) },
+        number("magDipTolerance", "mag_dip_tolerance_rad", "rad", G.REJECTION, "Dip angle tolerance", 0.01..0.7, off = false, { it.magDipTolerance }) { s, v -> s.copy(magDipTolerance = v) },
+        number("magMaxRejectionTime", "mag_max_rejection_time_s", "s", G.REJECTION, "New field accepted after", 1.0..300.0, off = false, { it.magMaxRejectionTime }) { s, v -> s.copy(magMaxRejectionTime = v) },
+        number("magReferenceTime", "mag_reference_time_s", "s", G.REJECTION, "Field reference follows over", 1.0..120.0, off = false, { it.magReferenceTime }) { s, v -> s.copy(magReferenceTime = v) },
+        number("magNewFieldTime", "mag_new_field_time_s", "s", G.REJECTION, "Steady new field trusted after", 0.0..60.0, off = true, { it.magNewFieldTime }, absent = 0.0) { s, v -> s.copy(magNewFieldTime = v) },
+        flag("accRejection", "acc_rejection", G.REJECTION, "Ignore the accelerometer in strong acceleration", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
+        number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", G.REJECTION, "Acceleration tolerance", 0.1..10.0, off = false, { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
+        number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", G.REJECTION, "Angle from up tolerance", 0.01..1.0, off = false, { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },
+        number("accMaxRejectionTime", "acc_max_rejection_time_s", "s", G.REJECTION, "Accelerometer trusted again after", 0.5..30.0, off = false, { it.accMaxRejectionTime }) { s, v -> s.copy(accMaxRejectionTime = v) },
+        number("inclinationRecoveryBeta", "inclination_recovery_beta", "rad/s", G.LOW_PASS, "Inclination recovery gain", 0.0..2.0, off = true, { it.inclinationRecoveryBeta }, absent = 0.0) { s, v -> s.copy(inclinationRecoveryBeta = v) },
+        number("accTrustTime", "acc_trust_time_s", "s", G.LOW_PASS, "Recovery after a steady accelerometer of", 0.05..5.0, off = false, { it.accTrustTime }) { s, v -> s.copy(accTrustTime = v) },
+        number("accLowPassTime", "acc_low_pass_time_s", "s", G.LOW_PASS, "Accelerometer low-pass time constant", 0.0..30.0, off = true, { it.accLowPassTime }, absent = 0.0) { s, v -> s.copy(accLowPassTime = v) },
+        number("gyroSaturation", "gyro_saturation_rad_s", "rad/s", G.SATURATION, "Gyroscope clipped at", 0.0..70.0, off = true, { it.gyroSaturation }, absent = 0.0) { s, v -> s.copy(gyroSaturation = v) },
+        number("headingGain", "heading_gain_1_s", "1/s", G.GAINS, "Heading correction gain", 0.0..0.5, off = true, { it.headingGain }, absent = 0.0) { s, v -> s.copy(headingGain = v) },
+        number("headingRecoveryTime", "heading_recovery_time_s", "s", G.GAINS, "Fast heading convergence for", 0.0..60.0, off = true, { it.headingRecoveryTime }, absent = 0.0) { s, v -> s.copy(headingRecoveryTime = v) },
+        number("motionBiasGain", "motion_bias_gain_rad_s2", "rad/s²", G.BIAS, "Bias estimation in motion, gain", 0.0..0.03, off = true, { it.motionBiasGain }, absent = 0.0) { s, v -> s.copy(motionBiasGain = v) },
+        number("motionBiasRestTime", "motion_bias_rest_time_s", "s", G.BIAS, "Motion estimate ramps up after rest over", 0.0..1200.0, off = false, { it.motionBiasRestTime }) { s, v -> s.copy(motionBiasRestTime = v) },
+        number("motionBiasLimit", "motion_bias_limit_rad_s", "rad/s", G.BIAS, "Bias limit per axis", 0.005..0.2, off = false, { it.motionBiasLimit }) { s, v -> s.copy(motionBiasLimit = v) },
+        choice("outputFrame", "output_frame", G.GAINS, "Output earth frame", WorldFrame.entries.map { it.name }, { it.outputFrame.name }) { s, v -> s.copy(outputFrame = WorldFrame.valueOf(v)) },
+        number("maxGap", "max_gap_s", "s", G.SATURATION, "Longest gap between samples", 0.05..2.0, off = false, { it.maxGap }) { s, v -> s.copy(maxGap = v) },
     )
 
     private val byName = all.associateBy { it.name }
@@ -129,12 +165,14 @@ public object FilterSettingDescriptors {
         return d.withText(s, value)
     }
 
-    private fun number(name: String, key: String, unit: String, get: (FilterSettings) -> Double, absent: Double? = null, set: (FilterSettings, Double) -> FilterSettings) =
-        FilterSettingDescriptor(name, key, unit, SettingKind.NUMBER, emptyList(), get, { s, v -> set(s, v as Double) }, absent)
+    private fun number(
+        name: String, key: String, unit: String, group: SettingGroup, title: String, range: ClosedFloatingPointRange<Double>, off: Boolean,
+        get: (FilterSettings) -> Double, absent: Double? = null, set: (FilterSettings, Double) -> FilterSettings,
+    ) = FilterSettingDescriptor(name, key, unit, SettingKind.NUMBER, emptyList(), get, { s, v -> set(s, v as Double) }, absent, title, group, range, off)
 
-    private fun flag(name: String, key: String, get: (FilterSettings) -> Boolean, set: (FilterSettings, Boolean) -> FilterSettings) =
-        FilterSettingDescriptor(name, key, "", SettingKind.BOOLEAN, emptyList(), get, { s, v -> set(s, v as Boolean) }, null)
+    private fun flag(name: String, key: String, group: SettingGroup, title: String, get: (FilterSettings) -> Boolean, set: (FilterSettings, Boolean) -> FilterSettings) =
+        FilterSettingDescriptor(name, key, "", SettingKind.BOOLEAN, emptyList(), get, { s, v -> set(s, v as Boolean) }, null, title, group, null, false)
 
-    private fun choice(name: String, key: String, choices: List<String>, get: (FilterSettings) -> String, set: (FilterSettings, String) -> FilterSettings) =
-        FilterSettingDescriptor(name, key, "", SettingKind.CHOICE, choices, get, { s, v -> set(s, v as String) }, null)
+    private fun choice(name: String, key: String, group: SettingGroup, title: String, choices: List<String>, get: (FilterSettings) -> String, set: (FilterSettings, String) -> FilterSettings) =
+        FilterSettingDescriptor(name, key, "", SettingKind.CHOICE, choices, get, { s, v -> set(s, v as String) }, null, title, group, null, false)
 }

@@ -60,4 +60,26 @@ class FilterSettingDescriptorsTest {
         val back = dev.motionfusion.core.session.MetadataJson.settings(FilterSettings())
         assertEquals(FilterSettingDescriptors.all.map { it.jsonKey }, back.keys.toList())
     }
+
+    @Test
+    fun `a screen's ranges hold the defaults and are accepted by the settings`() {
+        for (d in FilterSettingDescriptors.all) {
+            assertTrue(d.title.isNotBlank(), d.name)
+            if (d.kind != SettingKind.NUMBER) {
+                assertEquals(null, d.range, d.name)
+                continue
+            }
+            val r = requireNotNull(d.range) { "${d.name} has no range" }
+            val default = d.default as Double
+            assertTrue(default in r, "${d.name}: default $default outside $r")
+            // Both ends are values the settings take, so a slider can never offer a refused one.
+            d.with(FilterSettings(), r.start)
+            d.with(FilterSettings(), r.endInclusive)
+            // "0 turns it off" needs 0 to be a value of the range, and 0 accepted.
+            if (d.zeroDisables) assertEquals(0.0, r.start, d.name)
+        }
+        assertEquals(setOf("zeta", "magNewFieldTime", "inclinationRecoveryBeta", "accLowPassTime", "gyroSaturation", "headingGain", "headingRecoveryTime", "motionBiasGain"),
+            FilterSettingDescriptors.all.filter { it.zeroDisables }.map { it.name }.toSet())
+        assertEquals(SettingGroup.entries.toSet(), FilterSettingDescriptors.all.map { it.group }.toSet())
+    }
 }

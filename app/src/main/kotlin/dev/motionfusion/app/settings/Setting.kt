@@ -1,0 +1,126 @@
+package dev.motionfusion.app.settings
+
+import dev.motionfusion.app.live.AngleConvention
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.core.filter.FilterSettingDescriptor
+import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.filter.SettingGroup
+import dev.motionfusion.core.filter.SettingKind
+
+/** The settings screen's sections, in the order shown; an empty one is not shown. */
+enum class Section {
+    GAINS, REJECTION, BIAS, LOW_PASS, SATURATION, RECORDING, CALIBRATION, DISPLAY;
+
+    companion object {
+        fun of(group: SettingGroup): Section = when (group) {
+            SettingGroup.GAINS -> GAINS
+            SettingGroup.REJECTION -> REJECTION
+            SettingGroup.BIAS -> BIAS
+            SettingGroup.LOW_PASS -> LOW_PASS
+            SettingGroup.SATURATION -> SATURATION
+        }
+    }
+}
+
+/**
+ * One value of [LiveSettings] as the settings screen shows and [SettingsStore] keeps it: every
+ * filter setting of fusion-core's table ([FilterSettingDescriptors], adapted by [of]) and the
+ * app's own few ([APP]). Values are a Double, a Boolean or a choice's name (as in the core table);
+ * [with] validates through the settings' own types and throws IllegalArgumentException on a refused value.
+ *
+ * @property key the storage key (a filter setting's metadata member name).
+ * @property range a number's slider ends, in [unit].
+ * @property zeroDisables a number whose 0 means off: a switch beside its slider.
+ */
+class Setting(
+    val key: String,
+    val title: String,
+    val section: Section,
+    val kind: SettingKind,
+    val unit: String = "",
+    val choices: List<String> = emptyList(),
+    val range: ClosedFloatingPointRange<Double>? = null,
+    val zeroDisables: Boolean = false,
+    private val choiceLabel: (String) -> String = ::humanise,
+    private val read: (LiveSettings) -> Any,
+    private val write: (LiveSettings, Any) -> LiveSettings,
+) {
+    fun value(s: LiveSettings): Any = read(s)
+
+    /** [s] with this setting at [v]; IllegalArgumentException for a value of the wrong kind or one refused. */
+    fun with(s: LiveSettings, v: Any): LiveSettings {
+        val checked: Any = when (kind) {
+            SettingKind.NUMBER -> (v as? Number)?.toDouble()?.takeIf { it.isFinite() } ?: throw IllegalArgumentException("$title: a number, got $v")
+            SettingKind.BOOLEAN -> v as? Boolean ?: throw IllegalArgumentException("$title: on or off, got $v")
+            SettingKind.CHOICE -> (v as? String)?.takeIf { it in choices || choiceIsValid(it) } ?: throw IllegalArgumentException("$title: one of ${choices.joinToString()}, got $v")
+        }
+        return write(s, checked)
+    }
+
+    /** [s] with this setting parsed from its stored [text]. */
+    fun withText(s: LiveSettings, text: String): LiveSettings = with(
+        s,
+        when (kind) {
+            SettingKind.NUMBER -> text.trim().toDoubleOrNull() ?: throw IllegalArgumentException("$title: a number, got '$text'")
+            SettingKind.BOOLEAN -> text.trim().toBooleanStrictOrNull() ?: throw IllegalArgumentException("$title: true or false, got '$text'")
+            SettingKind.CHOICE -> text.trim()
+        },
+    )
+
+    /** The value as [SettingsStore] writes it and [withText] reads it back. */
+    fun text(s: LiveSettings): String = value(s).toString()
+
+    val default: Any get() = read(LiveSettings())
+
+    /** The words shown for choice [c]. */
+    fun label(c: String): String = choiceLabel(c)
+
+    /** The choices to offer with [s]: [choices], and the current one if it is none of them (a rate typed in another version). */
+    fun choicesFor(s: LiveSettings): List<String> = value(s).toString().let { if (it in choices) choices else choices + it }
+
+    private fun choiceIsValid(c: String): Boolean = key == RATE && SamplingRate.parse(c) != null
+
+    override fun toString(): String = key
+
+    companion object {
+        const val RATE = "rate"
+
+        /** A filter setting of fusion-core's table, as the screen shows it. */
+        fun of(d: FilterSettingDescriptor): Setting = Setting(
+            key = d.jsonKey, title = d.title, section = Section.of(d.group), kind = d.kind, unit = d.unit,
+            choices = d.choices, range = d.range, zeroDisables = d.zeroDisables,
+            read = { d.value(it.filter) }, write = { s, v -> s.copy(filter = d.with(s.filter, v)) },
+        )
+
+        private val RATES = SamplingRate.Delay.entries.map { it.key } + listOf(25, 50, 100, 200, 400).map { SamplingRate.Hz(it).key }
+
+        /**
+         * The app's settings beside the filter's, one line each: a recording or calibration value
+         * is added here (with its field in [LiveSettings]) and the screen and the store take it up.
+         */
+        val APP: List<Setting> = listOf(
+            Setting(RATE, "Requested sensor rate", Section.RECORDING, SettingKind.CHOICE, choices = RATES, choiceLabel = ::rateLabel,
+                read = { it.rate.key }, write = { s, v -> s.copy(rate = requireNotNull(SamplingRate.parse(v as String)) { "no rate $v" }) }),
+            Setting("convention", "Angles shown", Section.DISPLAY, SettingKind.CHOICE, choices = AngleConvention.entries.map { it.name }, choiceLabel = ::conventionLabel,
+                read = { it.convention.name }, write = { s, v -> s.copy(convention = AngleConvention.valueOf(v as String)) }),
+        )
+
+        /**
+         * Everything the screen shows, in order: the filter's table but its output frame (the app
+         * shows and records device → ENU; LiveSettings requires it), then the app's.
+         */
+        val ALL: List<Setting> = FilterSettingDescriptors.all.filter { it.name != "outputFrame" }.map(::of) + APP
+
+        /** "FIRST_SAMPLE" → "First sample"; MARG and IMU stay as they are. */
+        fun humanise(c: String): String = when (c) {
+            "MARG" -> "MARG (9D, with magnetometer)"
+            "IMU" -> "IMU (6D)"
+            else -> c.lowercase().replace('_', ' ').replaceFirstChar { it.uppercase() }
+        }
+
+        private fun rateLabel(key: String): String = SamplingRate.parse(key)?.label ?: key
+
+        private fun conventionLabel(c: String): String = if (c == AngleConvention.ANDROID.name) "Android azimuth, pitch, roll" else "Aerospace yaw, pitch, roll (Z-Y-X)"
+    }
+}

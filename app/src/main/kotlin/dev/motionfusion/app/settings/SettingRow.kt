@@ -1,0 +1,157 @@
+package dev.motionfusion.app.settings
+
+import android.view.LayoutInflater
+import android.view.View
+import android.view.ViewGroup
+import android.widget.Button
+import android.widget.CompoundButton
+import android.widget.TextView
+import com.google.android.material.chip.Chip
+import com.google.android.material.chip.ChipDrawable
+import com.google.android.material.chip.ChipGroup
+import com.google.android.material.R as MaterialR
+import com.google.android.material.slider.Slider
+import dev.motionfusion.app.R
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.core.filter.SettingKind
+import java.math.BigDecimal
+import java.math.RoundingMode
+import java.util.Locale
+import kotlin.math.ceil
+import kotlin.math.log10
+
+/**
+ * The views of one [Setting], made from its description alone: a number is a slider with its
+ * unit (angles also in degrees), its default and a reset button, with a switch beside it when 0
+ * turns it off; a flag is a switch; a choice is a row of chips. User changes go to [onChange]
+ * (value) and [onSwitch] (a number's on/off); [show] sets the views from settings without
+ * calling back.
+ */
+internal class SettingRow(
+    val setting: Setting,
+    parent: ViewGroup,
+    private val onChange: (Setting, Any) -> Unit,
+    private val onSwitch: (Setting, Boolean) -> Unit,
+) {
+    val view: View = LayoutInflater.from(parent.context).inflate(
+        when (setting.kind) {
+            SettingKind.NUMBER -> R.layout.settings_slider
+            SettingKind.BOOLEAN -> R.layout.settings_switch
+            SettingKind.CHOICE -> R.layout.settings_choice
+        },
+        parent, false,
+    )
+    private val context = parent.context
+    private val help: TextView = view.findViewById(R.id.setting_help)
+    private val switch: CompoundButton? = view.findViewById(R.id.setting_switch)
+    private val slider: Slider? = view.findViewById(R.id.setting_slider)
+    private val value: TextView? = view.findViewById(R.id.setting_value)
+    private val reset: Button? = view.findViewById(R.id.setting_reset)
+    private val chips: ChipGroup? = view.findViewById(R.id.setting_choices)
+    private val decimals = setting.range?.let { (3 - ceil(log10(it.endInclusive)).toInt()).coerceIn(0, 5) } ?: 0
+    private var showing = false
+    private var shownChoices: List<String> = emptyList()
+
+    init {
+        view.tag = setting.key
+        // Every row has the same view ids: the draft in the ViewModel, not view state, survives a rotation.
+        view.isSaveFromParentEnabled = false
+        view.findViewById<TextView>(R.id.setting_name)?.text = setting.title
+        when (setting.kind) {
+            SettingKind.NUMBER -> {
+                val r = requireNotNull(setting.range) { "${setting.key} has no range" }
+                val s = slider!!
+                s.valueFrom = r.start.toFloat()
+                s.valueTo = r.endInclusive.toFloat()
+                s.contentDescription = setting.title
+                s.setLabelFormatter { withUnit(it.toDouble()) }
+                s.addOnChangeListener { _, v, _ -> if (!showing) onChange(setting, round(v.toDouble())) }
+                val d = setting.default as Double
+                help.text = context.getString(if (setting.zeroDisables) R.string.settings_default_off else R.string.settings_default, if (setting.zeroDisables && d == 0.0) context.getString(R.string.settings_off) else withUnit(d))
+                reset!!.setOnClickListener { onChange(setting, setting.default) }
+                reset.contentDescription = context.getString(R.string.settings_reset_one) + " " + setting.title
+                if (setting.zeroDisables) {
+                    switch!!.visibility = View.VISIBLE
+                    switch.contentDescription = setting.title
+                    switch.setOnCheckedChangeListener { _, on -> if (!showing) onSwitch(setting, on) }
+                }
+            }
+            SettingKind.BOOLEAN -> {
+                switch!!.text = setting.title
+                switch.setOnCheckedChangeListener { _, on -> if (!showing) onChange(setting, on) }
+                help.text = context.getString(R.string.settings_default, context.getString(if (setting.default == true) R.string.settings_on else R.string.settings_off))
+            }
+            SettingKind.CHOICE -> {
+                help.text = context.getString(R.string.settings_default, setting.label(setting.default as String))
+                chips!!.setOnCheckedStateChangeListener { group, ids ->
+                    if (showing) return@setOnCheckedStateChangeListener
+                    val chip = ids.firstOrNull()?.let { group.findViewById<Chip>(it) } ?: return@setOnCheckedStateChangeListener
+                    onChange(setting, chip.tag as String)
+                }
+            }
+        }
+    }
+
+    /** Shows the value of this setting in [s] and [error] (null: none). */
+    fun show(s: LiveSettings, error: String?) {
+        showing = true
+        try {
+            when (setting.kind) {
+                SettingKind.NUMBER -> showNumber(setting.value(s) as Double)
+                SettingKind.BOOLEAN -> switch!!.isChecked = setting.value(s) as Boolean
+                SettingKind.CHOICE -> showChoice(s)
+            }
+            help.error = error
+        } finally {
+            showing = false
+        }
+    }
+
+    private fun showNumber(v: Double) {
+        val s = slider!!
+        // A stored value beyond the slider's span widens it rather than being clipped.
+        if (v < s.valueFrom) s.valueFrom = v.toFloat()
+        if (v > s.valueTo) s.valueTo = v.toFloat()
+        s.value = v.toFloat()
+        val off = setting.zeroDisables && v == 0.0
+        switch?.isChecked = !off
+        s.isEnabled = !off
+        value!!.text = if (off) context.getString(R.string.settings_off) else withUnit(v)
+        reset!!.isEnabled = v != setting.default
+    }
+
+    private fun showChoice(s: LiveSettings) {
+        val group = chips!!
+        val choices = setting.choicesFor(s)
+        if (choices != shownChoices) {
+            group.removeAllViews()
+            for (c in choices) {
+                group.addView(Chip(context).apply {
+                    setChipDrawable(ChipDrawable.createFromAttributes(context, null, 0, MaterialR.style.Widget_Material3_Chip_Filter))
+                    id = View.generateViewId()
+                    tag = c
+                    text = setting.label(c)
+                    isCheckable = true
+                    minHeight = (48 * context.resources.displayMetrics.density).toInt()
+                })
+            }
+            shownChoices = choices
+        }
+        val current = setting.value(s) as String
+        for (i in 0 until group.childCount) {
+            val chip = group.getChildAt(i) as Chip
+            if (chip.tag == current) group.check(chip.id)
+        }
+    }
+
+    private fun round(v: Double): Double = BigDecimal(v).setScale(decimals, RoundingMode.HALF_EVEN).toDouble()
+
+    /** "0.052 rad/s (3.0°/s)": the value at the row's precision with its unit; angles also in degrees. */
+    fun withUnit(v: Double): String {
+        val text = BigDecimal(v).setScale(decimals, RoundingMode.HALF_EVEN).stripTrailingZeros().toPlainString()
+        val unit = setting.unit
+        val plain = if (unit.isEmpty()) text else "$text $unit"
+        if (!unit.startsWith("rad")) return plain
+        return String.format(Locale.ROOT, "%s (%.1f°%s)", plain, Math.toDegrees(v), unit.removePrefix("rad"))
+    }
+}
