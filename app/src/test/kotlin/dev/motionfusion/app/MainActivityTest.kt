@@ -10,6 +10,7 @@ import android.widget.TextView
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.settings.SettingsStore
@@ -18,6 +19,7 @@ import dev.motionfusion.core.filter.FilterSettings
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertNotNull
+import org.junit.Assert.assertNotSame
 import org.junit.Assert.assertSame
 import org.junit.Assert.assertTrue
 import org.junit.Before
@@ -323,11 +325,20 @@ class MainActivityTest {
         val e = engine()
         val steps = e.state.value.filterSteps
         assertTrue(steps > 0)
+        val plotted = c.get().findViewById<AnglePlotView>(R.id.plot)
+        val points = plotted.pointCount
+        val span = plotted.spanSeconds
+        assertTrue("plotted before the rotation: $points", points > 1)
         c.recreate()
         frame()
         assertSame(e, engine())
         val a = c.get()
         a.assertAngles(90.0, 0.0, 0.0) // shown at once, before any new sample
+        // The new activity's plot draws the history the ViewModel kept, not an empty one.
+        val plot = a.findViewById<AnglePlotView>(R.id.plot)
+        assertNotSame(plotted, plot)
+        assertEquals(points, plot.pointCount)
+        assertEquals(span, plot.spanSeconds, 0.0)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(-22f, 0f, -40f))
         assertTrue("the same filter keeps stepping", e.state.value.filterSteps > steps)
         a.assertAngles(90.0, 0.0, 0.0)

@@ -6,6 +6,9 @@ import android.hardware.SensorManager
 import android.os.Looper
 import android.os.SystemClock
 import android.view.View
+import android.widget.TextView
+import android.widget.CompoundButton
+import com.google.android.material.slider.Slider
 import androidx.core.graphics.ColorUtils
 import com.google.android.material.R as MaterialR
 import com.google.android.material.color.MaterialColors
@@ -19,6 +22,10 @@ import dev.motionfusion.app.live.ModeReason
 import dev.motionfusion.app.live.SensorStats
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sessions.AngleSeries
+import dev.motionfusion.app.sessions.RateSeries
+import dev.motionfusion.app.sessions.SessionDetailUiState
+import dev.motionfusion.app.sessions.SessionItem
+import dev.motionfusion.app.sessions.SessionsUiState
 import dev.motionfusion.app.sessions.SessionDetailActivity
 import dev.motionfusion.app.sessions.SessionSummary
 import dev.motionfusion.app.sessions.SessionsActivity
@@ -26,6 +33,8 @@ import dev.motionfusion.app.sessions.StreamSummary
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.PlotMarker
+import dev.motionfusion.app.ui.RatePlotView
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import org.junit.Assert.assertEquals
@@ -231,12 +240,39 @@ class ScreensTest {
 
     @Test
     fun `settings screen`() {
-        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.LANDSCAPE to true, Shape.TABLET to true)) {
             configure(shape, dark)
             val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
             idle()
-            Screenshots.captureScreen(a, name("settings", shape, dark))
+            val png = name("settings", shape, dark)
+            Screenshots.captureScreen(a, png)
+            // The whole form, every section, as tall as it is.
+            val full = Screenshots.captureWhole(a, "$png-all")
+            assertTrue("$png: the whole form is taller than the screen", full.height > a.window.decorView.height)
+            assertTrue(a.getString(R.string.settings_section_rejection) in texts(a))
+            assertEquals(FilterSettings().beta.toFloat(), a.row("beta").findViewById<Slider>(R.id.setting_slider).value, 0f)
         }
+        // Changed, not applied: the message says so; a 0 = off setting switched off.
+        configure(Shape.PHONE, false)
+        val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
+        a.row("beta").findViewById<Slider>(R.id.setting_slider).value = 0.12f
+        a.row("heading_gain_1_s").findViewById<CompoundButton>(R.id.setting_switch).isChecked = false
+        idle()
+        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertEquals("off", a.row("heading_gain_1_s").findViewById<TextView>(R.id.setting_value).text.toString())
+        assertEquals("0.12 rad/s (6.9°/s)", a.row("beta").findViewById<TextView>(R.id.setting_value).text.toString())
+        Screenshots.captureScreen(a, "settings-changed-phone-light")
+    }
+
+    /** Every text of [a]'s window. */
+    private fun texts(a: android.app.Activity): List<String> {
+        val out = ArrayList<String>()
+        fun walk(v: View) {
+            if (v is TextView) out += v.text.toString()
+            if (v is android.view.ViewGroup) for (i in 0 until v.childCount) walk(v.getChildAt(i))
+        }
+        walk(a.window.decorView)
+        return out
     }
 
     // ---- Sessions ----
@@ -269,13 +305,13 @@ class ScreensTest {
             summary("session_2026-11-26_13-05-00", 62, 100.0, 1_795_698_300_000L, recovered = true),
             summary("session_2026-11-26_09-15-00", 1830, 400.0, 1_795_684_500_000L),
             summary("bike, handlebar mount", 2710, 200.0, 1_795_600_000_000L),
-        ).map { SessionsActivity.Item(File(root, it.name), it, null) } +
-            SessionsActivity.Item(File(root, "broken"), null, "meta.json:3:14: expected a number")
+        ).map { SessionItem(File(root, it.name), it, null) } +
+            SessionItem(File(root, "broken"), null, "meta.json:3:14: expected a number")
         for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.TABLET to false, Shape.LANDSCAPE to true)) {
             configure(shape, dark)
             val a = Robolectric.buildActivity(SessionsActivity::class.java).setup().get()
             idle()
-            a.show(items)
+            a.show(SessionsUiState.Loaded(items))
             Screenshots.captureScreen(a, name("sessions-list", shape, dark))
             assertEquals(View.GONE, a.findViewById<View>(R.id.sessions_empty).visibility)
         }
@@ -300,15 +336,27 @@ class ScreensTest {
             PlotMarker(2_000_000_000L + 300_000_000_000L, "crossing"),
             PlotMarker(2_000_000_000L + 700_000_000_000L, "platform"),
         )
+        // 754 s in 1-s bins: steady rates, a 20-s stall of the magnetometer, the game rotation vector slower at first.
+        val rates = RateSeries(
+            2_000_000_000L, 1.0,
+            linkedMapOf(
+                "accelerometer" to FloatArray(754) { 200f - (it % 3) },
+                "gyroscope" to FloatArray(754) { 200f },
+                "magnetometer" to FloatArray(754) { if (it in 300..320) 0f else 100f },
+                "game_rotation_vector" to FloatArray(754) { if (it < 60) 50f else 99.6f },
+            ),
+        )
         for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
             configure(shape, dark)
             val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, name)
             val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
             idle()
-            a.show(summary(name, 754, 200.0, 1_795_688_100_000L), series, markers)
+            a.show(SessionDetailUiState(name, loading = false, summary = summary(name, 754, 200.0, 1_795_688_100_000L), angles = series, rates = rates, markers = markers))
             val png = name("session-detail", shape, dark)
             Screenshots.captureScreen(a, png)
             assertPlotReadable(a, R.id.detail_plot, png)
+            assertEquals(4, a.findViewById<RatePlotView>(R.id.detail_rate_plot).laneCount)
+            assertTrue(a.findViewById<RatePlotView>(R.id.detail_rate_plot).contentDescription.contains("mag 100 Hz"))
         }
     }
 }

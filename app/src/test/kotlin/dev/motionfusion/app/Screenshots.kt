@@ -59,6 +59,26 @@ object Screenshots {
     }
 
     /**
+     * Renders [activity] at its configuration's width and as tall as its content, every scroll
+     * view unrolled: the whole of a long form in one picture (no layout check: nothing is hidden).
+     */
+    fun captureWhole(activity: Activity, name: String): Bitmap {
+        val c = activity.resources.configuration
+        val d = activity.resources.displayMetrics.density
+        val width = (c.screenWidthDp * d).toInt()
+        val root = activity.window.decorView
+        root.measure(View.MeasureSpec.makeMeasureSpec(width, View.MeasureSpec.EXACTLY), View.MeasureSpec.makeMeasureSpec(0, View.MeasureSpec.UNSPECIFIED))
+        var extra = 0
+        fun walk(v: View) {
+            if (v is android.widget.ScrollView && v.childCount > 0) extra += (v.getChildAt(0).measuredHeight - v.measuredHeight).coerceAtLeast(0)
+            if (v is ViewGroup) for (i in 0 until v.childCount) walk(v.getChildAt(i))
+        }
+        walk(root)
+        val screen = (c.screenHeightDp * d).toInt()
+        return capture(activity, name, width = width, height = screen + extra)
+    }
+
+    /**
      * Every text shown lies within the screen's width, is not cut short (no ellipsis) and
      * overlaps no other text where it is seen.
      */

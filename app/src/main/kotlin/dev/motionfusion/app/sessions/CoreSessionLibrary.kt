@@ -58,4 +58,46 @@ internal object CoreSessionLibrary : SessionLibrary {
         val t0 = if (n > 0) t[0] else 0L
         AngleSeries(FloatArray(n) { ((t[it] - t0) / 1e9).toFloat() }, a.copyOf(n), p.copyOf(n), ro.copyOf(n), t0)
     }
+
+    /**
+     * Reads each raw stream's timestamps once and counts them in bins from the session's first
+     * timestamp; when a stream reaches past [maxBins] bins the bin width doubles (pairs merged), so
+     * an hour at 1 s bins and [maxBins] 1,200 ends at 4-s bins: [maxBins] counts a stream whatever the length.
+     */
+    override fun rates(dir: File, maxBins: Int): RateSeries = SessionReader.open(dir.toPath()).use { r ->
+        require(maxBins >= 2) { "maxBins must be ≥ 2: $maxBins" }
+        val present = SensorStreams.all.filter { it in r.streams && (r.metadata.streams[it]?.samples ?: 0L) > 0 }
+        if (present.isEmpty()) return RateSeries.EMPTY
+        val origin = present.minOf { r.metadata.streams[it]!!.firstTimestampNs }
+        var binNs = 1_000_000_000L
+        val counts = present.associateWith { IntArray(maxBins) }
+        val used = IntArray(present.size)
+        for ((k, s) in present.withIndex()) {
+            r.stream(s).use { e ->
+                while (e.next()) {
+                    val dt = e.timestampNs - origin
+                    if (dt < 0) continue
+                    var bin = dt / binNs
+                    while (bin >= maxBins) {
+                        binNs *= 2
+                        for (c in counts.values) merge(c)
+                        for (j in used.indices) used[j] = (used[j] + 1) / 2
+                        bin = dt / binNs
+                    }
+                    counts[s]!![bin.toInt()]++
+                    if (bin + 1 > used[k]) used[k] = (bin + 1).toInt()
+                }
+            }
+        }
+        val bins = used.max()
+        val seconds = binNs / 1e9
+        RateSeries(origin, seconds, present.associate { s -> s.key to FloatArray(bins) { (counts[s]!![it] / seconds).toFloat() } })
+    }
+
+    /** Pairs of bins merged into the first half (a bin twice as long), the rest zeroed. */
+    private fun merge(c: IntArray) {
+        for (i in 0 until c.size / 2) c[i] = c[2 * i] + c[2 * i + 1]
+        if (c.size % 2 == 1) c[c.size / 2] = c[c.size - 1] else c[c.size / 2] = 0
+        for (i in c.size / 2 + 1 until c.size) c[i] = 0
+    }
 }

@@ -10,28 +10,34 @@ import android.widget.TextView
 import androidx.activity.result.contract.ActivityResultContracts
 import androidx.appcompat.app.AlertDialog
 import androidx.appcompat.app.AppCompatActivity
+import androidx.activity.viewModels
+import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
+import androidx.lifecycle.repeatOnLifecycle
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.AnglePlotView
-import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.app.ui.RateBarsView
+import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.withContext
 import java.io.File
 
 /**
- * One session: its summary (start, duration, size, per-stream samples and achieved rates), a
- * plot of the fused orientation's angles, rename, delete (after confirmation) and export
+ * One session, from [SessionDetailViewModel]: its summary (start, duration, size, per-stream
+ * samples and achieved rates), a plot of the fused orientation's angles with the session's
+ * markers, each stream's rate over time, rename, delete (after confirmation) and export
  * (Downloads, Save as…, Share).
  */
 class SessionDetailActivity : AppCompatActivity() {
-    private lateinit var dir: File
     private val deps by lazy { (application as SessionsDependencies.Provider).sessionsDependencies }
-    private val message: TextView get() = findViewById(R.id.detail_message)
+    private val model: SessionDetailViewModel by viewModels {
+        SessionDetailViewModel.Factory(deps, intent.getStringExtra(EXTRA_SESSION) ?: "")
+    }
+    private val dir: File get() = model.dir
 
     /** The dialog on screen (rename or delete), for tests. */
     internal var dialog: AlertDialog? = null
@@ -43,9 +49,7 @@ class SessionDetailActivity : AppCompatActivity() {
         fitToSystemBars(findViewById(R.id.detail_root))
         setSupportActionBar(findViewById(R.id.toolbar))
         supportActionBar?.setDisplayHomeAsUpEnabled(true)
-        val name = intent.getStringExtra(EXTRA_SESSION)
-        dir = deps.sessions.folder(name ?: "")
-        if (name.isNullOrEmpty()) { // a missing folder shows as unreadable (no disk access here)
+        if (intent.getStringExtra(EXTRA_SESSION).isNullOrEmpty()) {
             finish()
             return
         }
@@ -59,7 +63,7 @@ class SessionDetailActivity : AppCompatActivity() {
             try {
                 saveAs.launch(Exporter.zipName(dir))
             } catch (e: ActivityNotFoundException) {
-                message.text = getString(R.string.export_failed, e.message)
+                model.message(getString(R.string.export_failed, e.message))
             }
         }
         findViewById<Button>(R.id.detail_share).setOnClickListener {
@@ -68,24 +72,12 @@ class SessionDetailActivity : AppCompatActivity() {
                     val intent = withContext(deps.io) { deps.sessions.locks.withFolder(dir) { Exporter.shareIntent(this@SessionDetailActivity, dir) } }
                     startActivity(intent)
                 } catch (e: Exception) {
-                    message.text = getString(R.string.export_failed, e.message)
+                    model.message(getString(R.string.export_failed, e.message))
                 }
             }
         }
-        load()
-    }
-
-    private fun load() {
-        findViewById<TextView>(R.id.detail_name).text = dir.name
-        title = dir.name
         lifecycleScope.launch {
-            val library = deps.library
-            try {
-                val (summary, angles) = withContext(deps.io) { library.summary(dir) to library.angles(dir, PLOT_POINTS) }
-                show(summary, angles)
-            } catch (e: Exception) {
-                findViewById<TextView>(R.id.detail_when).text = getString(R.string.session_unreadable, e.message)
-            }
+            repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
     }
 
@@ -95,29 +87,50 @@ class SessionDetailActivity : AppCompatActivity() {
     }
 
     /**
-     * Shows session [s]: its summary, the fused [angles] with [markers] (timestamps on the
-     * session's sensor clock) on the plot, and each stream's samples and achieved rate.
+     * Shows [state]: the summary, the fused angles with the markers (timestamps on the session's
+     * sensor clock) on the plot, each stream's rate over time, its samples and achieved rate.
      */
-    internal fun show(s: SessionSummary, angles: AngleSeries, markers: List<PlotMarker> = emptyList()) {
-        findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, deps.sessions.isRecording(dir))
-        val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
-            getString(R.string.session_fused_line, s.fusedRows)
-        findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
-        findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(it.name), it.rateHz) })
+    internal fun show(state: SessionDetailUiState) {
+        if (state.deleted) {
+            finish()
+            return
+        }
+        findViewById<TextView>(R.id.detail_name).text = state.name
+        title = state.name
+        findViewById<TextView>(R.id.detail_message).text = state.message ?: ""
+        val whenText = findViewById<TextView>(R.id.detail_when)
+        val s = state.summary
+        when {
+            state.error != null -> whenText.text = getString(R.string.session_unreadable, state.error)
+            s == null -> whenText.setText(R.string.session_loading)
+            else -> {
+                whenText.text = SessionsActivity.describe(this, s, state.recordingNow)
+                val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
+                    getString(R.string.session_fused_line, s.fusedRows)
+                findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
+                findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(it.name), it.rateHz) })
+            }
+        }
+        state.rates?.let { r ->
+            findViewById<RatePlotView>(R.id.detail_rate_plot).setLanes(r.ratesHz.map { (name, rates) -> RatePlotView.Lane(SessionsActivity.shortName(name), rates) }, r.binSeconds)
+        }
+        val angles = state.angles
         findViewById<AnglePlotView>(R.id.detail_plot).apply {
-            emptyText = getString(R.string.session_plot_empty)
-            showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, markers)
-            contentDescription = getString(if (angles.size == 0) R.string.session_plot_empty else R.string.session_plot_title)
+            emptyText = getString(if (state.loading) R.string.session_loading else R.string.session_plot_empty)
+            if (angles != null) showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, state.markers)
+            contentDescription = getString(if (angles == null || angles.size == 0) R.string.session_plot_empty else R.string.session_plot_title)
         }
     }
 
     private fun export(action: () -> String) {
         lifecycleScope.launch {
-            message.text = try {
-                withContext(deps.io) { deps.sessions.locks.withFolder(dir) { action() } }
-            } catch (e: Exception) {
-                getString(R.string.export_failed, e.message)
-            }
+            model.message(
+                try {
+                    withContext(deps.io) { deps.sessions.locks.withFolder(dir) { action() } }
+                } catch (e: Exception) {
+                    getString(R.string.export_failed, e.message)
+                },
+            )
         }
     }
 
@@ -147,39 +160,17 @@ class SessionDetailActivity : AppCompatActivity() {
             .show()
     }
 
-    internal fun rename(newName: String) {
-        lifecycleScope.launch {
-            try {
-                val old = dir
-                dir = withContext(deps.io) { deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } }
-                intent.putExtra(EXTRA_SESSION, dir.name)
-                message.text = ""
-                load()
-            } catch (e: Exception) {
-                message.text = getString(R.string.session_rename_invalid)
-            }
-        }
-    }
+    internal fun rename(newName: String) = model.rename(newName, getString(R.string.session_rename_invalid))
 
     private fun askDelete() {
         dialog = MaterialAlertDialogBuilder(this)
             .setMessage(getString(R.string.session_delete_confirm, dir.name))
             .setNegativeButton(R.string.cancel, null)
-            .setPositiveButton(R.string.session_delete) { _, _ ->
-                lifecycleScope.launch {
-                    try {
-                        withContext(deps.io) { deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } }
-                        finish()
-                    } catch (e: Exception) {
-                        message.text = e.message
-                    }
-                }
-            }
+            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete() }
             .show()
     }
 
     internal companion object {
         const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
-        const val PLOT_POINTS = 1500
     }
 }

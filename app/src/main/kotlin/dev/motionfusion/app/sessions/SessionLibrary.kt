@@ -30,6 +30,19 @@ internal class AngleSeries(val timeS: FloatArray, val azimuthDeg: FloatArray, va
     val size: Int get() = timeS.size
 }
 
+/**
+ * Events per second of each raw stream over a session, in bins of [binSeconds] starting at
+ * [originNs] (the session's sensor clock); [ratesHz] per stream name, one value a bin. Bins are
+ * 1 s unless the session is longer than the bins allowed, then 2, 4, … s (memory stays bounded).
+ */
+internal class RateSeries(val originNs: Long, val binSeconds: Double, val ratesHz: Map<String, FloatArray>) {
+    val bins: Int get() = ratesHz.values.maxOfOrNull { it.size } ?: 0
+
+    companion object {
+        val EMPTY = RateSeries(0L, 1.0, emptyMap())
+    }
+}
+
 /** Reading sessions for the screens; bound to the session format's reader in [CoreSessionLibrary]. */
 internal interface SessionLibrary {
     @Throws(IOException::class)
@@ -38,4 +51,8 @@ internal interface SessionLibrary {
     /** The fused orientation as angles, thinned to at most [maxPoints] points spread over the session. */
     @Throws(IOException::class)
     fun angles(dir: File, maxPoints: Int): AngleSeries
+
+    /** Each raw stream's events per second over time, at most [maxBins] bins per stream (see [RateSeries]). */
+    @Throws(IOException::class)
+    fun rates(dir: File, maxBins: Int): RateSeries
 }

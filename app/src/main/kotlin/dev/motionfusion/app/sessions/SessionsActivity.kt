@@ -11,27 +11,25 @@ import android.widget.BaseAdapter
 import android.widget.ListView
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
+import androidx.activity.viewModels
+import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
+import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.R
 import dev.motionfusion.app.ui.fitToSystemBars
-import kotlinx.coroutines.Job
 import kotlinx.coroutines.launch
-import kotlinx.coroutines.withContext
-import java.io.File
 import java.text.DateFormat
 import java.util.Date
 
 /**
  * The recorded sessions, newest first: name, start date, duration, size, samples and each
- * stream's achieved rate. Interrupted sessions are repaired before listing. Tap for detail.
+ * stream's achieved rate, from [SessionsViewModel] (interrupted sessions are repaired before
+ * listing, on the disk executor). Tap for detail.
  */
 class SessionsActivity : AppCompatActivity() {
-    private var loading: Job? = null
     private val adapter = Adapter()
     private val deps by lazy { (application as SessionsDependencies.Provider).sessionsDependencies }
-
-    /** One row of the list: a readable summary, or why the session cannot be read. */
-    internal class Item(val dir: File, val summary: SessionSummary?, val error: String?)
+    private val model: SessionsViewModel by viewModels { SessionsViewModel.Factory(deps) }
 
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
@@ -44,18 +42,14 @@ class SessionsActivity : AppCompatActivity() {
         list.setOnItemClickListener { _, _, position, _ ->
             startActivity(Intent(this, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, adapter.items[position].dir.name))
         }
+        lifecycleScope.launch {
+            repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
+        }
     }
 
     override fun onStart() {
         super.onStart()
-        reload()
-    }
-
-    internal fun reload() {
-        loading?.cancel()
-        loading = lifecycleScope.launch {
-            show(withContext(deps.io) { load() })
-        }
+        model.refresh() // a session may have been recorded, renamed or deleted meanwhile
     }
 
     override fun onSupportNavigateUp(): Boolean {
@@ -63,30 +57,24 @@ class SessionsActivity : AppCompatActivity() {
         return true
     }
 
-    /** Lists [items] (newest first), or says there are none. */
-    internal fun show(items: List<Item>) {
+    /** Shows [state]: a progress text while loading, the sessions, the empty text, or why they cannot be listed. */
+    internal fun show(state: SessionsUiState) {
+        val items = (state as? SessionsUiState.Loaded)?.items ?: emptyList()
         adapter.items = items
         adapter.notifyDataSetChanged()
-        findViewById<View>(R.id.sessions_empty).visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
-    }
-
-    private fun load(): List<Item> {
-        deps.sessions.repairInterrupted()
-        val library = deps.library
-        return deps.sessions.list().map { dir ->
-            try {
-                Item(dir, library.summary(dir), null)
-            } catch (e: Exception) {
-                Item(dir, null, e.message ?: e.javaClass.simpleName)
-            }
+        val empty = findViewById<TextView>(R.id.sessions_empty)
+        when (state) {
+            SessionsUiState.Loading -> empty.setText(R.string.sessions_loading)
+            is SessionsUiState.Failed -> empty.text = getString(R.string.sessions_failed, state.message)
+            is SessionsUiState.Loaded -> empty.setText(R.string.sessions_empty)
         }
+        empty.visibility = if (items.isEmpty()) View.VISIBLE else View.GONE
     }
 
-
-    internal val items: List<Item> get() = adapter.items
+    internal val items: List<SessionItem> get() = adapter.items
 
     private inner class Adapter : BaseAdapter() {
-        var items: List<Item> = emptyList()
+        var items: List<SessionItem> = emptyList()
         override fun getCount() = items.size
         override fun getItem(position: Int) = items[position]
         override fun getItemId(position: Int) = position.toLong()
@@ -102,7 +90,7 @@ class SessionsActivity : AppCompatActivity() {
                 line1.text = getString(R.string.session_unreadable, item.error)
                 line2.text = ""
             } else {
-                line1.text = describe(this@SessionsActivity, s, deps.sessions.isRecording(item.dir))
+                line1.text = describe(this@SessionsActivity, s, item.recordingNow)
                 // A stream's name and rate never split over two lines (no-break spaces).
                 line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { "${shortName(it.name)}\u00A0${"%.0f".format(java.util.Locale.ROOT, it.rateHz)}\u00A0Hz" }
             }

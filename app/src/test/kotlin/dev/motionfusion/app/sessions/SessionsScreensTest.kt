@@ -147,6 +147,41 @@ class SessionsScreensTest {
     }
 
     @Test
+    fun `the list says it is reading until the disk executor has read it, and keeps its items across a rotation`() {
+        record("walk to the station", 4.0, 1_795_688_100_000L, 7)
+        val c = Robolectric.buildActivity(SessionsActivity::class.java).setup()
+        shadowOf(Looper.getMainLooper()).idle()
+        val empty = c.get().findViewById<TextView>(R.id.sessions_empty)
+        assertEquals(app.getString(R.string.sessions_loading), empty.text.toString())
+        assertTrue("the reading waits for the disk executor", graph.disk.pending > 0)
+        idle()
+        assertEquals(1, c.get().items.size)
+        c.recreate()
+        shadowOf(Looper.getMainLooper()).idle()
+        // Shown at once from the ViewModel, before the disk executor runs the refresh.
+        assertEquals(1, c.get().items.size)
+        assertEquals(View.GONE, c.get().findViewById<View>(R.id.sessions_empty).visibility)
+    }
+
+    @Test
+    fun `the detail plots each stream's rate over time and keeps its state across a rotation`() {
+        val dir = record("walk to the station", 6.0, 1_795_688_100_000L, 8)
+        val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, dir.name)
+        val c = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup()
+        idle()
+        val rates = c.get().findViewById<dev.motionfusion.app.ui.RatePlotView>(R.id.detail_rate_plot)
+        assertEquals(4, rates.laneCount) // accelerometer, gyroscope, magnetometer, game rotation vector
+        assertTrue(rates.contentDescription.toString(), rates.contentDescription.contains("acc 200 Hz"))
+        val points = c.get().findViewById<AnglePlotView>(R.id.detail_plot).pointCount
+        assertTrue(points > 100)
+        c.recreate()
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals("nothing read again", 0, graph.disk.pending)
+        assertEquals(points, c.get().findViewById<AnglePlotView>(R.id.detail_plot).pointCount)
+        assertEquals(4, c.get().findViewById<dev.motionfusion.app.ui.RatePlotView>(R.id.detail_rate_plot).laneCount)
+    }
+
+    @Test
     fun `rename checks the name and renames the folder`() {
         val dir = record("session_2026-11-26_09-15-00", 2.0, 1_795_684_500_000L, 5)
         val a = detail(dir)

@@ -1,0 +1,157 @@
+package dev.motionfusion.app.sessions
+
+import androidx.lifecycle.ViewModel
+import androidx.lifecycle.ViewModelProvider
+import androidx.lifecycle.viewModelScope
+import dev.motionfusion.app.ui.PlotMarker
+import kotlinx.coroutines.Job
+import kotlinx.coroutines.flow.MutableStateFlow
+import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.flow.asStateFlow
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.withContext
+import java.io.File
+
+/** One row of the list: a readable summary (size, duration, rates), or why the session cannot be read. */
+internal data class SessionItem(val dir: File, val summary: SessionSummary?, val error: String?, val recordingNow: Boolean = false)
+
+/** The sessions list: loading, the sessions (newest first; none: the empty text), or why the folder cannot be listed. */
+internal sealed interface SessionsUiState {
+    data object Loading : SessionsUiState
+    data class Loaded(val items: List<SessionItem>) : SessionsUiState
+    data class Failed(val message: String) : SessionsUiState
+}
+
+/**
+ * The sessions list's state, kept across configuration changes. [refresh] repairs interrupted
+ * sessions and reads each one's summary on the disk executor ([SessionsDependencies.io]).
+ */
+internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewModel() {
+    private val flow = MutableStateFlow<SessionsUiState>(SessionsUiState.Loading)
+    val state: StateFlow<SessionsUiState> = flow.asStateFlow()
+    private var loading: Job? = null
+
+    fun refresh() {
+        loading?.cancel()
+        loading = viewModelScope.launch {
+            flow.value = try {
+                SessionsUiState.Loaded(withContext(deps.io) { load() })
+            } catch (e: Exception) {
+                SessionsUiState.Failed(e.message ?: e.javaClass.simpleName)
+            }
+        }
+    }
+
+    private fun load(): List<SessionItem> {
+        deps.sessions.repairInterrupted()
+        return deps.sessions.list().map { dir ->
+            try {
+                SessionItem(dir, deps.library.summary(dir), null, deps.sessions.isRecording(dir))
+            } catch (e: Exception) {
+                SessionItem(dir, null, e.message ?: e.javaClass.simpleName)
+            }
+        }
+    }
+
+    class Factory(private val deps: SessionsDependencies) : ViewModelProvider.Factory {
+        @Suppress("UNCHECKED_CAST")
+        override fun <T : ViewModel> create(modelClass: Class<T>): T {
+            require(modelClass.isAssignableFrom(SessionsViewModel::class.java)) { "unknown ViewModel $modelClass" }
+            return SessionsViewModel(deps) as T
+        }
+    }
+}
+
+/**
+ * A session's detail: its summary, the fused angles, each stream's rate over time and the markers
+ * on the plot (empty until the session format has markers). [error] when it cannot be read,
+ * [message] after an action (rename refused, export done).
+ */
+internal data class SessionDetailUiState(
+    val name: String,
+    val loading: Boolean = true,
+    val summary: SessionSummary? = null,
+    val recordingNow: Boolean = false,
+    val angles: AngleSeries? = null,
+    val rates: RateSeries? = null,
+    val markers: List<PlotMarker> = emptyList(),
+    val error: String? = null,
+    val message: String? = null,
+    /** The session was deleted: the screen closes. */
+    val deleted: Boolean = false,
+)
+
+/**
+ * One session's state, kept across configuration changes; every read, rename and delete runs on
+ * the disk executor (rename and delete under the session folder's lock).
+ */
+internal class SessionDetailViewModel(private val deps: SessionsDependencies, name: String) : ViewModel() {
+    private val flow = MutableStateFlow(SessionDetailUiState(name))
+    val state: StateFlow<SessionDetailUiState> = flow.asStateFlow()
+
+    /** The session's folder (its name changes with [rename]). */
+    val dir: File get() = deps.sessions.folder(flow.value.name)
+
+    init {
+        load()
+    }
+
+    fun load() {
+        val dir = dir
+        viewModelScope.launch {
+            flow.value = try {
+                val lib = deps.library
+                val (summary, angles, rates) = withContext(deps.io) { Triple(lib.summary(dir), lib.angles(dir, PLOT_POINTS), lib.rates(dir, RATE_BINS)) }
+                flow.value.copy(loading = false, summary = summary, angles = angles, rates = rates, recordingNow = deps.sessions.isRecording(dir), error = null)
+            } catch (e: Exception) {
+                flow.value.copy(loading = false, error = e.message ?: e.javaClass.simpleName)
+            }
+        }
+    }
+
+    /** Renames the session; [refused] is the message when the name is not allowed. */
+    fun rename(newName: String, refused: String) {
+        val old = dir
+        viewModelScope.launch {
+            try {
+                val renamed = withContext(deps.io) { deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } }
+                flow.value = flow.value.copy(name = renamed.name, message = null)
+                load()
+            } catch (e: Exception) {
+                flow.value = flow.value.copy(message = refused)
+            }
+        }
+    }
+
+    fun delete() {
+        val dir = dir
+        viewModelScope.launch {
+            flow.value = try {
+                withContext(deps.io) { deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } }
+                flow.value.copy(deleted = true)
+            } catch (e: Exception) {
+                flow.value.copy(message = e.message)
+            }
+        }
+    }
+
+    /** Shows [text] as the result of an action (export). */
+    fun message(text: String?) {
+        flow.value = flow.value.copy(message = text)
+    }
+
+    class Factory(private val deps: SessionsDependencies, private val name: String) : ViewModelProvider.Factory {
+        @Suppress("UNCHECKED_CAST")
+        override fun <T : ViewModel> create(modelClass: Class<T>): T {
+            require(modelClass.isAssignableFrom(SessionDetailViewModel::class.java)) { "unknown ViewModel $modelClass" }
+            return SessionDetailViewModel(deps, name) as T
+        }
+    }
+
+    companion object {
+        const val PLOT_POINTS = 1500
+
+        /** Bins of the rate plot per stream: an hour's session at 4-s bins. */
+        const val RATE_BINS = 1200
+    }
+}
