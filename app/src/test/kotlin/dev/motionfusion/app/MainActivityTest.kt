@@ -325,6 +325,7 @@ class MainActivityTest {
         val e = engine()
         val steps = e.state.value.filterSteps
         assertTrue(steps > 0)
+        holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(-22f, 0f, -40f))
         val plotted = c.get().findViewById<AnglePlotView>(R.id.plot)
         val points = plotted.pointCount
         val span = plotted.spanSeconds

@@ -67,14 +67,14 @@ object Screenshots {
         val d = activity.resources.displayMetrics.density
         val width = (c.screenWidthDp * d).toInt()
         val root = activity.window.decorView
-        root.measure(View.MeasureSpec.makeMeasureSpec(width, View.MeasureSpec.EXACTLY), View.MeasureSpec.makeMeasureSpec(0, View.MeasureSpec.UNSPECIFIED))
+        val screen = (c.screenHeightDp * d).toInt()
+        root.measure(View.MeasureSpec.makeMeasureSpec(width, View.MeasureSpec.EXACTLY), View.MeasureSpec.makeMeasureSpec(screen, View.MeasureSpec.EXACTLY))
         var extra = 0
         fun walk(v: View) {
             if (v is android.widget.ScrollView && v.childCount > 0) extra += (v.getChildAt(0).measuredHeight - v.measuredHeight).coerceAtLeast(0)
             if (v is ViewGroup) for (i in 0 until v.childCount) walk(v.getChildAt(i))
         }
         walk(root)
-        val screen = (c.screenHeightDp * d).toInt()
         return capture(activity, name, width = width, height = screen + extra)
     }
 
