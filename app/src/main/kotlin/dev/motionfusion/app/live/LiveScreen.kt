@@ -15,7 +15,6 @@ import dev.motionfusion.app.ui.CompassView
 import dev.motionfusion.app.ui.PhoneModelView
 import dev.motionfusion.app.ui.PlotMarker
 import java.util.EnumMap
-import java.util.Locale
 
 /**
  * Binds the views of activity_main (any of its layouts: they share the ids) to one frame's
