@@ -1,6 +1,8 @@
 package dev.motionfusion.app
 
 import android.app.Application
+import android.content.pm.ApplicationInfo
+import dev.motionfusion.app.platform.MainThreadPolicy
 import com.google.android.material.color.DynamicColors
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.sessions.SessionsDependencies
@@ -10,7 +12,7 @@ import dev.motionfusion.app.settings.SettingsRepository
  * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
  * wallpaper on Android 12+ (the theme's own colours before).
  */
-internal class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
+internal open class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
     private var built: AppGraph? = null
 
     /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
@@ -22,6 +24,7 @@ internal class MotionFusionApp : Application(), RecordingDependencies.Provider, 
 
     override fun onCreate() {
         super.onCreate()
+        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install(fail = false)
         DynamicColors.applyToActivitiesIfAvailable(this)
     }
 

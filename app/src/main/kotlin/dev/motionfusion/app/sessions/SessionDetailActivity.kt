@@ -98,7 +98,7 @@ class SessionDetailActivity : AppCompatActivity() {
      * Shows session [s]: its summary, the fused [angles] with [markers] (timestamps on the
      * session's sensor clock) on the plot, and each stream's samples and achieved rate.
      */
-    internal fun show(s: SessionSummary, angles: AngleSeries, markers: List<PlotMarker> = emptyList()) {
+    internal fun show(s: SessionSummary, angles: AngleSeries, markers: List<PlotMarker> = angles.markers) {
         findViewById<TextView>(R.id.detail_when).text = SessionsActivity.describe(this, s, deps.sessions.isRecording(dir))
         val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
             getString(R.string.session_fused_line, s.fusedRows)
