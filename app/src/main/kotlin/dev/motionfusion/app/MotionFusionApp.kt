@@ -12,7 +12,7 @@ import dev.motionfusion.app.settings.SettingsRepository
  * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
  * wallpaper on Android 12+ (the theme's own colours before).
  */
-internal open class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
+internal class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
     private var built: AppGraph? = null
 
     /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
@@ -24,7 +24,7 @@ internal open class MotionFusionApp : Application(), RecordingDependencies.Provi
 
     override fun onCreate() {
         super.onCreate()
-        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install(fail = false)
+        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install()
         DynamicColors.applyToActivitiesIfAvailable(this)
     }
 

@@ -196,17 +196,6 @@ class RecordingAsExpectedTest {
     }
 
     @Test
-    @Config(sdk = [26])
-    fun `before API 33 no explanation and no question, Record starts at once`() {
-        val activity = recordingScreen()
-        click(activity.get(), R.id.record_toggle)
-        assertTrue(ShadowDialog.getShownDialogs().isEmpty())
-        assertNull(shadowOf(activity.get()).lastRequestedPermission)
-        assertNotNull(shadowOf(app).nextStartedService)
-        activity.pause().stop().destroy()
-    }
-
-    @Test
     fun `the maximum duration stops the recording on the injected clock and meta json says why`() {
         graph.graph.settingsRepository.updateLimits(RecordingLimits(maxDurationS = 15 * 60L, stopBatteryPercent = 0))
         val start = graph.clock.elapsedNs
