@@ -12,7 +12,11 @@ import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
 import dev.motionfusion.app.platform.SerialDiskExecutor
 import dev.motionfusion.app.record.CoreSessionFormat
+import dev.motionfusion.app.record.BatterySource
+import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.RecordingDependencies
+import dev.motionfusion.app.record.RecordingLimits
+import dev.motionfusion.app.record.StickyBattery
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.record.SessionFormat
 import dev.motionfusion.app.sensor.EventRing
@@ -54,16 +58,22 @@ internal class AppGraph(
     ringCapacity: Int = Capture.DEFAULT_RING_CAPACITY,
     captureClock: () -> Long = System::nanoTime,
     private val enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
+    override val battery: BatterySource = BatterySource { BatteryState(null, false) },
 ) : RecordingDependencies, SessionsDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
 
     override val settings: StateFlow<LiveSettings> get() = settingsRepository.settings
+    override val limits: StateFlow<RecordingLimits> get() = settingsRepository.recordingLimits
     private val ring = EventRing(ringCapacity)
     override val capture = Capture(ring, SensorHub(sensorManager, ring), settingsRepository.settings, scope, nanoTime = captureClock, runThread = captureThread)
     override val recordings = Recordings()
     override val sessions = SessionsRepository(filesDir, format, locks)
     override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
+
+    override val notificationsAnswered: Boolean get() = settingsRepository.notificationsAnswered
+
+    override fun setNotificationsAnswered() = settingsRepository.markNotificationsAnswered()
 
     override fun startForeground(service: Service, id: Int, notification: Notification, type: Int) =
         enterForeground(service, id, notification, type)
@@ -74,6 +84,7 @@ internal class AppGraph(
             context.getSystemService(SensorManager::class.java),
             context.filesDir,
             SettingsRepository(SettingsStore(context)),
+            battery = StickyBattery(context),
         )
     }
 }

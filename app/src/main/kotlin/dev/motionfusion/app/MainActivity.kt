@@ -20,6 +20,8 @@ import dev.motionfusion.app.live.LiveViewModel
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.record.RecordBar
+import dev.motionfusion.app.record.RecordingState
+import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
@@ -34,6 +36,7 @@ import kotlinx.coroutines.launch
  */
 class MainActivity : AppCompatActivity() {
     private val model: LiveViewModel by viewModels { LiveViewModel.Factory((application as MotionFusionApp).graph.capture) }
+    private val recordings by lazy { (application as MotionFusionApp).graph.recordings }
     private lateinit var screen: LiveScreen
     private var shown: FusionState? = null
     private var shownRotation = -1
@@ -57,6 +60,7 @@ class MainActivity : AppCompatActivity() {
         setSupportActionBar(findViewById(R.id.toolbar))
         screen = LiveScreen(this, model.sensorInfo, model.plotTrace)
         RecordBar.attach(this, findViewById(R.id.record_bar))
+        lifecycleScope.launch { repeatOnLifecycle(Lifecycle.State.STARTED) { recordings.state.collect { requestFrame() } } }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { requestFrame() } }
         }
@@ -107,7 +111,13 @@ class MainActivity : AppCompatActivity() {
         if (s === shown && rotation == shownRotation) return
         shown = s
         shownRotation = rotation
-        screen.show(s, rotation)
+        screen.show(s, rotation, recordingMarkers())
+    }
+
+    /** The markers of the running recording, for the live plot. */
+    private fun recordingMarkers(): List<PlotMarker> {
+        val active = recordings.state.value as? RecordingState.Active ?: return emptyList()
+        return active.markers().map { PlotMarker(it.timestampNs, it.label) }
     }
 
     private fun displayRotation(): Int {

@@ -1,6 +1,8 @@
 package dev.motionfusion.app
 
 import android.app.Application
+import android.content.pm.ApplicationInfo
+import dev.motionfusion.app.platform.MainThreadPolicy
 import com.google.android.material.color.DynamicColors
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.sessions.SessionsDependencies
@@ -22,6 +24,7 @@ internal class MotionFusionApp : Application(), RecordingDependencies.Provider, 
 
     override fun onCreate() {
         super.onCreate()
+        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install()
         DynamicColors.applyToActivitiesIfAvailable(this)
     }
 

@@ -4,7 +4,6 @@ import android.content.Intent
 import android.hardware.Sensor
 import android.hardware.SensorManager
 import android.os.Looper
-import android.os.SystemClock
 import android.view.View
 import android.widget.TextView
 import android.widget.CompoundButton
@@ -225,7 +224,7 @@ class ScreensTest {
     fun `live screen while recording, with markers`() {
         val session = File(sessionsRoot(), "session_2026-12-01_18-40-00")
         for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE)) for (dark in listOf(false, true)) {
-            graph.graph.recordings.set(RecordingState.Active(session, SystemClock.elapsedRealtime() - 83_000, rows = { 41_522L }))
+            graph.graph.recordings.set(RecordingState.Active(session, graph.clock.elapsedNs / 1_000_000 - 83_000, rows = { 41_522L }))
             val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
             val a = live(shape, dark, markers)
             Screenshots.captureScreen(a, name("live-recording", shape, dark))

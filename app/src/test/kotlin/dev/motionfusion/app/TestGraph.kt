@@ -8,6 +8,8 @@ import androidx.core.app.ServiceCompat
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
+import dev.motionfusion.app.record.BatterySource
+import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.SessionFormat
 import dev.motionfusion.app.settings.SettingsRepository
@@ -52,11 +54,18 @@ internal class FakeClock(var elapsedNs: Long = 5_000_000_000L, var wallMs: Long 
     override fun wallClockMs(): Long = wallMs
 }
 
+/** A battery the test sets. */
+internal class FakeBattery(@Volatile var state: BatteryState = BatteryState(80, false)) : BatterySource {
+    var reads = 0
+    override fun read(): BatteryState = state.also { reads++ }
+}
+
 /** The application graph of a Robolectric test: capture pumped by the test, disk tasks run by the test. */
 internal class TestGraph(
     format: SessionFormat = CoreSessionFormat,
     minFreeBytes: Long = 0L,
     enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
+    val battery: FakeBattery = FakeBattery(),
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     val disk = ManualDiskExecutor()
@@ -65,7 +74,7 @@ internal class TestGraph(
     val graph = AppGraph(
         app.getSystemService(SensorManager::class.java), app.filesDir, SettingsRepository(SettingsStore(app)),
         disk = disk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
-        captureClock = { captureNs }, enterForeground = enterForeground,
+        captureClock = { captureNs }, enterForeground = enterForeground, battery = battery,
     ).also { app.graph = it }
     val capture get() = graph.capture
 

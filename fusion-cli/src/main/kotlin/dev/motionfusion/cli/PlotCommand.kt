@@ -27,6 +27,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
         |  time axis), or truth.csv[.gz] beside input.csv[.gz] of a trial folder;
         |  the phone's rotation vector recorded in the session.
         |Long recordings are reduced to per-pixel minimum/maximum, so spikes stay visible.
+        |A session's markers (markers.csv) are drawn as labelled vertical lines.
         |
         |Options:
         |  -o, --output FILE    the SVG to write (required)
@@ -48,6 +49,8 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
         val settings = FilterOptions.settings(o)
         val inputPath = InputOptions.path(input)
         InputOptions.open(input, o, err, name).use { rec ->
+            // Read before the replay: each read of a zip counts against the decompression limit anew.
+            val markers = rec.markers()
             val besideTable = rec.format == RecordingFormat.IMU_TABLE && Files.isDirectory(inputPath)
             val truthPath = o.value("--truth")?.let { InputOptions.path(it) }
                 ?: if (besideTable) listOf("truth.csv.gz", "truth.csv").map { inputPath.resolve(it) }.firstOrNull { Files.isRegularFile(it) } else null
@@ -102,7 +105,9 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             progress.finish()
             if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
             val tMax = angles.maxOf { it.lastT }
-            val fig = SvgFigure("fusion replay of ${rec.name}", 0.0, tMax)
+            val marks = markers.map { SvgFigure.Mark(Replayer.secondsBetween(origin ?: 0L, it.timestampNs), it.label) }
+            val outside = marks.count { it.t < 0.0 || it.t > tMax }
+            val fig = SvgFigure("fusion replay of ${rec.name}", 0.0, tMax, marks)
             val names = if (aerospace) listOf("yaw", "pitch", "roll") else listOf("azimuth", "pitch", "roll")
             val colors = listOf("#1f77b4", "#d62728", "#2ca02c")
             fig.panel(SvgFigure.Panel("${if (aerospace) "aerospace" else "Android"} angles (°)",
@@ -114,7 +119,12 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             }
             outputs.file(output, listOfNotNull(input, truthPath?.toString())).use { it.write(fig.render().toByteArray(Charsets.UTF_8)) }
             val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""
-            out.println("$output: ${names.joinToString("/")} over ${String.format(Locale.ROOT, "%.1f", tMax)} s$stats")
+            val markerNote = when {
+                markers.isEmpty() -> ""
+                outside > 0 -> "; ${markers.size} markers ($outside outside the replayed time, not drawn)"
+                else -> "; ${markers.size} markers"
+            }
+            out.println("$output: ${names.joinToString("/")} over ${String.format(Locale.ROOT, "%.1f", tMax)} s$stats$markerNote")
         }
         return ExitCode.OK
     }

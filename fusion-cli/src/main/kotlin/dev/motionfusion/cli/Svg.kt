@@ -79,9 +79,15 @@ internal class Envelope {
     }
 }
 
-/** A hand-written SVG figure of stacked panels sharing the time axis. */
-internal class SvgFigure(private val title: String, private val tMin: Double, private val tMax: Double) {
+/**
+ * A hand-written SVG figure of stacked panels sharing the time axis, with [marks] (moments
+ * marked while recording) drawn as vertical lines through every panel, labelled in the first.
+ */
+internal class SvgFigure(private val title: String, private val tMin: Double, private val tMax: Double, private val marks: List<Mark> = emptyList()) {
     class Line(val label: String, val color: String, val data: Envelope, val wraps: Boolean)
+
+    /** A marker at [t] (s on the figure's time axis) with its [label] (shown cut to [SHOWN_CHARS], whole in its tooltip). */
+    class Mark(val t: Double, val label: String)
     class Panel(val yLabel: String, val lines: List<Line>, val yMin: Double?, val yMax: Double?, val yStep: Double?)
 
     private val panels = ArrayList<Panel>()
@@ -140,6 +146,17 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
                 val ly = y0 + 16 + li * 18
                 svgLegend(sb, left + plotW + 12, ly, l.color, "", l.label)
             }
+            for (m in marks) {
+                if (m.t < tMin || m.t > tMax) continue
+                val mx = svgNum(x(m.t))
+                sb.append("""<g class="marker"><title>${svgEsc(m.label)}</title>""")
+                sb.append("""<line x1="$mx" x2="$mx" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="$MARK_COLOR" stroke-width="1" stroke-dasharray="4 3"/>""")
+                if (pi == 0) {
+                    val shown = if (m.label.length > SHOWN_CHARS) m.label.take(SHOWN_CHARS - 1) + "…" else m.label
+                    sb.append("""<text transform="translate(${svgNum(x(m.t) + 4)} ${svgNum(y0 + 6)}) rotate(90)" fill="$MARK_COLOR" font-size="11">${svgEsc(shown)}</text>""")
+                }
+                sb.append("</g>\n")
+            }
             sb.append("</g>\n")
         }
         sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">time (s)</text>""").append('\n')
@@ -157,6 +174,11 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
             m <= 5.0 -> 5.0
             else -> 10.0
         }
+    }
+
+    private companion object {
+        const val MARK_COLOR = "#7b2cbf"
+        const val SHOWN_CHARS = 40
     }
 
     private fun num(v: Double): String = if (abs(v - Math.rint(v)) < 1e-9) String.format(Locale.ROOT, "%d", Math.rint(v).toLong()) else String.format(Locale.ROOT, "%.2f", v).trimEnd('0')

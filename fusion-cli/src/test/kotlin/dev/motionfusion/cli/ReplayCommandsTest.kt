@@ -5,6 +5,7 @@ import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.io.TempDir
@@ -222,6 +223,32 @@ class ReplayCommandsTest {
         val svg = Files.readString(dir.resolve("s.svg"))
         assertTrue(svg.startsWith("<svg") && svg.contains("error vs truth") && svg.trim().endsWith("</svg>"))
         assertTrue(svg.length < 400_000)
+    }
+
+    @Test
+    fun `plot draws a session's markers as labelled vertical lines`() {
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", p("m"), "--duration", "12").code)
+        val origin = dev.motionfusion.core.session.SessionReader.open(dir.resolve("m")).use { it.metadata.startAnchor!!.elapsedRealtimeNs }
+        Files.writeString(
+            dir.resolve("m").resolve("markers.csv"),
+            "timestamp_ns,label\n${origin + 3_000_000_000L},\"stairs, \"\"up\"\" <b>\"\n${origin + 6_500_000_000L},\"\"\n${origin + 1_000_000_000_000L},\"later\"\n",
+        )
+        val plot = fusion("plot", p("m"), "-o", p("m.svg"))
+        assertEquals(ExitCode.OK, plot.code, plot.err)
+        assertTrue(plot.out.contains("3 markers (1 outside the replayed time, not drawn)"), plot.out)
+        val svg = Files.readString(dir.resolve("m.svg"))
+        // One line per panel for each of the two markers inside the 12 s (angles and error panels), one label each.
+        assertEquals(4, Regex("<g class=\"marker\">").findAll(svg).count(), svg)
+        assertTrue(svg.contains(">stairs, \"up\" &lt;b&gt;</text>"), svg)
+        assertFalse(svg.contains("later"))
+        val x = Regex("<g class=\"marker\"><title>stairs[^<]*</title><line x1=\"([0-9.]+)\"").find(svg)!!.groupValues[1].toDouble()
+        // 3 s of 12 on a 780-pixel axis starting at 70.
+        assertEquals(70.0 + 3.0 / 11.99 * 780.0, x, 1.0)
+
+        Files.writeString(dir.resolve("m").resolve("markers.csv"), "timestamp_ns,label\n12,\"ok\"\nlater,\"x\"\n")
+        val bad = fusion("plot", p("m"), "-o", p("m2.svg"))
+        assertEquals(ExitCode.DATA_ERROR, bad.code)
+        assertTrue(bad.err.contains("markers.csv:3:1"), bad.err)
     }
 
     @Test

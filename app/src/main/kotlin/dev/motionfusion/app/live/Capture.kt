@@ -1,6 +1,7 @@
 package dev.motionfusion.app.live
 
 import dev.motionfusion.app.sensor.EventRing
+import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.sensor.ReorderWindow
 import dev.motionfusion.app.sensor.SensorHub
 import dev.motionfusion.app.sensor.SensorSource
@@ -87,7 +88,10 @@ class Capture internal constructor(
     /** The streams the device has, with their sensors (for a session's meta.json). */
     internal val sensors get() = hub.sensors
 
-    private val pipeline = FusionPipeline(available, settings.value)
+    /** The filter's gyroscope saturation from this device's gyroscope range (written into meta.json with the other filter settings). */
+    private val gyroSaturation = GyroSaturation.fromRange(sensorInfo[SensorKind.GYROSCOPE]?.maxRange)
+
+    private val pipeline = FusionPipeline(available, settings.value, gyroSaturation)
     private val stateFlow = MutableStateFlow(pipeline.snapshot())
 
     /** The latest published fusion result. */
@@ -126,7 +130,7 @@ class Capture internal constructor(
     val lateEvents: Long get() = synchronized(pipeline) { reorder.late }
 
     /** The filter settings a recording started now would run with (and write into meta.json). */
-    fun filterSettingsFor(s: LiveSettings): FilterSettings = FusionPipeline(available, s).filterSettings
+    fun filterSettingsFor(s: LiveSettings): FilterSettings = FusionPipeline(available, s, gyroSaturation).filterSettings
 
     /** The settings of the filter in use. */
     internal fun filterSettingsInUse(): FilterSettings = synchronized(pipeline) { pipeline.filterSettings }

@@ -24,7 +24,12 @@ import kotlin.math.sqrt
  * Rotation vector samples are kept as references. [onSample] allocates nothing; [snapshot]
  * allocates the published state. Not thread-safe: one thread calls everything.
  */
-class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSettings) {
+class FusionPipeline(
+    private val available: Set<SensorKind>,
+    settings: LiveSettings,
+    /** The gyroscope's saturation threshold from its range (sensor/GyroSaturation), rad/s; null keeps the filter's default. */
+    private val gyroSaturationRadS: Double? = null,
+) {
     var settings: LiveSettings = settings
         private set
     var mode: EffectiveMode = effectiveMode(available, settings.mode)
@@ -165,7 +170,7 @@ class FusionPipeline(private val available: Set<SensorKind>, settings: LiveSetti
     }
 
     private fun newFilter(): MadgwickFilter {
-        val fs = settings.filter
+        val fs = settings.filter.let { if (gyroSaturationRadS != null) it.copy(gyroSaturation = gyroSaturationRadS) else it }
         // 9D requested without a magnetometer: the filter runs 6D.
         return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
     }

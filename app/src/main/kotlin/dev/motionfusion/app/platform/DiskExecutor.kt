@@ -1,6 +1,7 @@
 package dev.motionfusion.app.platform
 
 import android.os.Looper
+import android.os.StrictMode
 import java.io.File
 import java.util.concurrent.ConcurrentHashMap
 import java.util.concurrent.ExecutorService
@@ -31,11 +32,43 @@ class FolderLocks {
     }
 
     companion object {
-        /** Disk work on the main thread is a bug (an ANR on a slow card): fail loudly, in tests too. */
-        fun checkNotMainThread() {
-            check(Looper.myLooper() != Looper.getMainLooper() || Looper.getMainLooper() == null) {
-                "disk work on the main thread"
-            }
+        /** Disk work on the main thread is a bug (an ANR on a slow card): fail loudly, in tests too ([MainThreadPolicy]). */
+        fun checkNotMainThread() = MainThreadPolicy.checkNotMainThread()
+    }
+}
+
+/**
+ * The app's one rule against disk and network work on the main thread. Android's StrictMode
+ * watches the framework's own disk and network calls (SharedPreferences, getFilesDir's mkdir,
+ * SQLite, sockets) once [install]ed: debug builds log them (throwing in every test is not on
+ * yet, see docs/RECORDING.md). The app's own file work (java.io/java.nio) is
+ * invisible to StrictMode on a JVM, so every path into it (the disk executor's folder locks)
+ * calls [checkNotMainThread], which throws.
+ */
+object MainThreadPolicy {
+    /** Turns StrictMode on for the calling (main) thread: disk reads, disk writes and network are logged. */
+    fun install() {
+        StrictMode.setThreadPolicy(StrictMode.ThreadPolicy.Builder().detectDiskReads().detectDiskWrites().detectNetwork().penaltyLog().build())
+    }
+
+    /** Throws on the main thread: the app's own disk work must go through the disk executor. */
+    fun checkNotMainThread() {
+        check(Looper.myLooper() != Looper.getMainLooper() || Looper.getMainLooper() == null) {
+            "disk work on the main thread"
+        }
+    }
+
+    /**
+     * Runs [block] with disk reads allowed on this thread. The one exemption: the settings file
+     * (under a kilobyte) is read once when the process starts, because the first screen and a
+     * recording need the user's settings before anything else (SettingsStore).
+     */
+    fun <T> allowingDiskReads(block: () -> T): T {
+        val old = StrictMode.allowThreadDiskReads()
+        try {
+            return block()
+        } finally {
+            StrictMode.setThreadPolicy(old)
         }
     }
 }

@@ -54,6 +54,8 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
         atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean,
     ) = writer.filterDiagnostics(timestampNs, biasX, biasY, biasZ, atRest, magneticDisturbance, accelerometerRejected)
 
+    override fun marker(timestampNs: Long, label: String) = writer.marker(timestampNs, label)
+
     override fun flush() = writer.flush()
 
     /** [SessionWriter.anchor] syncs every stream before it replaces meta.json. */

@@ -7,30 +7,47 @@ import android.content.res.ColorStateList
 import android.os.Build
 import android.os.Handler
 import android.os.Looper
-import android.os.SystemClock
+import android.text.InputFilter
+import android.text.InputType
 import android.text.format.DateUtils
 import android.view.LayoutInflater
 import android.view.View
 import android.view.ViewGroup
 import android.widget.Button
+import android.widget.EditText
 import android.widget.TextView
 import androidx.activity.ComponentActivity
 import androidx.activity.result.contract.ActivityResultContracts
+import androidx.appcompat.app.AlertDialog
 import androidx.core.content.ContextCompat
+import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.sessions.SessionsActivity
+import dev.motionfusion.core.session.SessionMarkers
 
 /**
- * The Record/Stop button, the recording status and the way to the sessions list, inflated
- * into a host activity's container (the main screen's `record_bar`). It shows [Recordings.state]
- * (refreshed twice a second while attached to a window, for the elapsed time); the recording
- * itself lives in [RecordingService] and does not depend on this view or its activity.
+ * The Record/Stop button, the Mark button (while recording: a tap marks the moment, a long
+ * press marks it and asks for a note), the recording status and the way to the sessions list,
+ * inflated into a host activity's container (the main screen's `record_bar`). It shows
+ * [Recordings.state] (refreshed twice a second while attached to a window, for the elapsed
+ * time); the recording itself lives in [RecordingService] and does not depend on this view or
+ * its activity.
+ *
+ * On Android 13+ the first Record explains the recording's notification before the system asks
+ * for the permission; recording starts after the answer, whatever it is, and the question is
+ * not asked again. Without the permission the bar says that the notification may be hidden.
  */
 internal class RecordBar private constructor(private val activity: ComponentActivity, private val root: View) {
     private val toggle: Button = root.findViewById(R.id.record_toggle)
+    private val markButton: Button = root.findViewById(R.id.record_mark)
     private val status: TextView = root.findViewById(R.id.record_status)
     private val handler = Handler(Looper.getMainLooper())
-    private val recordings = (activity.application as RecordingDependencies.Provider).recordingDependencies.recordings
+    private val deps = (activity.application as RecordingDependencies.Provider).recordingDependencies
+    private val recordings = deps.recordings
+
+    /** The dialog on screen (notification explanation or marker note), for tests. */
+    internal var dialog: AlertDialog? = null
+        private set
     private val poll = object : Runnable {
         override fun run() {
             refresh()
@@ -38,11 +55,19 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         }
     }
 
-    /** Registered while the activity is created, as the Activity Result API requires. */
-    private val notificationPermission = activity.registerForActivityResult(ActivityResultContracts.RequestPermission()) { }
+    /** Registered while the activity is created, as the Activity Result API requires. Recording starts after the answer. */
+    private val notificationPermission = activity.registerForActivityResult(ActivityResultContracts.RequestPermission()) {
+        deps.setNotificationsAnswered()
+        start()
+    }
 
     init {
         toggle.setOnClickListener { onToggle() }
+        markButton.setOnClickListener { mark("") }
+        markButton.setOnLongClickListener {
+            askMarkerNote()
+            true
+        }
         root.findViewById<Button>(R.id.record_sessions).setOnClickListener {
             activity.startActivity(Intent(activity, SessionsActivity::class.java))
         }
@@ -60,24 +85,72 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     private fun onToggle() {
         if (recordings.isRecording) {
             RecordingService.stop(activity)
+            handler.postDelayed(::refresh, 100)
+        } else if (Build.VERSION.SDK_INT >= 33 && !notificationsAllowed() && !deps.notificationsAnswered) {
+            explainNotifications()
         } else {
-            requestNotificationPermission()
-            RecordingService.start(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
+            start()
         }
+    }
+
+    private fun start() {
+        RecordingService.start(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
         // The service changes the state when it runs; show the intent at once.
         handler.postDelayed(::refresh, 100)
     }
 
-    /** API 33+: ask once for the notification; recording goes on whatever the answer. */
-    private fun requestNotificationPermission() {
-        if (Build.VERSION.SDK_INT >= 33 &&
-            ContextCompat.checkSelfPermission(activity, Manifest.permission.POST_NOTIFICATIONS) != PackageManager.PERMISSION_GRANTED
-        ) {
-            notificationPermission.launch(Manifest.permission.POST_NOTIFICATIONS)
+    private fun notificationsAllowed(): Boolean = Build.VERSION.SDK_INT < 33 ||
+        ContextCompat.checkSelfPermission(activity, Manifest.permission.POST_NOTIFICATIONS) == PackageManager.PERMISSION_GRANTED
+
+    /** API 33+, before the first recording: what the notification is for, then the system's question (or recording without it). */
+    private fun explainNotifications() {
+        dialog = MaterialAlertDialogBuilder(activity)
+            .setTitle(R.string.record_notifications_title)
+            .setMessage(R.string.record_notifications_text)
+            .setCancelable(false)
+            .setPositiveButton(R.string.record_notifications_continue) { _, _ -> notificationPermission.launch(Manifest.permission.POST_NOTIFICATIONS) }
+            .setNegativeButton(R.string.record_notifications_skip) { _, _ ->
+                deps.setNotificationsAnswered()
+                start()
+            }
+            .show()
+    }
+
+    /** Marks now: the time is taken at the press, the note (if any) added to it. */
+    private fun mark(label: String, atNs: Long = deps.clock.elapsedRealtimeNanos()) {
+        if (recordings.mark(atNs, label)) refresh()
+    }
+
+    private fun askMarkerNote() {
+        val at = deps.clock.elapsedRealtimeNanos()
+        val input = EditText(activity).apply {
+            id = R.id.record_mark_input
+            hint = activity.getString(R.string.record_mark_hint)
+            inputType = InputType.TYPE_CLASS_TEXT or InputType.TYPE_TEXT_FLAG_CAP_SENTENCES
+            isSingleLine = true
+            filters = arrayOf(InputFilter.LengthFilter(SessionMarkers.MAX_LABEL_CHARS))
+        }
+        dialog = MaterialAlertDialogBuilder(activity)
+            .setTitle(R.string.record_mark_title)
+            .setView(input)
+            .setNegativeButton(R.string.cancel, null)
+            .setPositiveButton(R.string.ok) { _, _ -> mark(input.text.toString(), at) }
+            .show()
+    }
+
+    private fun limitsText(l: RecordingLimits): String? {
+        val d = if (l.maxDurationS > 0) DateUtils.formatElapsedTime(l.maxDurationS) else null
+        val b = l.stopBatteryPercent.takeIf { it > 0 }
+        return when {
+            d != null && b != null -> activity.getString(R.string.record_limits_both, d, b)
+            d != null -> activity.getString(R.string.record_limits, d)
+            b != null -> activity.getString(R.string.record_limits_battery, b)
+            else -> null
         }
     }
 
     fun refresh() {
+        markButton.visibility = if (recordings.state.value is RecordingState.Active) View.VISIBLE else View.GONE
         when (val s = recordings.state.value) {
             is RecordingState.Preparing -> {
                 toggle.setText(R.string.record_stop)
@@ -90,11 +163,18 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 }
             }
             is RecordingState.Active -> {
-                val elapsed = (SystemClock.elapsedRealtime() - s.startedElapsedMs) / 1000
+                val elapsed = (deps.clock.elapsedRealtimeNanos() / 1_000_000 - s.startedElapsedMs) / 1000
                 toggle.setText(R.string.record_stop)
                 toggle.contentDescription = activity.getString(R.string.record_stop_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_active))
-                status.text = activity.getString(R.string.record_active, DateUtils.formatElapsedTime(elapsed), s.rows())
+                val markers = s.markers().size
+                val lines = listOfNotNull(
+                    if (markers == 0) activity.getString(R.string.record_active, DateUtils.formatElapsedTime(elapsed), s.rows())
+                    else activity.getString(R.string.record_active_marked, DateUtils.formatElapsedTime(elapsed), s.rows(), markers),
+                    limitsText(s.limits),
+                    if (notificationsAllowed()) null else activity.getString(R.string.record_notifications_off),
+                )
+                status.text = lines.joinToString("\n")
             }
             else -> {
                 toggle.setText(R.string.record_start)

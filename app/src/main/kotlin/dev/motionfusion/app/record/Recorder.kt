@@ -5,6 +5,10 @@ import dev.motionfusion.app.live.TapEnd
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.session.Marker
+import dev.motionfusion.core.session.SessionMarkers
+import java.util.concurrent.ConcurrentLinkedQueue
+import java.util.concurrent.CopyOnWriteArrayList
 import java.util.concurrent.atomic.AtomicLongArray
 
 /**
@@ -15,8 +19,12 @@ import java.util.concurrent.atomic.AtomicLongArray
  * flushes at least every [flushIntervalNs] and, every [checkpointIntervalNs], adds a wall-clock
  * anchor and fsyncs.
  *
+ * Markers ([mark], from any thread) are written by the same sink after the next batch, so the
+ * one writer of the session stays on the capture thread.
+ *
  * The recording ends, and [onEnd] is called once from the capture thread, when
- * - the capture detached it (the user stopped): everything up to then written, the session finished;
+ * - the capture detached it (the user stopped, or a limit of [stopBecause] was reached):
+ *   everything up to then written, the session finished with that reason;
  * - events were lost (the ring was full): everything before the loss is written, then it ends;
  * - [freeBytes] fell below [minFreeBytes]: stopped before the disk fills;
  * - the sink threw: the session is abandoned as it is on disk (the caller repairs it).
@@ -49,6 +57,32 @@ internal class Recorder(
     @Volatile var result: RecorderResult? = null
         private set
 
+    private val pendingMarkers = ConcurrentLinkedQueue<Marker>()
+    private val markerList = CopyOnWriteArrayList<Marker>()
+    @Volatile private var stopReason: RecordingEnd = RecordingEnd.Stopped
+
+    /** Markers set so far, as the session stores them (for the live plot). Any thread. */
+    val markers: List<Marker> get() = markerList
+
+    /** Marks [timestampNs] (sensor clock) with [label]; written with the next batch. Any thread. */
+    fun mark(timestampNs: Long, label: String) {
+        val m = Marker(timestampNs, SessionMarkers.label(label))
+        markerList += m
+        pendingMarkers += m
+    }
+
+    /** The reason the session will end with when the capture detaches it (default: stopped by the user). Any thread, before detaching. */
+    fun stopBecause(end: RecordingEnd) {
+        stopReason = end
+    }
+
+    private fun writeMarkers() {
+        while (true) {
+            val m = pendingMarkers.poll() ?: return
+            sink.marker(m.timestampNs, m.label)
+        }
+    }
+
     /** Raw rows written so far (all streams). Any thread. */
     val rowCount: Long get() = (0 until rows.length()).sumOf { rows.get(it) }
 
@@ -75,6 +109,7 @@ internal class Recorder(
     }
 
     override fun afterBatch(nowNs: Long): Boolean {
+        writeMarkers()
         if (!started) {
             started = true
             lastFlush = nowNs
@@ -102,7 +137,7 @@ internal class Recorder(
 
     override fun end(end: TapEnd) {
         when (end) {
-            TapEnd.Detached -> finishWith(RecordingEnd.Stopped)
+            TapEnd.Detached -> finishWith(stopReason)
             is TapEnd.EventsLost -> finishWith(RecordingEnd.QueueOverflow(end.atTimestampNs))
             is TapEnd.Failed -> failed(end.error)
         }
@@ -110,6 +145,7 @@ internal class Recorder(
 
     private fun finishWith(end: RecordingEnd) {
         try {
+            writeMarkers()
             sink.finish(end)
         } catch (e: Exception) {
             failed(e)

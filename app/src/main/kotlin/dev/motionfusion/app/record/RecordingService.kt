@@ -26,10 +26,12 @@ import java.io.File
 /**
  * Records every sensor stream into a session while the user wants it: a foreground service of
  * type `health`, started from the Record button, holding a partial wake lock (non-wake-up
- * sensors deliver with the screen off only under one) and an ongoing notification with the
- * elapsed time, the number of samples and a Stop action. It does not depend on any activity:
- * closing the app's screens does not stop it; only Stop (button or notification) or a storage
- * problem does, and a storage problem is told to the user.
+ * sensors deliver with the screen off only under one; it times out unless renewed, so a
+ * crashed service cannot keep the phone awake) and an ongoing notification with the elapsed
+ * time, the number of samples and a Stop action. It does not depend on any activity: closing
+ * the app's screens does not stop it; only Stop (button or notification), a limit of the
+ * settings ([RecordingLimits]: maximum duration, battery level, checked once a second on the
+ * injected clock) or a storage problem does; a limit or a problem is told to the user.
  */
 class RecordingService : Service() {
     private val main = Handler(Looper.getMainLooper())
@@ -42,16 +44,39 @@ class RecordingService : Service() {
     private var wakeLock: PowerManager.WakeLock? = null
     private var startedElapsedMs = 0L
     private var startedWallMs = 0L
-    private var ticks = 0
+    private var wakeLockRenewedNs = 0L
+    private var batteryCheckedNs = Long.MIN_VALUE / 2
+    private var limits = RecordingLimits()
 
     private val tick = object : Runnable {
         override fun run() {
-            if (recorder == null) return
+            val r = recorder ?: return
+            val now = deps.clock.elapsedRealtimeNanos()
+            limitReached(now)?.let { end ->
+                r.stopBecause(end)
+                stopRecording()
+                return
+            }
             notificationManager().notify(NOTIFICATION_ID, ongoingNotification())
-            // The wake lock has a timeout (a crashed service cannot keep the phone awake); renew it.
-            if (++ticks % WAKE_LOCK_RENEW_S == 0) wakeLock?.acquire(WAKE_LOCK_TIMEOUT_MS)
+            if (now - wakeLockRenewedNs >= WAKE_LOCK_RENEW_NS) {
+                wakeLock?.acquire(WAKE_LOCK_TIMEOUT_MS)
+                wakeLockRenewedNs = now
+            }
             main.postDelayed(this, 1_000)
         }
+    }
+
+    /** The limit of the settings reached at [nowNs] (elapsed realtime), or null. */
+    private fun limitReached(nowNs: Long): RecordingEnd? {
+        val max = limits.maxDurationS
+        if (max > 0 && nowNs - startedElapsedMs * 1_000_000 >= max * 1_000_000_000) return RecordingEnd.MaxDuration(max)
+        if (limits.stopBatteryPercent > 0 && nowNs - batteryCheckedNs >= BATTERY_CHECK_NS) {
+            batteryCheckedNs = nowNs
+            val b = deps.battery.read()
+            val percent = b.percent
+            if (!b.charging && percent != null && percent <= limits.stopBatteryPercent) return RecordingEnd.BatteryLow(percent)
+        }
+        return null
     }
 
     override fun onCreate() {
@@ -96,6 +121,8 @@ class RecordingService : Service() {
         capture.acquire()
         holdsCapture = true
         val live = deps.settings.value
+        limits = deps.limits.value
+        batteryCheckedNs = Long.MIN_VALUE / 2
         val filterSettings = capture.filterSettingsFor(live)
         val sensors = capture.sensors
         val rate = live.rate
@@ -136,10 +163,16 @@ class RecordingService : Service() {
         )
         this.recorder = recorder
         this.session = dir
-        deps.recordings.set(RecordingState.Active(dir, startedElapsedMs) { recorder.rowCount })
+        deps.recordings.set(
+            RecordingState.Active(
+                dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
+                recorder::mark, limits,
+            ),
+        )
         wakeLock = getSystemService(PowerManager::class.java)
             .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
             .apply { setReferenceCounted(false); acquire(WAKE_LOCK_TIMEOUT_MS) }
+        wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
         deps.capture.attach(recorder, live)
         main.post(tick)
         if (stopWhenReady) stopRecording()
@@ -200,7 +233,7 @@ class RecordingService : Service() {
         wakeLock = null
         deps.recordings.set(RecordingState.Ended(dir, result))
         ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
-        if (result.end.isFailure) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result)))
+        if (result.end != RecordingEnd.Stopped) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result), result.end.isFailure))
         stopSelf()
     }
 
@@ -247,10 +280,10 @@ class RecordingService : Service() {
             .build()
     }
 
-    private fun alertNotification(text: String): Notification =
+    private fun alertNotification(text: String, failed: Boolean = true): Notification =
         NotificationCompat.Builder(this, CHANNEL_ALERTS)
             .setSmallIcon(R.drawable.ic_record)
-            .setContentTitle(getString(R.string.record_failed_title))
+            .setContentTitle(getString(if (failed) R.string.record_failed_title else R.string.record_limit_title))
             .setContentText(text)
             .setStyle(NotificationCompat.BigTextStyle().bigText(text))
             .setAutoCancel(true)
@@ -280,8 +313,11 @@ class RecordingService : Service() {
         internal const val CHANNEL_ALERTS = "recording-alerts"
 
         /** The wake lock times out after 10 minutes unless renewed, every minute while recording. */
-        private const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L
-        private const val WAKE_LOCK_RENEW_S = 60
+        internal const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L
+        internal const val WAKE_LOCK_RENEW_NS = 60_000_000_000L
+
+        /** The battery level is read every 30 s (it changes slowly). */
+        private const val BATTERY_CHECK_NS = 30_000_000_000L
 
         /** The manifest's android:foregroundServiceType; its permission is FOREGROUND_SERVICE_HEALTH (ForegroundServiceTest). */
         internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH
@@ -306,6 +342,8 @@ class RecordingService : Service() {
             val rows = result.rows
             return when (val e = result.end) {
                 RecordingEnd.Stopped -> context.getString(R.string.record_end_stopped, rows)
+                is RecordingEnd.MaxDuration -> context.getString(R.string.record_end_max_duration, DateUtils.formatElapsedTime(e.seconds), rows)
+                is RecordingEnd.BatteryLow -> context.getString(R.string.record_end_battery_low, e.percent, rows)
                 is RecordingEnd.QueueOverflow -> context.getString(R.string.record_end_overflow, rows)
                 is RecordingEnd.StorageLow -> context.getString(R.string.record_end_storage_low, rows, e.freeBytes / (1024 * 1024))
                 is RecordingEnd.WriteFailed -> context.getString(R.string.record_end_write_failed, e.message, rows)

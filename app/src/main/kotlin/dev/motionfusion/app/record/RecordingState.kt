@@ -7,6 +7,7 @@ import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.sessions.SessionsRepository
+import dev.motionfusion.core.session.Marker
 import java.io.File
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
@@ -24,6 +25,12 @@ sealed interface RecordingState {
         /** `SystemClock.elapsedRealtime()` when recording started, ms. */
         val startedElapsedMs: Long,
         val rows: () -> Long,
+        /** Markers set so far. */
+        val markers: () -> List<Marker> = { emptyList() },
+        /** Sets a marker at a time (sensor clock, ns) with a label (may be empty). */
+        val mark: (Long, String) -> Unit = { _, _ -> },
+        /** The limits this recording stops at. */
+        val limits: RecordingLimits = RecordingLimits(),
     ) : RecordingState
 
     data class Ended internal constructor(val session: File?, internal val result: RecorderResult) : RecordingState
@@ -39,6 +46,13 @@ class Recordings {
 
     val isRecording: Boolean get() = state.value.let { it is RecordingState.Active || it is RecordingState.Preparing }
 
+    /** Sets a marker at [timestampNs] (sensor clock) with [label] in the recording, if one is running; false otherwise. */
+    fun mark(timestampNs: Long, label: String): Boolean {
+        val s = state.value as? RecordingState.Active ?: return false
+        s.mark(timestampNs, label)
+        return true
+    }
+
     internal fun set(s: RecordingState) {
         flow.value = s
     }
@@ -53,6 +67,18 @@ internal interface RecordingDependencies {
     val disk: DiskExecutor
     val clock: Clock
     val settings: StateFlow<LiveSettings>
+
+    /** When recordings stop by themselves (settings). */
+    val limits: StateFlow<RecordingLimits>
+
+    /** The battery level and charging state. */
+    val battery: BatterySource
+
+    /** True once the user answered the notification-permission explanation (asked once, before the first recording). */
+    val notificationsAnswered: Boolean
+
+    /** Remembers that the user answered it. */
+    fun setNotificationsAnswered()
 
     /** Recording stops cleanly when free space falls below this. */
     val minFreeBytes: Long

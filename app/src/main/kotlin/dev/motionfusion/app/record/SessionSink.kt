@@ -27,6 +27,10 @@ internal interface SessionSink {
     @Throws(IOException::class)
     fun diagnostics(timestampNs: Long, biasX: Double, biasY: Double, biasZ: Double, atRest: Boolean, magneticDisturbance: Boolean, accelerometerRejected: Boolean)
 
+    /** A marker the user set at [timestampNs] (sensor clock) with [label] (may be empty; the format cuts it to one short line). */
+    @Throws(IOException::class)
+    fun marker(timestampNs: Long, label: String)
+
     /** Hands every row so far to the operating system, so a killed process loses none of them. */
     @Throws(IOException::class)
     fun flush()
@@ -54,6 +58,12 @@ internal sealed interface RecordingEnd {
     /** The user (or the notification's Stop action) stopped it. */
     data object Stopped : RecordingEnd
 
+    /** The maximum duration of the settings ([RecordingLimits.maxDurationS]) was reached. */
+    data class MaxDuration(val seconds: Long) : RecordingEnd
+
+    /** The battery fell to the settings' stop level ([RecordingLimits.stopBatteryPercent]) while not charging. */
+    data class BatteryLow(val percent: Int) : RecordingEnd
+
     /** The queue between sensors and writer filled up: storage could not keep up. */
     data class QueueOverflow(val atTimestampNs: Long) : RecordingEnd
 
@@ -63,12 +73,15 @@ internal sealed interface RecordingEnd {
     /** Writing failed. */
     data class WriteFailed(val message: String) : RecordingEnd
 
-    val isFailure: Boolean get() = this !is Stopped
+    /** True when the recording ended by something else than the user or a limit the user set. */
+    val isFailure: Boolean get() = this !is Stopped && this !is MaxDuration && this !is BatteryLow
 
     /** The `end_reason` of meta.json (docs/SESSION_FORMAT.md). */
     val reason: String
         get() = when (this) {
             Stopped -> "stopped"
+            is MaxDuration -> "max_duration"
+            is BatteryLow -> "battery_low"
             is QueueOverflow -> "queue_overflow"
             is StorageLow -> "storage_low"
             is WriteFailed -> "write_failed: $message"

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import dev.motionfusion.app.sensor.SensorStreams
+import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.sensormanager.androidOrientation
 import dev.motionfusion.core.session.SessionReader
@@ -29,7 +30,8 @@ internal object CoreSessionLibrary : SessionLibrary {
 
     /** Reads orientation.csv once, keeping every k-th row; k doubles whenever the kept rows reach 2·[maxPoints]. */
     override fun angles(dir: File, maxPoints: Int): AngleSeries = SessionReader.open(dir.toPath()).use { r ->
-        if (SessionStream.ORIENTATION !in r.streams) return AngleSeries(FloatArray(0), FloatArray(0), FloatArray(0), FloatArray(0))
+        val markers = r.markers().map { PlotMarker(it.timestampNs, it.label) }
+        if (SessionStream.ORIENTATION !in r.streams) return AngleSeries(FloatArray(0), FloatArray(0), FloatArray(0), FloatArray(0), markers = markers)
         val cap = 2 * maxPoints
         val t = LongArray(cap)
         val a = FloatArray(cap)
@@ -56,7 +58,7 @@ internal object CoreSessionLibrary : SessionLibrary {
             }
         }
         val t0 = if (n > 0) t[0] else 0L
-        AngleSeries(FloatArray(n) { ((t[it] - t0) / 1e9).toFloat() }, a.copyOf(n), p.copyOf(n), ro.copyOf(n), t0)
+        AngleSeries(FloatArray(n) { ((t[it] - t0) / 1e9).toFloat() }, a.copyOf(n), p.copyOf(n), ro.copyOf(n), t0, markers)
     }
 
     /**

@@ -117,7 +117,7 @@ class SessionDetailActivity : AppCompatActivity() {
         val angles = state.angles
         findViewById<AnglePlotView>(R.id.detail_plot).apply {
             emptyText = getString(if (state.loading) R.string.session_loading else R.string.session_plot_empty)
-            if (angles != null) showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, state.markers)
+            if (angles != null) showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, angles.markers)
             contentDescription = getString(if (angles == null || angles.size == 0) R.string.session_plot_empty else R.string.session_plot_title)
         }
     }

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.ui.PlotMarker
 import java.io.File
 import java.io.IOException
 
@@ -26,7 +27,11 @@ internal data class SessionSummary(
  * Android azimuth, pitch and roll of the fused orientation over time, in degrees, for plotting;
  * [timeS] in seconds after [originNs] (the session's sensor clock, ns: the clock of its markers).
  */
-internal class AngleSeries(val timeS: FloatArray, val azimuthDeg: FloatArray, val pitchDeg: FloatArray, val rollDeg: FloatArray, val originNs: Long = 0L) {
+internal class AngleSeries(
+    val timeS: FloatArray, val azimuthDeg: FloatArray, val pitchDeg: FloatArray, val rollDeg: FloatArray, val originNs: Long = 0L,
+    /** The session's markers (markers.csv), timestamps on the sensor clock, drawn on the plot. */
+    val markers: List<PlotMarker> = emptyList(),
+) {
     val size: Int get() = timeS.size
 }
 
@@ -48,7 +53,7 @@ internal interface SessionLibrary {
     @Throws(IOException::class)
     fun summary(dir: File): SessionSummary
 
-    /** The fused orientation as angles, thinned to at most [maxPoints] points spread over the session. */
+    /** The fused orientation as angles, thinned to at most [maxPoints] points spread over the session, with the session's markers. */
     @Throws(IOException::class)
     fun angles(dir: File, maxPoints: Int): AngleSeries
 

@@ -63,8 +63,8 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
 }
 
 /**
- * A session's detail: its summary, the fused angles, each stream's rate over time and the markers
- * on the plot (empty until the session format has markers). [error] when it cannot be read,
+ * A session's detail: its summary, the fused angles with the session's markers, each stream's rate
+ * over time. [error] when it cannot be read,
  * [message] after an action (rename refused, export done).
  */
 internal data class SessionDetailUiState(
@@ -74,7 +74,6 @@ internal data class SessionDetailUiState(
     val recordingNow: Boolean = false,
     val angles: AngleSeries? = null,
     val rates: RateSeries? = null,
-    val markers: List<PlotMarker> = emptyList(),
     val error: String? = null,
     val message: String? = null,
     /** The session was deleted: the screen closes. */

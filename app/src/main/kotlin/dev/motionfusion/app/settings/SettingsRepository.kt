@@ -1,6 +1,7 @@
 package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.record.RecordingLimits
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
@@ -18,6 +19,25 @@ class SettingsRepository(private val store: SettingsStore) {
     fun update(s: LiveSettings) {
         store.save(s)
         flow.value = s
+    }
+
+    private val limitsFlow = MutableStateFlow(store.loadLimits())
+
+    /** When recordings stop by themselves; a recording takes them when it starts. */
+    val recordingLimits: StateFlow<RecordingLimits> = limitsFlow.asStateFlow()
+
+    fun updateLimits(l: RecordingLimits) {
+        store.saveLimits(l)
+        limitsFlow.value = l
+    }
+
+    /** True once the user answered the notification-permission explanation before a first recording. */
+    @Volatile var notificationsAnswered: Boolean = store.loadNotificationsAnswered()
+        private set
+
+    fun markNotificationsAnswered() {
+        store.saveNotificationsAnswered()
+        notificationsAnswered = true
     }
 
     /** What the settings screen needs, from the application's object graph. */

@@ -3,6 +3,8 @@ package dev.motionfusion.app.settings
 import android.content.Context
 import android.content.SharedPreferences
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.platform.MainThreadPolicy
+import dev.motionfusion.app.record.RecordingLimits
 
 /**
  * [LiveSettings] persisted in SharedPreferences, one text entry per [Setting] under its key
@@ -11,7 +13,10 @@ import dev.motionfusion.app.live.LiveSettings
  * value kept under a key of an earlier version ([LEGACY]) is still read.
  */
 class SettingsStore(private val prefs: SharedPreferences, private val settings: List<Setting> = Setting.ALL) {
-    constructor(context: Context) : this(context.getSharedPreferences(FILE, Context.MODE_PRIVATE))
+    /** Reads the file at once (MainThreadPolicy's one exemption: the settings are needed before the first frame). */
+    constructor(context: Context) : this(
+        MainThreadPolicy.allowingDiskReads { context.getSharedPreferences(FILE, Context.MODE_PRIVATE).also { it.all } },
+    )
 
     fun load(): LiveSettings {
         val stored = prefs.all
@@ -34,8 +39,35 @@ class SettingsStore(private val prefs: SharedPreferences, private val settings: 
         e.apply()
     }
 
+    /** The recording limits; a stored value that is not valid falls back to its default. */
+    fun loadLimits(): RecordingLimits {
+        val d = RecordingLimits()
+        return RecordingLimits(
+            maxDurationS = prefs.getString(MAX_DURATION_S, null)?.toLongOrNull()?.takeIf { it in 0L..RecordingLimits.MAX_DURATION_LIMIT_S } ?: d.maxDurationS,
+            stopBatteryPercent = prefs.getString(STOP_BATTERY, null)?.toIntOrNull()?.takeIf { it in 0..RecordingLimits.MAX_STOP_BATTERY_PERCENT }
+                ?: d.stopBatteryPercent,
+        )
+    }
+
+    fun saveLimits(l: RecordingLimits) {
+        prefs.edit()
+            .putString(MAX_DURATION_S, l.maxDurationS.toString())
+            .putString(STOP_BATTERY, l.stopBatteryPercent.toString())
+            .apply()
+    }
+
+    /** True once the user answered the notification-permission explanation (it is shown once). */
+    fun loadNotificationsAnswered(): Boolean = prefs.getBoolean(NOTIFICATIONS_ANSWERED, false)
+
+    fun saveNotificationsAnswered() {
+        prefs.edit().putBoolean(NOTIFICATIONS_ANSWERED, true).apply()
+    }
+
     companion object {
         const val FILE = "live_settings"
+        private const val MAX_DURATION_S = "max_duration_s"
+        private const val STOP_BATTERY = "stop_battery_percent"
+        private const val NOTIFICATIONS_ANSWERED = "notifications_answered"
 
         /** Keys of the first settings screen, by the key that replaced them. */
         private val LEGACY = mapOf(

@@ -33,6 +33,12 @@ internal class MemorySink(private val failAfterRows: Long = Long.MAX_VALUE, priv
         fusedW += q[offset]
     }
 
+    val markers = CopyOnWriteArrayList<Pair<Long, String>>()
+
+    override fun marker(timestampNs: Long, label: String) {
+        markers += timestampNs to label
+    }
+
     val checkpoints = CopyOnWriteArrayList<dev.motionfusion.core.session.ClockAnchor>()
 
     override fun checkpoint(anchor: dev.motionfusion.core.session.ClockAnchor) {

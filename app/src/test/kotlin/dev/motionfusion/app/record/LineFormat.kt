@@ -81,6 +81,10 @@ internal class LineSink(private val dir: File, failAfterBytes: Long) : SessionSi
         out.write("FUSED,$timestampNs,${q[offset]},${q[offset + 1]},${q[offset + 2]},${q[offset + 3]}\n".toByteArray())
     }
 
+    override fun marker(timestampNs: Long, label: String) {
+        out.write("MARKER,$timestampNs,$label\n".toByteArray())
+    }
+
     override fun checkpoint(anchor: dev.motionfusion.core.session.ClockAnchor) = out.flush()
 
     override fun flush() = out.flush()

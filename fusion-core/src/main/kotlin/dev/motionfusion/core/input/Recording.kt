@@ -12,6 +12,7 @@ import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.io.InputLimits
 import dev.motionfusion.core.event.MergedEvents
 import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionStream
@@ -53,7 +54,11 @@ public class Recording private constructor(
     private val files: FileSet,
     private val open: () -> SensorEvents,
     private val closer: Closeable,
+    private val readMarkers: () -> List<Marker> = { emptyList() },
 ) : Closeable {
+    /** The markers set while recording (a session's markers.csv); empty for other formats. */
+    public fun markers(): List<Marker> = readMarkers()
+
     /** The events of [which] streams (default all), merged by timestamp. */
     public fun events(which: Set<SessionStream> = streams): SensorEvents {
         files.guard.reset()
@@ -91,7 +96,7 @@ public class Recording private constructor(
             return when (kind) {
                 RecordingFormat.SESSION -> {
                     val r = SessionReader.open(files, dir)
-                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r)
+                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r, r::markers)
                 }
                 RecordingFormat.IMU_TABLE -> {
                     val table = files.find(dir, "input.csv.gz") ?: files.find(dir, "input.csv") ?: files.filesIn(dir).first { isTable(files, it) }

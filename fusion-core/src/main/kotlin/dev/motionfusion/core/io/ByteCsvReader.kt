@@ -1,8 +1,9 @@
 /*
  * The one CSV tokenizer of every text input (sessions, plain tables, truth tables, phyphox,
  * Sensor Logger): a streaming reader of separated ASCII numbers straight from bytes, no String
- * per line, no Double.parseDouble on the common path. Fields may be quoted ("Time (s)"); a
- * UTF-8 byte order mark before the first line is skipped. Memory is one buffer (64 KiB, grown
+ * per line, no Double.parseDouble on the common path. Fields may be quoted ("Time (s)"; a
+ * doubled quote inside a quoted field is one quote, as in RFC 4180, but a field never spans
+ * lines); a UTF-8 byte order mark before the first line is skipped. Memory is one buffer (64 KiB, grown
  * for long lines up to [maxLineBytes], beyond which the line is an error, never an
  * OutOfMemoryError). Error texts quote at most a short, escaped excerpt of a field.
  */
@@ -32,6 +33,7 @@ internal class ByteCsvReader(
     private var lineEnd = 0
     private var starts = IntArray(16)
     private var ends = IntArray(16)
+    private var quoted = BooleanArray(16)
 
     /** 1-based number of the current line. */
     var lineNumber = 0L
@@ -125,7 +127,9 @@ internal class ByteCsvReader(
                 if (count == starts.size) {
                     starts = starts.copyOf(count * 2)
                     ends = ends.copyOf(count * 2)
+                    quoted = quoted.copyOf(count * 2)
                 }
+                quoted[count] = quotedEnd >= 0
                 if (quotedEnd >= 0) {
                     starts[count] = start + 1
                     ends[count] = quotedEnd
@@ -142,10 +146,15 @@ internal class ByteCsvReader(
         }
     }
 
-    /** The closing quote of the field opened at [open], or the line end when there is none. */
+    /** The closing quote of the field opened at [open] (a doubled quote inside is part of the text), or the line end when there is none. */
     private fun closingQuote(open: Int): Int {
         var j = open + 1
-        while (j < lineEnd && buf[j] != QUOTE) j++
+        while (j < lineEnd) {
+            if (buf[j] == QUOTE) {
+                if (j + 1 < lineEnd && buf[j + 1] == QUOTE) j++ else return j
+            }
+            j++
+        }
         return j
     }
 
@@ -154,6 +163,22 @@ internal class ByteCsvReader(
 
     /** Field [i] as text. */
     fun text(i: Int): String = String(buf, starts[i], ends[i] - starts[i], Charsets.UTF_8)
+
+    /**
+     * Field [i] as text, strictly decoded: a quoted field without its quotes and with each doubled
+     * quote inside made one (RFC 4180). @throws FieldError when the bytes are not UTF-8.
+     */
+    fun unquotedText(i: Int): String {
+        val decoder = Charsets.UTF_8.newDecoder()
+            .onMalformedInput(java.nio.charset.CodingErrorAction.REPORT)
+            .onUnmappableCharacter(java.nio.charset.CodingErrorAction.REPORT)
+        val s = try {
+            decoder.decode(java.nio.ByteBuffer.wrap(buf, starts[i], ends[i] - starts[i])).toString()
+        } catch (e: java.nio.charset.CharacterCodingException) {
+            throw FieldError("'${excerpt(i)}' is not UTF-8 text")
+        }
+        return if (quoted[i]) s.replace("\"\"", "\"") else s
+    }
 
     /** 1-based character column of field [i] (counting UTF-8 characters, not bytes). */
     fun column(i: Int): Int = String(buf, lineStart, starts[i] - lineStart, Charsets.UTF_8).length + 1

@@ -32,7 +32,7 @@ internal object MetadataJson {
                 when {
                     new.containsKey(k) -> out[k] = keepUnknown(v, new[k], "$path$k.")
                     // A stream this version knows but no longer has a file: its statistics go.
-                    path == "streams." && SessionStream.ofKey(k.toString()) != null -> {}
+                    path == "streams." && (SessionStream.ofKey(k.toString()) != null || k == SessionMarkers.KEY) -> {}
                     else -> out[k] = v
                 }
             }
@@ -81,19 +81,25 @@ internal object MetadataJson {
                 "max_report_latency_us" to s.maxReportLatencyUs,
             )
         },
-        "streams" to m.streams.entries.sortedBy { it.key.ordinal }.associate { (k, v) ->
-            k.key to linkedMapOf(
-                "file" to k.fileName,
-                "samples" to v.samples,
-                "first_timestamp_ns" to v.firstTimestampNs,
-                "last_timestamp_ns" to v.lastTimestampNs,
-                "achieved_rate_hz" to v.achievedRateHz,
-                "interval_std_ms" to v.intervalStdMs,
-                "backwards" to v.backwards,
-                "duplicates" to v.duplicates,
-            )
-        },
+        "streams" to m.streams.entries.sortedBy { it.key.ordinal }.associateTo(LinkedHashMap<String, Any?>()) { (k, v) -> k.key to stats(k.fileName, v) }
+            .also { map -> m.markers?.let { map[SessionMarkers.KEY] = stats(SessionMarkers.FILE_NAME, it) } },
         "filter_settings" to m.filterSettings?.let(::settings),
+    )
+
+    private fun stats(file: String, v: StreamStats) = linkedMapOf(
+        "file" to file,
+        "samples" to v.samples,
+        "first_timestamp_ns" to v.firstTimestampNs,
+        "last_timestamp_ns" to v.lastTimestampNs,
+        "achieved_rate_hz" to v.achievedRateHz,
+        "interval_std_ms" to v.intervalStdMs,
+        "backwards" to v.backwards,
+        "duplicates" to v.duplicates,
+    )
+
+    private fun parseStats(s: JsonObject) = StreamStats(
+        s.long("samples", 0L), s.long("first_timestamp_ns", 0L), s.long("last_timestamp_ns", 0L),
+        s.double("achieved_rate_hz"), s.double("interval_std_ms"), s.long("backwards", 0L), s.long("duplicates", 0L),
     )
 
     private fun anchor(a: ClockAnchor) = linkedMapOf("wall_clock_ms" to a.wallClockMs, "elapsed_realtime_ns" to a.elapsedRealtimeNs)
@@ -136,15 +142,9 @@ internal object MetadataJson {
             endElapsedRealtimeNs = r.longOrNull("end_elapsed_realtime_ns"),
             endReason = r.string("end_reason"),
             streams = r.objOrNull("streams")?.let { o ->
-                o.keys().mapNotNull { k ->
-                    val stream = SessionStream.ofKey(k) ?: return@mapNotNull null
-                    val s = o.obj(k)
-                    stream to StreamStats(
-                        s.long("samples", 0L), s.long("first_timestamp_ns", 0L), s.long("last_timestamp_ns", 0L),
-                        s.double("achieved_rate_hz"), s.double("interval_std_ms"), s.long("backwards", 0L), s.long("duplicates", 0L),
-                    )
-                }.toMap()
+                o.keys().mapNotNull { k -> SessionStream.ofKey(k)?.let { it to parseStats(o.obj(k)) } }.toMap()
             } ?: emptyMap(),
+            markers = r.objOrNull("streams")?.objOrNull(SessionMarkers.KEY)?.let(::parseStats),
         )
     }
 

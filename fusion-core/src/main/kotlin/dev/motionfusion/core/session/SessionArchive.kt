@@ -18,7 +18,7 @@ import java.util.zip.ZipOutputStream
 public object SessionArchive {
     /**
      * Writes the session folder [dir] as a zip to [zipFile] (deflate), files inside a folder
-     * named like [dir]. Only meta.json and the stream files are included. Entries carry the
+     * named like [dir]. Only meta.json, the stream files and markers.csv are included. Entries carry the
      * files' modification times, or [entryTimeMs] when given (reproducible archives). The zip
      * is written aside and moved into place whole (AtomicFiles): a failure leaves [zipFile] as it was.
      */
@@ -35,7 +35,7 @@ public object SessionArchive {
     public fun zip(dir: Path, out: OutputStream, entryTimeMs: Long? = null) {
         val folder = dir.toAbsolutePath().normalize().fileName?.toString() ?: "session"
         val z = ZipOutputStream(BufferedOutputStream(out, 1 shl 16))
-        val names = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }
+        val names = SessionRecovery.SESSION_FILES
         for (name in names) {
             val f = dir.resolve(name)
             if (!Files.isRegularFile(f)) continue

@@ -101,6 +101,8 @@ public data class StreamStats(
  * @property endReason why recording stopped: "stopped" (by the user), or a failure such as
  *   "queue_overflow", "storage_low", "write_failed: <message>"; empty when unknown.
  * @property streams per-stream counts and achieved rates, filled on close or recovery.
+ * @property markers the count and first/last timestamps of markers.csv ([SessionMarkers]),
+ *   listed in meta.json's `streams` as "markers"; null when the session has no markers.
  * @property source who made the session, e.g. "Motion Fusion 0.1.0" or "fusion simulate --seed 1".
  */
 public data class SessionMetadata(
@@ -118,6 +120,7 @@ public data class SessionMetadata(
     val endElapsedRealtimeNs: Long? = null,
     val endReason: String = "",
     val streams: Map<SessionStream, StreamStats> = emptyMap(),
+    val markers: StreamStats? = null,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */

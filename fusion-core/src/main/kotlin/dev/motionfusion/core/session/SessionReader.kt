@@ -59,6 +59,21 @@ public class SessionReader private constructor(
         return MergedEvents(listOf(cursor(s)))
     }
 
+    /** True when the session has a markers.csv. */
+    public val hasMarkers: Boolean get() = files.paths.contains(dir + SessionMarkers.FILE_NAME)
+
+    /**
+     * The markers of markers.csv in file order (empty when the session has none); as for the
+     * streams, an unterminated last line of an interrupted session is skipped.
+     * @throws DataFormatException for a malformed row (`markers.csv:line:column: reason`), a label
+     *   that is not UTF-8 or longer than [SessionMarkers.MAX_LABEL_CHARS], or more than
+     *   [SessionMarkers.MAX_MARKERS] markers.
+     */
+    public fun markers(): List<Marker> {
+        if (!hasMarkers) return emptyList()
+        return MarkerCursor(files.csv(dir + SessionMarkers.FILE_NAME), skipCutLastLine = !metadata.complete).use { it.readAll() }
+    }
+
     private fun cursor(s: SessionStream): StreamCursor =
         SessionCsvCursor(s, files.csv(dir + s.fileName), skipCutLastLine = !metadata.complete)
 

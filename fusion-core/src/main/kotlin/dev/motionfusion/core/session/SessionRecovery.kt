@@ -47,9 +47,11 @@ public data class RecoveryReport(
     val rebuiltMetadata: Boolean = false,
     /** True when nothing was changed because a dry run was asked for. */
     val dryRun: Boolean = false,
+    /** Bytes cut from markers.csv. */
+    val markersTruncatedBytes: Long = 0L,
 ) {
-    /** True when a stream file was (or would be) changed. */
-    public val repaired: Boolean get() = truncatedBytes.values.any { it > 0 }
+    /** True when a stream file or markers.csv was (or would be) changed. */
+    public val repaired: Boolean get() = truncatedBytes.values.any { it > 0 } || markersTruncatedBytes > 0
 
     /** True when the session was already complete: nothing to do. */
     public val wasComplete: Boolean get() = actions.isEmpty()
@@ -74,7 +76,7 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         val root = dir.toRealPath()
         if (!Files.isDirectory(root)) throw DataFormatException(dir.toString(), 0, 0, "not a folder: a session is recovered as a folder")
         val entries = list(root)
-        for (name in KNOWN) {
+        for (name in SESSION_FILES) {
             val a = entries[name] ?: continue
             if (a.isSymbolicLink) throw refused(root, name, "is a symbolic link; recovery never follows links")
             if (!a.isRegularFile) throw refused(root, name, "is not a regular file")
@@ -94,11 +96,12 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         }
 
         // 1. Check every stream and plan the cuts; nothing is changed before all are read.
-        val plans = SessionStream.entries.filter { entries.containsKey(it.fileName) }.map { plan(root, it) }
+        val plans = SessionStream.entries.filter { entries.containsKey(it.fileName) }.map { plan(root, it.fileName, it.header, it) }
+        val markerPlan = if (entries.containsKey(SessionMarkers.FILE_NAME)) plan(root, SessionMarkers.FILE_NAME, SessionMarkers.HEADER, null) else null
         val stats = LinkedHashMap<SessionStream, StreamStats>()
         var end = meta.endElapsedRealtimeNs ?: Long.MIN_VALUE
         for (p in plans) {
-            stats[p.stream] = p.stats
+            stats[p.stream!!] = p.stats
             if (p.stats.samples > 0) end = maxOf(end, p.stats.lastTimestampNs)
         }
         val endNs = if (end == Long.MIN_VALUE) null else end
@@ -108,14 +111,16 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         val repaired = meta.copy(
             complete = true, recovered = true, endElapsedRealtimeNs = endNs,
             endReason = meta.endReason.ifEmpty { "interrupted" }, streams = stats, pauses = pauses,
+            markers = markerPlan?.stats,
         )
+        val allPlans = plans + listOfNotNull(markerPlan)
         val actions = ArrayList<String>()
         val stale = entries.keys.filter { AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) && entries.getValue(it).isRegularFile }.sorted()
         for (name in stale) actions += "$name: remove (left by an interrupted metadata write)"
-        for (p in plans) {
+        for (p in allPlans) {
             when {
-                p.restoreHeader -> actions += "${p.stream.fileName}: cut inside its header; write the header again"
-                p.cut > 0 -> actions += "${p.stream.fileName}: cut ${p.cut} bytes of a partial last row"
+                p.restoreHeader -> actions += "${p.fileName}: cut inside its header; write the header again"
+                p.cut > 0 -> actions += "${p.fileName}: cut ${p.cut} bytes of a partial last row"
             }
         }
         val keepUnreadable = raw == null && entries.containsKey(SessionMetadata.FILE_NAME) && !entries.containsKey(UNREADABLE_META)
@@ -125,16 +130,19 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         } else {
             "${SessionMetadata.FILE_NAME}: statistics of ${stats.size} streams, \"complete\": true, \"recovered\": true (other members kept)"
         }
-        val report = RecoveryReport(plans.associate { it.stream to it.cut }, repaired, actions, rebuiltMetadata = raw == null, dryRun = dryRun)
+        val report = RecoveryReport(
+            plans.associate { it.stream!! to it.cut }, repaired, actions, rebuiltMetadata = raw == null, dryRun = dryRun,
+            markersTruncatedBytes = markerPlan?.cut ?: 0L,
+        )
         if (dryRun) return report
 
         // 2. Change: leftovers, partial rows, then meta.json last (atomic), so a kill at any step
         //    leaves a session that reads as interrupted and is recovered again the same way.
         for (name in stale) files.delete(root.resolve(name))
-        for (p in plans) {
-            val f = root.resolve(p.stream.fileName)
+        for (p in allPlans) {
+            val f = root.resolve(p.fileName)
             when {
-                p.restoreHeader -> atomic.write(f, (p.stream.header + "\n").toByteArray(StandardCharsets.US_ASCII))
+                p.restoreHeader -> atomic.write(f, (p.header + "\n").toByteArray(StandardCharsets.US_ASCII))
                 p.cut > 0 -> AtomicFiles.named(f) { files.truncate(f, p.keep) }
             }
         }
@@ -144,12 +152,15 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         return report
     }
 
-    /** A stream's check result: its statistics over the complete rows, and where to cut. */
-    private class Plan(val stream: SessionStream, val keep: Long, val cut: Long, val restoreHeader: Boolean, val stats: StreamStats)
+    /** A file's check result: its statistics over the complete rows, and where to cut ([stream] null: markers.csv). */
+    private class Plan(
+        val fileName: String, val header: String, val stream: SessionStream?,
+        val keep: Long, val cut: Long, val restoreHeader: Boolean, val stats: StreamStats,
+    )
 
-    /** Reads [s]'s file once to its end: every complete row must parse; the cut goes after the last '\n'. */
-    private fun plan(root: Path, s: SessionStream): Plan {
-        val f = root.resolve(s.fileName)
+    /** Reads the file of stream [s] (or markers.csv) once to its end: every complete row must parse; the cut goes after the last '\n'. */
+    private fun plan(root: Path, fileName: String, header: String, s: SessionStream?): Plan {
+        val f = root.resolve(fileName)
         val length: Long
         val keep: Long
         FileChannel.open(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { ch ->
@@ -159,15 +170,17 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         if (keep == 0L) {
             // Cut inside the header line: only a prefix of the header is expected there.
             val head = String(Files.readAllBytes(f), StandardCharsets.US_ASCII)
-            if (!s.header.startsWith(head)) throw refused(root, s.fileName, "holds no header line and is not a cut-off '${s.header}'")
-            return Plan(s, 0L, length, restoreHeader = true, StatsAccumulator().result())
+            if (!header.startsWith(head)) throw refused(root, fileName, "holds no header line and is not a cut-off '$header'")
+            return Plan(fileName, header, s, 0L, length, restoreHeader = true, StatsAccumulator().result())
         }
         val acc = StatsAccumulator()
-        val input = Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS)
-        SessionCsvCursor(s, ByteCsvReader(input, f.toString()), skipCutLastLine = true).use { c ->
-            while (c.next()) acc.add(c.timestampNs)
+        val csv = ByteCsvReader(Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS), f.toString())
+        if (s != null) {
+            SessionCsvCursor(s, csv, skipCutLastLine = true).use { c -> while (c.next()) acc.add(c.timestampNs) }
+        } else {
+            MarkerCursor(csv, skipCutLastLine = true).use { c -> while (c.next()) acc.add(c.timestampNs) }
         }
-        return Plan(s, keep, length - keep, restoreHeader = false, acc.result())
+        return Plan(fileName, header, s, keep, length - keep, restoreHeader = false, acc.result())
     }
 
     /** Byte offset just after the last '\n' of the file (0 when it has none). */
@@ -213,7 +226,7 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
      * holds session files and nothing else, each stream file starting with its exact header.
      */
     private fun checkLooksLikeSession(root: Path, entries: Map<String, BasicFileAttributes>) {
-        val foreign = entries.keys.filter { it !in KNOWN && it != UNREADABLE_META && !AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) }
+        val foreign = entries.keys.filter { it !in SESSION_FILES && it != UNREADABLE_META && !AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) }
         val streams = SessionStream.entries.filter { entries.containsKey(it.fileName) }
         if (streams.isEmpty() || foreign.isNotEmpty()) {
             val what = if (streams.isEmpty()) "no stream file" else "other files (${foreign.sorted().take(3).joinToString()})"
@@ -222,10 +235,12 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
                 "missing or unreadable, and the folder holds $what: not taken for a session; left untouched",
             )
         }
-        for (s in streams) {
-            val f = root.resolve(s.fileName)
+        val withHeaders = streams.map { it.fileName to it.header } +
+            (if (entries.containsKey(SessionMarkers.FILE_NAME)) listOf(SessionMarkers.FILE_NAME to SessionMarkers.HEADER) else emptyList())
+        for ((fileName, header) in withHeaders) {
+            val f = root.resolve(fileName)
             val head = Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { input ->
-                val b = ByteArray(s.header.length + 1)
+                val b = ByteArray(header.length + 1)
                 var n = 0
                 while (n < b.size) {
                     val r = input.read(b, n, b.size - n)
@@ -235,8 +250,8 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
                 String(b, 0, n, StandardCharsets.US_ASCII)
             }
             val line = head.substringBefore('\n')
-            if (if ('\n' in head) line != s.header else !s.header.startsWith(head)) {
-                throw refused(root, s.fileName, "does not start with the header '${s.header}': not taken for a session; left untouched")
+            if (if ('\n' in head) line != header else !header.startsWith(head)) {
+                throw refused(root, fileName, "does not start with the header '$header': not taken for a session; left untouched")
             }
         }
     }
@@ -246,7 +261,8 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         internal const val UNREADABLE_META: String = "meta.json.unreadable"
 
         private const val NEWLINE = '\n'.code.toByte()
-        private val KNOWN: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName }
+        /** The files of a session: meta.json, the stream files, markers.csv (recovery touches no other; the zip holds no other). */
+        internal val SESSION_FILES: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName } + SessionMarkers.FILE_NAME
 
         /**
          * True when [dir] holds a session that was never finished: meta.json says

@@ -41,6 +41,7 @@ public class SessionWriter private constructor(
     private val atomic = AtomicFiles(files)
 
     private val outs = arrayOfNulls<StreamOut>(SessionStream.entries.size)
+    private var markers: StreamOut? = null
     private var meta = initial.copy(formatVersion = SessionMetadata.FORMAT_VERSION, complete = false)
     private var closed = false
     private var lastTimestampNs = Long.MIN_VALUE
@@ -142,6 +143,17 @@ public class SessionWriter private constructor(
         o.end(if (stream.hasAccuracy) accuracy else NO_ACCURACY)
     }
 
+    /**
+     * A marker the user set at [timestampNs] (sensor clock) with [label] (may be empty), stored in
+     * markers.csv as [SessionMarkers.label] makes it: one line, at most
+     * [SessionMarkers.MAX_LABEL_CHARS] characters. Rare: this call may allocate.
+     */
+    public fun marker(timestampNs: Long, label: String) {
+        checkOpen()
+        val o = markers ?: StreamOut(SessionMarkers.FILE_NAME, SessionMarkers.HEADER, MARKER_BUFFER_BYTES).also { markers = it }
+        o.bytes(timestampNs, SessionMarkers.row(timestampNs, SessionMarkers.label(label)))
+    }
+
     /** Records that recording paused at [elapsedRealtimeNs] (sensor clock); rewrites meta.json. */
     public fun pause(elapsedRealtimeNs: Long) {
         checkOpen()
@@ -180,12 +192,14 @@ public class SessionWriter private constructor(
     override fun flush() {
         checkOpen()
         for (o in outs) o?.drain()
+        markers?.drain()
     }
 
     /** [flush], then forces the files to the storage device (survives power loss). Slow. */
     public fun sync() {
         flush()
         for (o in outs) o?.sync()
+        markers?.sync()
     }
 
     /** Closes with the end time set to the latest sample timestamp written. */
@@ -205,7 +219,7 @@ public class SessionWriter private constructor(
     public fun close(endElapsedRealtimeNs: Long?, endReason: String = "stopped") {
         if (closed) return
         var failure: IOException? = null
-        for (o in outs) {
+        for (o in outs + markers) {
             try {
                 o?.close(sync = true)
             } catch (e: IOException) {
@@ -215,7 +229,7 @@ public class SessionWriter private constructor(
         closed = true
         if (failure != null) throw failure
         val stats = SessionStream.entries.mapNotNull { s -> outs[s.ordinal]?.let { s to it.stats() } }.toMap()
-        meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, endReason = endReason, streams = stats)
+        meta = meta.copy(complete = true, endElapsedRealtimeNs = endElapsedRealtimeNs, endReason = endReason, streams = stats, markers = markers?.stats())
         writeMetadata()
     }
 
@@ -227,7 +241,7 @@ public class SessionWriter private constructor(
     public fun abandon() {
         if (closed) return
         closed = true
-        for (o in outs) {
+        for (o in outs + markers) {
             try {
                 o?.close(sync = false)
             } catch (e: IOException) {
@@ -250,7 +264,7 @@ public class SessionWriter private constructor(
 
     private fun begin(stream: SessionStream, t: Long): StreamOut {
         checkOpen()
-        val o = outs[stream.ordinal] ?: StreamOut(stream).also { outs[stream.ordinal] = it }
+        val o = outs[stream.ordinal] ?: StreamOut(stream.fileName, stream.header, bufferBytes).also { outs[stream.ordinal] = it }
         o.begin(t)
         if (t > lastTimestampNs) lastTimestampNs = t
         return o
@@ -262,14 +276,14 @@ public class SessionWriter private constructor(
         atomic.write(directory.resolve(SessionMetadata.FILE_NAME), MetadataJson.write(meta).toByteArray(StandardCharsets.UTF_8))
 
     /** One stream's file, byte buffer and running statistics. */
-    private inner class StreamOut(private val stream: SessionStream) {
-        private val file = files.open(directory.resolve(stream.fileName))
+    private inner class StreamOut(fileName: String, header: String, bufferBytes: Int) {
+        private val file = files.open(directory.resolve(fileName))
         private val buf = ByteArray(bufferBytes)
         private var pos = 0
         private val stats = StatsAccumulator()
 
         init {
-            val h = (stream.header + "\n").toByteArray(StandardCharsets.US_ASCII)
+            val h = (header + "\n").toByteArray(StandardCharsets.US_ASCII)
             h.copyInto(buf)
             pos = h.size
         }
@@ -277,6 +291,14 @@ public class SessionWriter private constructor(
         fun begin(t: Long) {
             if (pos + MAX_ROW_BYTES > buf.size) drain()
             pos = AsciiNumbers.long(buf, pos, t)
+            stats.add(t)
+        }
+
+        /** A whole row already formatted (markers), counted at [t]. */
+        fun bytes(t: Long, row: ByteArray) {
+            if (pos + row.size > buf.size) drain()
+            row.copyInto(buf, pos)
+            pos += row.size
             stats.add(t)
         }
 
@@ -332,6 +354,9 @@ public class SessionWriter private constructor(
 
         /** Upper bound of one row: timestamp, 6 floats, accuracy, separators. */
         private const val MAX_ROW_BYTES = AsciiNumbers.MAX_LONG_CHARS + 8 * (AsciiNumbers.MAX_FLOAT_CHARS + 1) + 16
+
+        /** Buffer of markers.csv: above its longest row (a label of 200 three-byte characters, about 630 bytes). */
+        private const val MARKER_BUFFER_BYTES = 4096
 
         /** Default buffer per stream: 64 KiB (≈ 1,500 rows; a second at 1.5 kHz). */
         public const val DEFAULT_BUFFER_BYTES: Int = 1 shl 16
