@@ -66,7 +66,7 @@ public class TableReplayBenchmark {
      * The CPU-time check beside JMH: replays the table given as the argument 5 times with and
      * without output and prints wall-clock and thread CPU time per replay (the calling thread's:
      * with two or more cores the table is parsed on a second one, not counted here).
-     * Run: java -Xmx64m -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.TableReplayBenchmark TABLE.csv
+     * Run: java -Xmx64m -XX:ActiveProcessorCount=1 -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.TableReplayBenchmark TABLE.csv
      */
     public static void main(String[] args) throws IOException {
         Path t = Paths.get(args[0]);

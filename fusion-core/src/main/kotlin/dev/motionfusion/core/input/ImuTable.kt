@@ -86,8 +86,8 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
             ByteCsvReader.END -> return false
             ByteCsvReader.ROW -> {
                 // A plain row, parsed in one pass: the same doubles as the general path below.
-                parsed.copyInto(row, 0, 1, COLUMNS.size)
                 setTime(parsed[0])
+                parsed.copyInto(row, 0, 1, COLUMNS.size)
                 return true
             }
         }
