@@ -124,29 +124,40 @@ public class ReplayBenchmark {
     /**
      * The CPU-time check beside JMH, for shared machines where wall-clock time measures the load:
      * writes the session, replays it 7 times with and without CSV output, and prints wall-clock
-     * and thread CPU time per replay (the thread's CPU time excludes JIT and GC threads).
+     * and thread CPU time per replay (the thread's CPU time excludes JIT and GC threads, and the
+     * threads a replay starts on a machine with two or more cores).
      * Run: java -Xmx64m -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.ReplayBenchmark
      */
     public static void main(String[] args) throws IOException {
-        java.lang.management.ThreadMXBean mx = java.lang.management.ManagementFactory.getThreadMXBean();
         Path d = Files.createTempDirectory("replay-bench").resolve("session");
         long t0 = System.nanoTime();
         writeHourSession(d);
         System.out.printf("wrote %,d rows in %.1f s (%.0f ns per row)%n", ROWS, (System.nanoTime() - t0) / 1e9, (System.nanoTime() - t0) / (double) ROWS);
-        for (int i = 0; i < 7; i++) {
+        printCpuTimes(7, ROWS, csv -> replay(d, csv));
+        try (Stream<Path> files = Files.walk(d.getParent())) {
+            files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
+        }
+    }
+
+    /** One whole replay, with CSV output or without. */
+    interface Replay {
+        void run(boolean csv) throws IOException;
+    }
+
+    /** Runs [replay] [runs] times with and without CSV output; prints wall clock, thread CPU time and heap per replay of [rows] rows. */
+    static void printCpuTimes(int runs, long rows, Replay replay) throws IOException {
+        java.lang.management.ThreadMXBean mx = java.lang.management.ManagementFactory.getThreadMXBean();
+        for (int i = 0; i < runs; i++) {
             for (boolean csv : new boolean[] {true, false}) {
                 long t = System.nanoTime();
                 long c = mx.getCurrentThreadCpuTime();
-                replay(d, csv);
+                replay.run(csv);
                 double cpu = (mx.getCurrentThreadCpuTime() - c) / 1e9;
                 double s = (System.nanoTime() - t) / 1e9;
                 Runtime rt = Runtime.getRuntime();
                 System.out.printf("replay %d %-4s: wall %.2f s (%.2f M rows/s), CPU %.2f s (%.2f M rows/s), heap used %.0f MB%n",
-                    i, csv ? "csv" : "none", s, ROWS / s / 1e6, cpu, ROWS / cpu / 1e6, (rt.totalMemory() - rt.freeMemory()) / 1e6);
+                    i, csv ? "csv" : "none", s, rows / s / 1e6, cpu, rows / cpu / 1e6, (rt.totalMemory() - rt.freeMemory()) / 1e6);
             }
-        }
-        try (Stream<Path> files = Files.walk(d.getParent())) {
-            files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
         }
     }
 }

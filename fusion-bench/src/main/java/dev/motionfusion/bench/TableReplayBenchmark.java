@@ -64,22 +64,12 @@ public class TableReplayBenchmark {
 
     /**
      * The CPU-time check beside JMH: replays the table given as the argument 5 times with and
-     * without output and prints wall-clock and thread CPU time per replay.
-     * Run: java -Xmx64m -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.TableReplayBenchmark TABLE.csv
+     * without output and prints wall-clock and thread CPU time per replay (the calling thread's:
+     * with two or more cores the table is parsed on a second one, not counted here).
+     * Run: java -Xmx64m -XX:ActiveProcessorCount=1 -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.TableReplayBenchmark TABLE.csv
      */
     public static void main(String[] args) throws IOException {
-        java.lang.management.ThreadMXBean mx = java.lang.management.ManagementFactory.getThreadMXBean();
         Path t = Paths.get(args[0]);
-        for (int i = 0; i < 5; i++) {
-            for (boolean csv : new boolean[] {true, false}) {
-                long w = System.nanoTime();
-                long c = mx.getCurrentThreadCpuTime();
-                replay(t, csv);
-                double cpu = (mx.getCurrentThreadCpuTime() - c) / 1e9;
-                double s = (System.nanoTime() - w) / 1e9;
-                System.out.printf("replay %d %-4s: wall %.2f s (%.2f M rows/s), CPU %.2f s (%.2f M rows/s)%n",
-                    i, csv ? "csv" : "none", s, ROWS / s / 1e6, cpu, ROWS / cpu / 1e6);
-            }
-        }
+        ReplayBenchmark.printCpuTimes(5, ROWS, csv -> replay(t, csv));
     }
 }

@@ -102,7 +102,7 @@ public object Orientations {
         val r21 = 2 * (y * z + w * x)
         val r22 = 1 - 2 * (x * x + y * y)
         val azimuth = atan2(r01, r11)
-        val pitch = asin((-r21).coerceIn(-1.0, 1.0))
+        val pitch = Fdlibm.asin((-r21).coerceIn(-1.0, 1.0)) // = asin, about ten times faster (Fdlibm.kt)
         val roll = atan2(-r20, r22)
         out[offset] = azimuth
         out[offset + 1] = pitch

@@ -35,6 +35,22 @@ public interface SensorEvents : Closeable {
     }
 }
 
+/**
+ * Events that come in rows, as a plain IMU table's: per [nextRow] one instant with an accelerometer,
+ * a gyroscope and, when [hasMagnetometer], a magnetometer sample, the same three events (accelerometer,
+ * magnetometer, gyroscope at [timestampNs]) that [next] gives one by one. Replay takes a row as one
+ * step instead of three cursor moves; use either [next] or [nextRow] on one cursor, not both.
+ */
+internal interface RowEvents : SensorEvents {
+    val hasMagnetometer: Boolean
+
+    /** gx, gy, gz (rad/s), ax, ay, az (m/s²), mx, my, mz (µT) of the current row. */
+    val row: DoubleArray
+
+    /** Advances to the next row; false at the end. */
+    fun nextRow(): Boolean
+}
+
 /** One stream's events in file order (a single CSV, or one sensor of an export). */
 internal interface StreamCursor : Closeable {
     val stream: SessionStream

@@ -19,6 +19,7 @@ import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FieldError
 import dev.motionfusion.core.io.InputLimits
 import dev.motionfusion.core.io.Inputs
+import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 import java.io.Closeable
@@ -47,6 +48,10 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
     private val index = IntArray(COLUMNS.size) { -1 }
     private val fieldCount: Int
 
+    /** Field → column (index into COLUMNS), −1 for the columns ignored; and the values of a plain row by column. */
+    private val slot: IntArray
+    private val parsed = DoubleArray(COLUMNS.size) { Double.NaN }
+
     init {
         try {
             val names = csv.header(COLUMNS.joinToString(",")).names.map { it.lowercase() }
@@ -68,6 +73,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
                 throw DataFormatException(csv.sourceName, 1, 1, "header has only some of mx,my,mz: give all three or none")
             }
             hasMagnetometer = magPresent > 0
+            slot = IntArray(fieldCount) { i -> index.indexOf(i) }
         } catch (e: Throwable) {
             csv.close()
             throw e
@@ -76,13 +82,19 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
 
     /** Advances to the next row; false at the end. */
     public fun next(): Boolean {
-        if (!csv.nextLine()) return false
+        when (csv.nextRow(fieldCount, slot, parsed)) {
+            ByteCsvReader.END -> return false
+            ByteCsvReader.ROW -> {
+                // A plain row, parsed in one pass: the same doubles as the general path below.
+                setTime(parsed[0])
+                parsed.copyInto(row, 0, 1, COLUMNS.size)
+                return true
+            }
+        }
         csv.requireFieldCount(fieldCount)
         var c = 0
         try {
-            val t = csv.parseDouble(index[0])
-            if (!(kotlin.math.abs(t) < MAX_TIME_S)) throw FieldError("time '${csv.excerpt(index[0])}' is not a finite time (or beyond ±292 years)")
-            timeS = t
+            setTime(csv.parseDouble(index[0]))
             c = 1
             while (c < COLUMNS.size) {
                 val i = index[c]
@@ -93,6 +105,13 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
             throw csv.error(index[c], "column ${COLUMNS[c]}: ${e.reason}")
         }
         return true
+    }
+
+    private fun setTime(t: Double) {
+        if (!(kotlin.math.abs(t) < MAX_TIME_S)) {
+            throw csv.error(index[0], "column t_s: time '${csv.excerpt(index[0])}' is not a finite time (or beyond ±292 years)")
+        }
+        timeS = t
     }
 
     override fun close(): Unit = csv.close()
@@ -131,7 +150,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
  * the caller filters the previous ones: the same rows in the same order, an error thrown when the
  * caller reaches the row where it occurred, memory flat (three batches).
  */
-internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean = false) : SensorEvents {
+internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean = false) : RowEvents {
     private var phase = 3
     override var stream: SessionStream = SessionStream.ACCELEROMETER
         private set
@@ -139,11 +158,26 @@ internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean 
         private set
     override val values: DoubleArray = DoubleArray(3)
     override val accuracy: Int get() = SensorEvents.NO_ACCURACY
-    private val hasMagnetometer = table.hasMagnetometer
+    override val hasMagnetometer: Boolean = table.hasMagnetometer
     private val prefetch: Prefetch? = if (ahead) Prefetch() else null
-    private val r: DoubleArray = prefetch?.row ?: table.row
+    override val row: DoubleArray = prefetch?.row ?: table.row
+
+    override fun nextRow(): Boolean {
+        val p = prefetch
+        val t: Double
+        if (p != null) {
+            if (!p.next()) return false
+            t = p.timeS
+        } else {
+            if (!table.next()) return false
+            t = table.timeS
+        }
+        timestampNs = (t * 1e9).roundToLong()
+        return true
+    }
 
     override fun next(): Boolean {
+        val r = row
         while (true) {
             when (phase) {
                 0 -> { phase = 1; stream = SessionStream.ACCELEROMETER; values[0] = r[3]; values[1] = r[4]; values[2] = r[5]; return true }
@@ -153,16 +187,7 @@ internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean 
                 }
                 2 -> { phase = 3; stream = SessionStream.GYROSCOPE; values[0] = r[0]; values[1] = r[1]; values[2] = r[2]; return true }
                 else -> {
-                    val p = prefetch
-                    val t: Double
-                    if (p != null) {
-                        if (!p.next()) return false
-                        t = p.timeS
-                    } else {
-                        if (!table.next()) return false
-                        t = table.timeS
-                    }
-                    timestampNs = (t * 1e9).roundToLong()
+                    if (!nextRow()) return false
                     phase = 0
                 }
             }

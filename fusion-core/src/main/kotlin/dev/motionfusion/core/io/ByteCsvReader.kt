@@ -158,6 +158,108 @@ internal class ByteCsvReader(
         return j
     }
 
+    /**
+     * Advances to the next line as [nextLine] does and, where it is a plain row of numbers,
+     * parses it in the same pass over the bytes: [ROW] when the line has [fieldCount] fields,
+     * each a plain decimal (optional sign, digits, optional fraction; at most 18 digits, at most
+     * 22 of them after the point) or, where slot[i] < 0 (a field the caller ignores), any
+     * unquoted text. Field i's value is then in out[slot[i]], exactly the double [parseDouble]
+     * gives for it (the same single correctly rounded operation), and every other accessor
+     * works as after [nextLine]. Any other line (quotes, spaces, exponents, NaN, empty fields,
+     * a wrong field count, the header) gives [LINE]: it is split as by [nextLine] and nothing
+     * is parsed, so the caller's general path reads it with its own rules and errors. [END] at
+     * the end of the input.
+     */
+    fun nextRow(fieldCount: Int, slot: IntArray, out: DoubleArray): Int {
+        if (starts.size < fieldCount) {
+            starts = starts.copyOf(fieldCount)
+            ends = ends.copyOf(fieldCount)
+        }
+        while (lineNumber > 0L) {
+            val r = plainRow(fieldCount, slot, out)
+            if (r != MORE) return r
+            if (eof || (pos == 0 && limit == buf.size)) break // the last line, or a long one: the general path
+            fill()
+        }
+        return if (nextLine()) LINE else END
+    }
+
+    /** [nextRow] within the bytes read so far: [MORE] when the line runs past them. */
+    private fun plainRow(fieldCount: Int, slot: IntArray, out: DoubleArray): Int {
+        val b = buf
+        val lim = limit
+        val start = pos
+        var p = start
+        var field = 0
+        while (true) {
+            if (p >= lim) return MORE
+            val fieldStart = p
+            var c = b[p].toInt()
+            if (slot[field] < 0) {
+                while (c != separator.toInt() && c != NL_INT && c != CR_INT) {
+                    if (c == QUOTE.toInt()) return general()
+                    if (++p >= lim) return MORE
+                    c = b[p].toInt()
+                }
+            } else {
+                var negative = false
+                if (c == MINUS_INT || c == PLUS_INT) {
+                    negative = c == MINUS_INT
+                    if (++p >= lim) return MORE
+                    c = b[p].toInt()
+                }
+                var m = 0L
+                var digits = 0
+                var fraction = 0
+                while (c in ZERO_INT..NINE_INT) {
+                    m = m * 10L + (c - ZERO_INT)
+                    digits++
+                    if (++p >= lim) return MORE
+                    c = b[p].toInt()
+                }
+                if (c == DOT_INT || (decimalComma && c == COMMA_INT)) {
+                    if (++p >= lim) return MORE
+                    c = b[p].toInt()
+                    while (c in ZERO_INT..NINE_INT) {
+                        m = m * 10L + (c - ZERO_INT)
+                        digits++
+                        fraction++
+                        if (++p >= lim) return MORE
+                        c = b[p].toInt()
+                    }
+                }
+                if (digits == 0 || digits > 18 || fraction > 22 || m >= EXACT_MANTISSA) return general()
+                val v = if (fraction == 0) m.toDouble() else m.toDouble() / POW10[fraction]
+                out[slot[field]] = if (negative) -v else v
+            }
+            starts[field] = fieldStart
+            ends[field] = p
+            field++
+            if (c == separator.toInt()) {
+                if (field == fieldCount) return general()
+                p++
+                continue
+            }
+            val end = p
+            if (c == CR_INT) {
+                if (++p >= lim) return MORE
+                if (b[p] != NL) return general()
+            } else if (c != NL_INT) {
+                return general()
+            }
+            if (field != fieldCount || end == start) return general()
+            lineNumber++
+            lineStart = start
+            lineEnd = end
+            pos = p + 1
+            count = field
+            endedWithNewline = true
+            return ROW
+        }
+    }
+
+    private fun general(): Int = if (nextLine()) LINE else END
+
     /** The current line as text (headers, messages). */
     fun lineText(): String = String(buf, lineStart, lineEnd - lineStart, Charsets.UTF_8)
 
@@ -333,6 +435,25 @@ internal class ByteCsvReader(
 
     companion object {
         const val MAX_LINE_BYTES = 1 shl 20
+
+        /** [nextRow]: a row of plain numbers was parsed. */
+        const val ROW = 0
+
+        /** [nextRow]: a line to read through the general accessors. */
+        const val LINE = 1
+
+        /** [nextRow]: the end of the input. */
+        const val END = 2
+        private const val MORE = 3
+        private const val EXACT_MANTISSA = 1L shl 53
+        private const val NL_INT = '\n'.code
+        private const val CR_INT = '\r'.code
+        private const val MINUS_INT = '-'.code
+        private const val PLUS_INT = '+'.code
+        private const val DOT_INT = '.'.code
+        private const val COMMA_INT = ','.code
+        private const val ZERO_INT = '0'.code
+        private const val NINE_INT = '9'.code
         private const val NL = '\n'.code.toByte()
         private const val CR = '\r'.code.toByte()
         private const val MINUS = '-'.code.toByte()

@@ -9,6 +9,7 @@ package dev.motionfusion.core.replay
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.WorldFrame
+import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.SessionStream
 
@@ -55,9 +56,10 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
 
     /**
      * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.
-     * [progress], if given, is called with the number of events read every 65,536 events.
+     * [progress], if given, is called with the number of events read, about every 65,536 events.
      */
     public fun run(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null): ReplayCounts {
+        if (events is RowEvents) return runRows(events, originNs, listener, progress)
         val step = ReplayStep()
         var origin = originNs
         var n = 0L
@@ -79,15 +81,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                 SessionStream.GYROSCOPE -> {
                     gyro++
                     f.updateGyroscope(t, v[0], v[1], v[2])
-                    step.timestampNs = t
-                    step.timeS = secondsBetween(origin, t)
-                    step.initialised = f.isInitialised
-                    if (step.initialised) {
-                        f.orientationInto(step.orientation)
-                    } else {
-                        step.orientation.fill(Double.NaN)
-                    }
-                    listener.step(step)
+                    gyroscopeStep(step, t, origin, listener)
                 }
                 SessionStream.ACCELEROMETER -> {
                     acc++
@@ -104,6 +98,48 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             }
         }
         return ReplayCounts(n, gyro, acc, mag, first, last)
+    }
+
+    /**
+     * [run] on rows: per row the filter calls the events accelerometer, magnetometer, gyroscope
+     * would make, in that order, so every step and count is the same.
+     */
+    private fun runRows(events: RowEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)?): ReplayCounts {
+        val step = ReplayStep()
+        val f = filter
+        val r = events.row
+        val mag = events.hasMagnetometer
+        val perRow = if (mag) 3L else 2L
+        var origin = originNs
+        var rows = 0L
+        var first = 0L
+        var last = 0L
+        while (events.nextRow()) {
+            val t = events.timestampNs
+            if (origin == null) origin = t
+            if (rows == 0L) first = t
+            last = t
+            rows++
+            if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
+            f.updateAccelerometer(t, r[3], r[4], r[5])
+            step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
+            if (mag) f.updateMagnetometer(t, r[6], r[7], r[8])
+            f.updateGyroscope(t, r[0], r[1], r[2])
+            gyroscopeStep(step, t, origin, listener)
+        }
+        return ReplayCounts(rows * perRow, rows, rows, if (mag) rows else 0L, first, last)
+    }
+
+    private fun gyroscopeStep(step: ReplayStep, t: Long, origin: Long, listener: ReplayListener) {
+        step.timestampNs = t
+        step.timeS = secondsBetween(origin, t)
+        step.initialised = filter.isInitialised
+        if (step.initialised) {
+            filter.orientationInto(step.orientation)
+        } else {
+            step.orientation.fill(Double.NaN)
+        }
+        listener.step(step)
     }
 
     public companion object {

@@ -114,4 +114,113 @@ class ByteCsvReaderTest {
         val e = assertThrows(DataFormatException::class.java) { csv.nextLine() }
         assertTrue(e.reason.contains("longer than 65536"), e.reason)
     }
+
+    /** Hands out at most a few bytes per read, so lines cross the reader's buffer ends everywhere. */
+    private class Trickle(private val bytes: ByteArray, seed: Long) : java.io.InputStream() {
+        private val r = Random(seed)
+        private var at = 0
+        override fun read(): Int = if (at < bytes.size) bytes[at++].toInt() and 0xff else -1
+        override fun read(b: ByteArray, off: Int, len: Int): Int {
+            if (at == bytes.size) return -1
+            val n = minOf(len, bytes.size - at, 1 + r.nextInt(if (r.nextInt(4) == 0) 70_000 else 40))
+            System.arraycopy(bytes, at, b, off, n)
+            at += n
+            return n
+        }
+    }
+
+    /** A field as a table might hold it: mostly plain decimals, and every shape the one-pass parse must leave to the general path. */
+    private fun field(r: Random): String = when (r.nextInt(20)) {
+        in 0..7 -> r.nextGaussian().toFloat().toString().let { if (it.contains('E')) "0.5" else it }
+        8 -> (r.nextGaussian() * 1e3).toString().let { if (it.contains('E')) "-1" else it }
+        9 -> "${if (r.nextBoolean()) "-" else "+"}${r.nextInt(1000)}.${r.nextInt(1000)}"
+        10 -> (r.nextLong() ushr r.nextInt(64)).toString() // up to 19 digits, beyond 2^53
+        11 -> "0." + "0".repeat(r.nextInt(30)) + (1 + r.nextInt(999))
+        12 -> listOf("1e5", "-2.5E-3", "NaN", "-Infinity", "", " 1.5", "1.5 ", "\"2.5\"", ".5", "5.", "-", ".", "1.2.3", "12a", "-0", "-0.000")[r.nextInt(16)]
+        13 -> r.nextInt(100_000).toString()
+        14 -> "${r.nextInt(100)}.${"9".repeat(r.nextInt(24))}"
+        else -> String.format(java.util.Locale.ROOT, "%.9f", r.nextGaussian() * 10)
+    }
+
+    @Test
+    fun `one-pass rows give the doubles of Double parseDouble and the general path, and leave every other line to it`() {
+        val r = Random(11)
+        val lines = ArrayList<String>()
+        lines += "a,b,c,d,e"
+        repeat(60_000) {
+            val n = if (r.nextInt(50) == 0) 4 + r.nextInt(3) else 5 // some rows with a wrong field count
+            val line = (0 until n).joinToString(",") { field(r) }
+            lines += when (r.nextInt(100)) {
+                0 -> "" // empty line
+                1 -> "$line\r" // CRLF
+                else -> line
+            }
+        }
+        val text = lines.joinToString("\n") + (if (r.nextBoolean()) "\n" else "")
+        val bytes = text.toByteArray()
+        // Column b is ignored (slot -1), the others go to out[3 - i] (any order).
+        val slot = intArrayOf(3, -1, 2, 1, 0)
+        val fast = ByteCsvReader(Trickle(bytes, 3), "t.csv")
+        val general = ByteCsvReader(ByteArrayInputStream(bytes), "t.csv")
+        val out = DoubleArray(4)
+        var rows = 0
+        var others = 0
+        var lastLine = 0L
+        while (true) {
+            val kind = fast.nextRow(5, slot, out)
+            val more = general.nextLine()
+            if (kind == ByteCsvReader.END) {
+                assertFalse(more)
+                break
+            }
+            assertTrue(more)
+            assertEquals(general.lineNumber, fast.lineNumber)
+            assertEquals(general.lineText(), fast.lineText())
+            assertEquals(general.count, fast.count)
+            assertEquals(general.endedWithNewline, fast.endedWithNewline)
+            for (i in 0 until general.count) assertEquals(general.column(i), fast.column(i))
+            val previousLine = lastLine
+            lastLine = general.lineNumber
+            if (kind == ByteCsvReader.ROW) {
+                rows++
+                for (i in 0 until 5) {
+                    if (slot[i] < 0) continue
+                    val t = general.text(i)
+                    assertEquals(t.toDouble().toRawBits(), out[slot[i]].toRawBits(), t)
+                    assertEquals(general.parseDouble(i).toRawBits(), out[slot[i]].toRawBits(), t)
+                }
+            } else {
+                assertEquals(ByteCsvReader.LINE, kind)
+                others++
+                // Left to the general path only where it is not a plain row of 5 fields.
+                val raw = general.lineText().removeSuffix("\r").split(',') // the generated fields hold no comma
+                val plain = raw.size == 5 && raw.indices.all { i ->
+                    val f = raw[i]
+                    if (slot[i] < 0) {
+                        '"' !in f
+                    } else {
+                        Regex("[-+]?[0-9]*\\.?[0-9]*").matches(f) && f.count { it.isDigit() } in 1..18 &&
+                            f.substringAfter('.', "").length <= 22 && f.filter { it.isDigit() }.toLong() < (1L shl 53)
+                    }
+                }
+                // (A plain row right after an empty line comes through the general path, which skips the empty one; so does a last line without newline.)
+                assertFalse(plain && general.lineNumber > 1 && general.lineNumber == previousLine + 1 && general.endedWithNewline, "line ${general.lineNumber} '${general.lineText()}' is plain")
+            }
+        }
+        assertTrue(rows > 20_000, "rows parsed in one pass: $rows")
+        assertTrue(others > 20_000, "lines left to the general path: $others")
+    }
+
+    @Test
+    fun `one-pass rows with a decimal comma and another separator`() {
+        val csv = ByteCsvReader(ByteArrayInputStream("t;x\n1,5;-2,25\n3;4.5\n".toByteArray()), "p.csv", ';'.code.toByte(), decimalComma = true)
+        val out = DoubleArray(2)
+        assertEquals(ByteCsvReader.LINE, csv.nextRow(2, intArrayOf(0, 1), out)) // the header
+        assertEquals(ByteCsvReader.ROW, csv.nextRow(2, intArrayOf(0, 1), out))
+        assertEquals(1.5, out[0])
+        assertEquals(-2.25, out[1])
+        assertEquals(ByteCsvReader.ROW, csv.nextRow(2, intArrayOf(0, 1), out))
+        assertEquals(4.5, out[1])
+        assertEquals(ByteCsvReader.END, csv.nextRow(2, intArrayOf(0, 1), out))
+    }
 }
