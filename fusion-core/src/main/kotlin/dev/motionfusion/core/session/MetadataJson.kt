@@ -6,6 +6,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.io.Json
@@ -94,7 +95,12 @@ internal object MetadataJson {
             )
         },
         "filter_settings" to m.filterSettings?.let(::settings),
+        "still_recording" to m.stillRecording,
+        "calibration" to m.calibration?.let { CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) },
     )
+
+    /** The member of `calibration` that says whether the live filter used it. */
+    private const val APPLIED_IN_LIVE_FILTER = "applied_in_live_filter"
 
     private fun anchor(a: ClockAnchor) = linkedMapOf("wall_clock_ms" to a.wallClockMs, "elapsed_realtime_ns" to a.elapsedRealtimeNs)
 
@@ -145,6 +151,8 @@ internal object MetadataJson {
                     )
                 }.toMap()
             } ?: emptyMap(),
+            calibration = r.objOrNull("calibration")?.let { SessionCalibration(CalibrationJson.parse(it), it.bool(APPLIED_IN_LIVE_FILTER, false)) },
+            stillRecording = r.bool("still_recording", false),
         )
     }
 
