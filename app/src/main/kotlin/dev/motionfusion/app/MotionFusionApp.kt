@@ -2,6 +2,7 @@ package dev.motionfusion.app
 
 import android.app.Application
 import com.google.android.material.color.DynamicColors
+import dev.motionfusion.app.calibration.CalibrationDependencies
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.settings.SettingsRepository
@@ -10,7 +11,8 @@ import dev.motionfusion.app.settings.SettingsRepository
  * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
  * wallpaper on Android 12+ (the theme's own colours before).
  */
-internal class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
+internal class MotionFusionApp :
+    Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider, CalibrationDependencies.Provider {
     private var built: AppGraph? = null
 
     /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
@@ -28,4 +30,5 @@ internal class MotionFusionApp : Application(), RecordingDependencies.Provider, 
     override val recordingDependencies: RecordingDependencies get() = graph
     override val sessionsDependencies: SessionsDependencies get() = graph
     override val settingsRepository: SettingsRepository get() = graph.settingsRepository
+    override val calibrationDependencies: CalibrationDependencies get() = graph
 }

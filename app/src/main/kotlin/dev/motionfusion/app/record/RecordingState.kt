@@ -7,6 +7,7 @@ import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.sessions.SessionsRepository
+import dev.motionfusion.core.session.SessionCalibration
 import java.io.File
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
@@ -24,9 +25,11 @@ sealed interface RecordingState {
         /** `SystemClock.elapsedRealtime()` when recording started, ms. */
         val startedElapsedMs: Long,
         val rows: () -> Long,
+        /** A still recording (accelerometer and gyroscope at the fastest rate, for `fusion allan`). */
+        val still: Boolean = false,
     ) : RecordingState
 
-    data class Ended internal constructor(val session: File?, internal val result: RecorderResult) : RecordingState
+    data class Ended internal constructor(val session: File?, internal val result: RecorderResult, val still: Boolean = false) : RecordingState
 
     /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
     data class NotStarted(val reason: String) : RecordingState
@@ -53,6 +56,9 @@ internal interface RecordingDependencies {
     val disk: DiskExecutor
     val clock: Clock
     val settings: StateFlow<LiveSettings>
+
+    /** The phone's stored calibration and whether the user chose it for the live filter, for meta.json; null: none. */
+    fun sessionCalibration(): SessionCalibration?
 
     /** Recording stops cleanly when free space falls below this. */
     val minFreeBytes: Long

@@ -9,12 +9,10 @@ import android.widget.TextView
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
-import kotlinx.coroutines.Dispatchers
-import org.junit.After
+import dev.motionfusion.app.TestGraph
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
-import org.junit.Before
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.Robolectric
@@ -33,14 +31,6 @@ import org.robolectric.annotation.GraphicsMode
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
 @Config(sdk = [34])
 class CalibrationScreensTest {
-    @Before
-    fun setUp() {
-        CalibrationDeps.compute = Dispatchers.Main.immediate
-    }
-
-    @After
-    fun tearDown() = CalibrationDeps.reset()
-
     private fun idle() = shadowOf(Looper.getMainLooper()).idle()
 
     private val variants = listOf("portrait-light" to "+port-notnight", "portrait-dark" to "+port-night", "landscape-light" to "+land-notnight", "landscape-dark" to "+land-night")
@@ -49,7 +39,7 @@ class CalibrationScreensTest {
     private fun render(state: String, readings: List<CalibrationSample>, act: (CalibrationActivity) -> Unit, check: (CalibrationActivity, Bitmap) -> Unit) {
         for ((variant, qualifiers) in variants) {
             RuntimeEnvironment.setQualifiers(qualifiers)
-            CalibrationDeps.source = { FakeSampleSource(readings) }
+            TestGraph(calibrationSource = FakeSampleSource(readings))
             val c = Robolectric.buildActivity(CalibrationActivity::class.java).setup()
             val a = c.get()
             act(a)
