@@ -108,19 +108,18 @@ internal object CalibrationText {
             val s = ((nowElapsedMs - rec.startedElapsedMs) / 1000).coerceAtLeast(0)
             Still(
                 c.getString(R.string.calibration_still_recording),
-                c.getString(R.string.calibration_still_progress, DateUtils.formatElapsedTime(s), rec.rows()),
-                c.getString(R.string.calibration_still_needs), s / 3600.0, recording = true, busy = false,
+                c.getString(R.string.calibration_still_progress, DateUtils.formatElapsedTime(s), rec.rows()) + "\n" + c.getString(R.string.calibration_still_needs),
+                "", s / 3600.0, recording = true, busy = false,
             )
         }
         rec is RecordingState.Active || rec is RecordingState.Preparing ->
             Still(c.getString(R.string.calibration_still_busy), "", "", 0.0, recording = false, busy = true)
         rec is RecordingState.Ended && rec.still && rec.session != null ->
             Still(
-                c.getString(R.string.calibration_still_ready), "",
-                c.getString(R.string.calibration_still_ended, rec.session.name, rec.result.rows) + "\n" + c.getString(R.string.calibration_still_needs),
-                0.0, recording = false, busy = false,
+                c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
+                c.getString(R.string.calibration_still_ended, rec.session.name, rec.result.rows), 0.0, recording = false, busy = false,
             )
-        else -> Still(c.getString(R.string.calibration_still_ready), "", c.getString(R.string.calibration_still_needs), 0.0, recording = false, busy = false)
+        else -> Still(c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs), "", 0.0, recording = false, busy = false)
     }
 
     private fun vec(v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(Locale.ROOT, it) }

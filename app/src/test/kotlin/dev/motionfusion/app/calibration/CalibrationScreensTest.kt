@@ -166,7 +166,7 @@ class CalibrationScreensTest {
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
     }) { a, _ ->
         assertEquals(a.getString(R.string.calibration_still_recording), text(a, R.id.instruction))
-        assertEquals("38:25 recorded · 1,843,200 samples", text(a, R.id.progress_text))
+        assertEquals("38:25 recorded · 1,843,200 samples\n" + a.getString(R.string.calibration_still_needs), text(a, R.id.progress_text))
         assertEquals(a.getString(R.string.calibration_still_stop), text(a, R.id.primary_action))
         assertEquals(64, a.findViewById<com.google.android.material.progressindicator.LinearProgressIndicator>(R.id.progress).progress)
         assertEquals(View.GONE, a.findViewById<View>(R.id.coverage_map).visibility)
@@ -176,7 +176,7 @@ class CalibrationScreensTest {
     @Test
     fun `still recording explained`() = render("still-ready", emptyList(), { click(it, R.id.step_still) }) { a, _ ->
         assertEquals(a.getString(R.string.calibration_still_ready), text(a, R.id.instruction))
-        assertEquals(a.getString(R.string.calibration_still_needs), text(a, R.id.result))
+        assertEquals(a.getString(R.string.calibration_still_needs), text(a, R.id.progress_text))
         assertEquals(a.getString(R.string.calibration_still_start), text(a, R.id.primary_action))
     }
 
