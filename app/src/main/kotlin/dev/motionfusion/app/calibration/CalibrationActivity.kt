@@ -111,7 +111,7 @@ class CalibrationActivity : AppCompatActivity() {
                 if (rec is RecordingState.Active && rec.still) {
                     RecordingService.stop(this)
                 } else {
-                    RecordingService.start(this, still = true)?.let { reason -> result.text = getString(R.string.record_not_started, reason) }
+                    RecordingService.start(this, still = true)?.let { reason -> deps.recordings.set(RecordingState.NotStarted(reason)) }
                 }
             }
             s.stage == CalibrationStage.COLLECTING -> viewModel.finish()

@@ -119,7 +119,10 @@ internal object CalibrationText {
                 c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
                 c.getString(R.string.calibration_still_ended, rec.session.name, rec.result.rows), 0.0, recording = false, busy = false,
             )
-        else -> Still(c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs), "", 0.0, recording = false, busy = false)
+        else -> Still(
+            c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
+            if (rec is RecordingState.NotStarted) c.getString(R.string.record_not_started, rec.reason) else "", 0.0, recording = false, busy = false,
+        )
     }
 
     private fun vec(v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(Locale.ROOT, it) }

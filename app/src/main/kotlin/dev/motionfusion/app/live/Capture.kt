@@ -122,8 +122,9 @@ class Capture internal constructor(
     @Volatile private var recording = false
     @Volatile private var listeners: Array<RawListener> = emptyArray()
 
-    /** The calibration applied now, its routing, and one corrected reading. */
+    /** The calibration applied now, its routing, and one corrected reading; the store's value last looked at. */
     private var applied: Calibration? = null
+    private var offered: Any? = NOT_OFFERED
     private var route: CalibrationRoute? = null
     private val corrected = DoubleArray(3)
 
@@ -240,6 +241,7 @@ class Capture internal constructor(
             reorder.flush(dispatch)
             pipeline.reconfigure(a.settings)
             applyCalibration(a.calibration)
+            offered = NOT_OFFERED // after the recording, the store's calibration is looked at again
             pipeline.restartFilter()
             tap = a.tap
         }
@@ -270,7 +272,11 @@ class Capture internal constructor(
         }
         if (!recording) {
             applySettings(settings.value)
-            applyCalibration(calibrationFor(calibration.value))
+            val c = calibration.value
+            if (c !== offered) {
+                offered = c
+                applyCalibration(calibrationFor(c))
+            }
         }
         if (changed && now - lastPublishNs >= publishIntervalNs) {
             lastPublishNs = now
@@ -360,5 +366,6 @@ class Capture internal constructor(
         const val DEFAULT_RING_CAPACITY = 1 shl 17
         private const val BATCH = 4096
         private const val IDLE_PARK_NS = 2_000_000L
+        private val NOT_OFFERED = Any()
     }
 }
