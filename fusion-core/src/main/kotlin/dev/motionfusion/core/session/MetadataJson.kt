@@ -95,9 +95,11 @@ internal object MetadataJson {
             )
         },
         "filter_settings" to m.filterSettings?.let(::settings),
-        "still_recording" to m.stillRecording,
-        "calibration" to m.calibration?.let { CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) },
-    )
+    ).also { map ->
+        // Written only when set: sessions without them stay as they were.
+        if (m.stillRecording) map["still_recording"] = true
+        m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
+    }
 
     /** The member of `calibration` that says whether the live filter used it. */
     private const val APPLIED_IN_LIVE_FILTER = "applied_in_live_filter"
