@@ -3,8 +3,13 @@ package dev.motionfusion.app
 import android.app.Notification
 import android.app.Service
 import android.content.Context
+import android.content.SharedPreferences
 import android.hardware.SensorManager
 import androidx.core.app.ServiceCompat
+import dev.motionfusion.app.calibration.CalibrationDependencies
+import dev.motionfusion.app.calibration.CalibrationSampleSource
+import dev.motionfusion.app.calibration.CalibrationStore
+import dev.motionfusion.app.calibration.CaptureSampleSource
 import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.Clock
@@ -27,6 +32,7 @@ import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
+import dev.motionfusion.core.session.SessionCalibration
 import java.io.File
 import java.util.concurrent.Executor
 import kotlinx.coroutines.CoroutineDispatcher
@@ -40,13 +46,15 @@ import kotlinx.coroutines.flow.StateFlow
  * The application's object graph: one of each long-lived part, built once and passed by
  * constructor. Screens and the recording service reach the parts they need through the small
  * interfaces of their packages ([RecordingDependencies], [SessionsDependencies],
- * [SettingsRepository.Provider]), which [MotionFusionApp] implements; tests build the graph with
+ * [CalibrationDependencies], [SettingsRepository.Provider]), which [MotionFusionApp] implements; tests build the graph with
  * fakes (a manual disk executor, a fake clock, a failing session format).
  */
 internal class AppGraph(
     sensorManager: SensorManager,
     filesDir: File,
     val settingsRepository: SettingsRepository,
+    /** Where the calibration screen's "use in the live filter" is kept. */
+    calibrationPrefs: SharedPreferences,
     override val disk: DiskExecutor = SerialDiskExecutor(),
     override val clock: Clock = Clock.System,
     override val format: SessionFormat = CoreSessionFormat,
@@ -59,17 +67,27 @@ internal class AppGraph(
     captureClock: () -> Long = System::nanoTime,
     private val enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
     override val battery: BatterySource = BatterySource { BatteryState(null, false) },
-) : RecordingDependencies, SessionsDependencies {
+    override val calibrationCompute: CoroutineDispatcher = Dispatchers.Default,
+    /** The calibration screen's readings; null: the capture's ([CaptureSampleSource]). */
+    calibrationSource: CalibrationSampleSource? = null,
+) : RecordingDependencies, SessionsDependencies, CalibrationDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
 
     override val settings: StateFlow<LiveSettings> get() = settingsRepository.settings
     override val limits: StateFlow<RecordingLimits> get() = settingsRepository.recordingLimits
     private val ring = EventRing(ringCapacity)
-    override val capture = Capture(ring, SensorHub(sensorManager, ring), settingsRepository.settings, scope, nanoTime = captureClock, runThread = captureThread)
+    private val hub = SensorHub(sensorManager, ring)
+    override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
+    override val calibrationStore = CalibrationStore(
+        File(filesDir, "calibration"), CalibrationDependencies.deviceKey(hub.sensors), calibrationPrefs, io, scope,
+    )
+    override val capture = Capture(ring, hub, settingsRepository.settings, scope, calibrationStore.active, nanoTime = captureClock, runThread = captureThread)
+    override val calibrationSource: CalibrationSampleSource = calibrationSource ?: CaptureSampleSource(capture)
     override val recordings = Recordings()
     override val sessions = SessionsRepository(filesDir, format, locks)
-    override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
+
+    override fun sessionCalibration(): SessionCalibration? = calibrationStore.sessionCalibration()
 
     override val notificationsAnswered: Boolean get() = settingsRepository.notificationsAnswered
 
@@ -84,6 +102,7 @@ internal class AppGraph(
             context.getSystemService(SensorManager::class.java),
             context.filesDir,
             SettingsRepository(SettingsStore(context)),
+            context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE),
             battery = StickyBattery(context),
         )
     }

@@ -4,6 +4,7 @@ import android.app.Application
 import android.content.pm.ApplicationInfo
 import dev.motionfusion.app.platform.MainThreadPolicy
 import com.google.android.material.color.DynamicColors
+import dev.motionfusion.app.calibration.CalibrationDependencies
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.settings.SettingsRepository
@@ -12,7 +13,8 @@ import dev.motionfusion.app.settings.SettingsRepository
  * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
  * wallpaper on Android 12+ (the theme's own colours before).
  */
-internal class MotionFusionApp : Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider {
+internal class MotionFusionApp :
+    Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider, CalibrationDependencies.Provider {
     private var built: AppGraph? = null
 
     /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
@@ -31,4 +33,5 @@ internal class MotionFusionApp : Application(), RecordingDependencies.Provider, 
     override val recordingDependencies: RecordingDependencies get() = graph
     override val sessionsDependencies: SessionsDependencies get() = graph
     override val settingsRepository: SettingsRepository get() = graph.settingsRepository
+    override val calibrationDependencies: CalibrationDependencies get() = graph
 }

@@ -329,11 +329,11 @@ class ScreensTest {
             angles { t -> 10 * sin(t / 7) - 5 },
             angles { t -> 25 * sin(t / 11) },
             originNs = 2_000_000_000L,
-        )
-        val markers = listOf(
-            PlotMarker(2_000_000_000L + 60_000_000_000L, "leave home"),
-            PlotMarker(2_000_000_000L + 300_000_000_000L, "crossing"),
-            PlotMarker(2_000_000_000L + 700_000_000_000L, "platform"),
+            markers = listOf(
+                PlotMarker(2_000_000_000L + 60_000_000_000L, "leave home"),
+                PlotMarker(2_000_000_000L + 300_000_000_000L, "crossing"),
+                PlotMarker(2_000_000_000L + 700_000_000_000L, "platform"),
+            ),
         )
         // 754 s in 1-s bins: steady rates, a 20-s stall of the magnetometer, the game rotation vector slower at first.
         val rates = RateSeries(
@@ -350,7 +350,7 @@ class ScreensTest {
             val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, name)
             val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
             idle()
-            a.show(SessionDetailUiState(name, loading = false, summary = summary(name, 754, 200.0, 1_795_688_100_000L), angles = series, rates = rates, markers = markers))
+            a.show(SessionDetailUiState(name, loading = false, summary = summary(name, 754, 200.0, 1_795_688_100_000L), angles = series, rates = rates))
             val png = name("session-detail", shape, dark)
             Screenshots.captureScreen(a, png)
             assertPlotReadable(a, R.id.detail_plot, png)

@@ -2,9 +2,12 @@ package dev.motionfusion.app
 
 import android.app.Notification
 import android.app.Service
+import android.content.Context
 import android.hardware.SensorManager
 import android.os.Looper
 import androidx.core.app.ServiceCompat
+import dev.motionfusion.app.calibration.CalibrationSampleSource
+import dev.motionfusion.app.calibration.CalibrationStore
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
@@ -15,6 +18,7 @@ import dev.motionfusion.app.record.SessionFormat
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
 import java.io.File
+import kotlinx.coroutines.Dispatchers
 import java.util.concurrent.LinkedBlockingDeque
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
@@ -66,6 +70,8 @@ internal class TestGraph(
     minFreeBytes: Long = 0L,
     enterForeground: (Service, Int, Notification, Int) -> Unit = ServiceCompat::startForeground,
     val battery: FakeBattery = FakeBattery(),
+    /** The calibration screen's readings; null: the capture's. */
+    calibrationSource: CalibrationSampleSource? = null,
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     val disk = ManualDiskExecutor()
@@ -73,8 +79,11 @@ internal class TestGraph(
     var captureNs = 0L
     val graph = AppGraph(
         app.getSystemService(SensorManager::class.java), app.filesDir, SettingsRepository(SettingsStore(app)),
+        app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE),
         disk = disk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
         captureClock = { captureNs }, enterForeground = enterForeground, battery = battery,
+        // The calibration's fits run on the main thread: each step is complete when the looper is idle.
+        calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
     ).also { app.graph = it }
     val capture get() = graph.capture
 

@@ -52,13 +52,13 @@ final class FloodCapture {
 
     private static Capture create(EventRing ring, boolean thread) {
         Capture c = new Capture(ring, new Kinds(), StateFlowKt.MutableStateFlow(new LiveSettings()),
-            CoroutineScopeKt.CoroutineScope(Dispatchers.getUnconfined()), 30_000_000L, System::nanoTime, thread, 4_000_000L, 100_000_000L);
+            CoroutineScopeKt.CoroutineScope(Dispatchers.getUnconfined()), StateFlowKt.MutableStateFlow(null), 30_000_000L, System::nanoTime, thread, 4_000_000L, 100_000_000L);
         c.acquire();
         return c;
     }
 
     static void attach(Capture c, CaptureTap tap) {
-        c.attach$app(tap, new LiveSettings());
+        c.attach$app(tap, new LiveSettings(), null);
         if (!c.isRunning()) throw new IllegalStateException("not running");
     }
 

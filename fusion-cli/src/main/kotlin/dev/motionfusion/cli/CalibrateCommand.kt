@@ -131,6 +131,8 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         |Writes them as YAML in the layout of kalibr's imu.yaml (accelerometer_noise_density,
         |accelerometer_random_walk, gyroscope_noise_density, gyroscope_random_walk, update_rate;
         |the largest axis, per-axis values in comments) and prints a table on standard error.
+        |The app's still-recording mode makes such sessions ("still_recording": true in
+        |meta.json); a session without that mark gets a note.
         |
         |Options:
         |  -o, --output FILE    write the YAML there instead of standard output
@@ -150,6 +152,10 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
             throw UsageException("-o and --plot name the same file")
         }
         val (result, name) = Recording.open(Path.of(input)).use { rec ->
+            val meta = rec.metadata
+            if (meta != null && !meta.stillRecording && !o.has("--quiet")) {
+                err.println("fusion allan: note: ${rec.name} is not marked as a still recording (the app's still-recording mode): the figures hold only if the phone lay untouched throughout")
+            }
             val progress = Progress(err, "allan", rec.metadata?.streams?.values?.sumOf { it.samples })
             val r = rec.events().use { e -> dev.motionfusion.core.calib.AllanResult.run(e, rec.streams, progress::update) }
             progress.finish()

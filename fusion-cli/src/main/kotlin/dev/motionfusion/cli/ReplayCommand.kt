@@ -37,6 +37,12 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
         |  --quiet              no summary on standard error
         |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
+        |  --calibration recorded   apply the calibration in the session's meta.json, whether
+        |                       or not the live filter used it
+        |  --calibration none   apply none: the raw readings as recorded
+        |                       Default: as the live filter did: a session whose meta.json says
+        |                       the phone's calibration was applied live is replayed with it (a
+        |                       note says so), so the output reproduces its orientation.csv
         |${FilterOptions.HELP}
         |${InputOptions.HELP}
         |A progress bar is drawn on standard error when it is a terminal.
@@ -50,9 +56,19 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         val settings = FilterOptions.settings(o)
         val output = o.value("-o") ?: o.value("--output")
-        val calibration = o.value("--calibration")?.let { CalibrateCommand.read(InputOptions.path(it)) }
+        val calibrationOption = o.value("--calibration")
+        val file = calibrationOption?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
         InputOptions.open(input, o, err, name).use { rec ->
-            CalibrateCommand.requireApplies(rec, calibration, o.value("--calibration"))
+            val recorded = rec.metadata?.calibration
+            val calibration = when (calibrationOption) {
+                null -> recorded?.takeIf { it.appliedInLiveFilter }?.calibration?.also {
+                    if (!o.has("--quiet")) err.println("fusion replay: note: ${rec.name}: applying the calibration the live filter used (meta.json; --calibration none to replay without)")
+                }
+                "none" -> null
+                "recorded" -> recorded?.calibration ?: throw UsageException("--calibration recorded: ${rec.name} has no calibration in its meta.json")
+                else -> file
+            }
+            CalibrateCommand.requireApplies(rec, calibration, if (file != null) calibrationOption else "${rec.name}: meta.json: calibration")
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {

@@ -4,6 +4,7 @@ import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionStream
 import dev.motionfusion.core.session.SessionWriter
@@ -26,9 +27,9 @@ class CalibrationCommandsTest {
     private val gyroBias = Vector3(0.01, -0.02, 0.015)
 
     /** A session with uncalibrated streams: still, turning through all orientations, still again. */
-    private fun session(name: String, s: SimulationSettings, uncalibrated: Boolean = true): Path {
+    private fun session(name: String, s: SimulationSettings, uncalibrated: Boolean = true, meta: SessionMetadata = SessionMetadata()): Path {
         val d = dir.resolve(name)
-        SessionWriter.create(d, SessionMetadata(source = "test", startAnchor = ClockAnchor(0L, 1_000_000_000L))).use { w ->
+        SessionWriter.create(d, meta.copy(source = "test", startAnchor = ClockAnchor(0L, 1_000_000_000L))).use { w ->
             MotionSimulator(s).forEach {
                 val t = 1_000_000_000L + it.timestampNs
                 w.accelerometer(t, it.acc.x.toFloat(), it.acc.y.toFloat(), it.acc.z.toFloat(), 3)
@@ -69,6 +70,30 @@ class CalibrationCommandsTest {
         assertEquals(ExitCode.OK, calibrated.code, calibrated.err)
         assertEquals(plain.lines().size, calibrated.out.lines().size)
         assertTrue(plain != calibrated.out)
+    }
+
+    @Test
+    fun `replay applies the calibration of meta_json by default only when the live filter used it`() {
+        val s = session("turning", turning)
+        assertEquals(ExitCode.OK, fusion("calibrate", s.toString(), "-o", dir.resolve("cal.json").toString(), "--quiet").code)
+        val cal = CalibrationJson.parse(Files.readString(dir.resolve("cal.json")), "cal.json")
+        val plain = fusion("replay", s.toString(), "--quiet").out
+        val withFile = fusion("replay", s.toString(), "--quiet", "--calibration", dir.resolve("cal.json").toString()).out
+
+        val live = session("applied", turning, meta = SessionMetadata(calibration = SessionCalibration(cal, appliedInLiveFilter = true)))
+        val r = fusion("replay", live.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertEquals(withFile, r.out)
+        assertTrue("applying the calibration the live filter used" in r.err, r.err)
+        assertEquals(plain, fusion("replay", live.toString(), "--quiet", "--calibration", "none").out)
+
+        val stored = session("stored", turning, meta = SessionMetadata(calibration = SessionCalibration(cal, appliedInLiveFilter = false)))
+        assertEquals(plain, fusion("replay", stored.toString(), "--quiet").out)
+        assertEquals(withFile, fusion("replay", stored.toString(), "--quiet", "--calibration", "recorded").out)
+
+        val none = fusion("replay", s.toString(), "--calibration", "recorded")
+        assertEquals(ExitCode.USAGE, none.code)
+        assertTrue("has no calibration in its meta.json" in none.err, none.err)
     }
 
     @Test

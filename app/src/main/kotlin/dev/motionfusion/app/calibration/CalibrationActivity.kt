@@ -15,18 +15,26 @@ import com.google.android.material.button.MaterialButtonToggleGroup
 import com.google.android.material.materialswitch.MaterialSwitch
 import com.google.android.material.progressindicator.LinearProgressIndicator
 import dev.motionfusion.app.R
+import dev.motionfusion.app.record.RecordingService
+import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.app.ui.fitToSystemBars
+import kotlinx.coroutines.delay
+import kotlinx.coroutines.flow.combine
 import kotlinx.coroutines.launch
 
 /**
  * The guided calibration (docs/CALIBRATION.md, "In the app"): the magnetometer turn-through
  * with its coverage map, the accelerometer's six faces with the gyroscope bias from their still
- * periods, each result with its quality, stored per device in [CalibrationStore].
+ * periods, each result with its quality, stored per device in [CalibrationStore]; the switch
+ * that applies it in the live filter; and the still recording for `fusion allan` (a recording
+ * of the recording service, marked still). Readings come from the app's one capture.
  */
 class CalibrationActivity : AppCompatActivity() {
     internal lateinit var viewModel: CalibrationViewModel
         private set
+    private lateinit var deps: CalibrationDependencies
     private lateinit var store: CalibrationStore
+    private lateinit var useLive: MaterialSwitch
     private lateinit var steps: MaterialButtonToggleGroup
     private lateinit var instruction: TextView
     private lateinit var map: CoverageMapView
@@ -43,12 +51,13 @@ class CalibrationActivity : AppCompatActivity() {
         setContentView(R.layout.activity_calibration)
         fitToSystemBars(findViewById(R.id.calibration_root))
         supportActionBar?.setDisplayHomeAsUpEnabled(true)
-        store = CalibrationStores.get(this)
+        deps = (application as CalibrationDependencies.Provider).calibrationDependencies
+        store = deps.calibrationStore
         val made = "Motion Fusion ${appVersion()} guided calibration"
         viewModel = ViewModelProvider(this, object : ViewModelProvider.Factory {
             @Suppress("UNCHECKED_CAST")
             override fun <T : ViewModel> create(modelClass: Class<T>): T =
-                CalibrationViewModel(CalibrationDeps.source(applicationContext), store, CalibrationDeps.settings, CalibrationDeps.compute, CalibrationDeps.io, made) as T
+                CalibrationViewModel(deps.calibrationSource, store, CalibrationDependencies.settings, deps.calibrationCompute, deps.io, made) as T
         })[CalibrationViewModel::class.java]
         steps = findViewById(R.id.step_group)
         instruction = findViewById(R.id.instruction)
@@ -61,21 +70,52 @@ class CalibrationActivity : AppCompatActivity() {
         save = findViewById(R.id.save)
         stored = findViewById(R.id.stored)
         steps.addOnButtonCheckedListener { _, id, checked ->
-            if (checked) viewModel.select(if (id == R.id.step_poses) CalibrationStep.POSES else CalibrationStep.MAGNETOMETER)
+            if (checked) viewModel.select(stepOf(id))
         }
-        primary.setOnClickListener {
-            if (viewModel.state.value.stage == CalibrationStage.COLLECTING) viewModel.finish() else viewModel.start()
-        }
+        primary.setOnClickListener { onPrimary() }
         save.setOnClickListener { viewModel.save() }
-        findViewById<MaterialSwitch>(R.id.use_live).apply {
-            isChecked = store.useInLiveFilter
-            setOnCheckedChangeListener { _, on -> store.useInLiveFilter = on }
-        }
+        useLive = findViewById(R.id.use_live)
+        useLive.setOnCheckedChangeListener { _, on -> if (on != store.useInLiveFilter.value) store.setUseInLiveFilter(on) }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) {
-                launch { viewModel.state.collect { render(it) } }
-                launch { store.calibration.collect { stored.text = CalibrationText.stored(this@CalibrationActivity, it) } }
+                launch { viewModel.state.collect { render() } }
+                launch { deps.recordings.state.collect { render() } }
+                launch {
+                    // The still recording's elapsed time.
+                    while (true) {
+                        delay(1_000)
+                        if (viewModel.state.value.step == CalibrationStep.STILL) render()
+                    }
+                }
+                launch {
+                    combine(store.calibration, store.useInLiveFilter) { c, on -> c to on }.collect { (c, on) ->
+                        if (useLive.isChecked != on) useLive.isChecked = on
+                        stored.text = CalibrationText.stored(this@CalibrationActivity, c, on)
+                    }
+                }
             }
+        }
+    }
+
+    private fun stepOf(buttonId: Int) = when (buttonId) {
+        R.id.step_poses -> CalibrationStep.POSES
+        R.id.step_still -> CalibrationStep.STILL
+        else -> CalibrationStep.MAGNETOMETER
+    }
+
+    private fun onPrimary() {
+        val s = viewModel.state.value
+        when {
+            s.step == CalibrationStep.STILL -> {
+                val rec = deps.recordings.state.value
+                if (rec is RecordingState.Active && rec.still) {
+                    RecordingService.stop(this)
+                } else {
+                    RecordingService.start(this, still = true)?.let { reason -> deps.recordings.set(RecordingState.NotStarted(reason)) }
+                }
+            }
+            s.stage == CalibrationStage.COLLECTING -> viewModel.finish()
+            else -> viewModel.start()
         }
     }
 
@@ -90,12 +130,24 @@ class CalibrationActivity : AppCompatActivity() {
         super.onStop()
     }
 
-    private fun render(s: CalibrationUiState) {
-        val stepButton = if (s.step == CalibrationStep.POSES) R.id.step_poses else R.id.step_magnetometer
+    private fun render() {
+        val s = viewModel.state.value
+        val stepButton = when (s.step) {
+            CalibrationStep.MAGNETOMETER -> R.id.step_magnetometer
+            CalibrationStep.POSES -> R.id.step_poses
+            CalibrationStep.STILL -> R.id.step_still
+        }
         if (steps.checkedButtonId != stepButton) steps.check(stepButton)
         val mag = s.step == CalibrationStep.MAGNETOMETER
+        val still = s.step == CalibrationStep.STILL
         map.visibility = if (mag) View.VISIBLE else View.GONE
-        faces.visibility = if (mag) View.GONE else View.VISIBLE
+        faces.visibility = if (s.step == CalibrationStep.POSES) View.VISIBLE else View.GONE
+        findViewById<View>(R.id.calibration_picture)?.visibility = if (still) View.GONE else View.VISIBLE
+        save.visibility = if (still) View.GONE else View.VISIBLE
+        if (still && s.unavailable == null) {
+            renderStill()
+            return
+        }
         map.setCells(s.cellHits)
         faces.setFaces(s.facesHeld, s.askedFace)
         instruction.text = CalibrationText.instruction(this, s)
@@ -111,6 +163,16 @@ class CalibrationActivity : AppCompatActivity() {
         })
         save.isEnabled = s.stage == CalibrationStage.RESULT && s.hasAccepted && !s.saved
         save.text = getString(if (s.saved) R.string.calibration_saved else R.string.calibration_save)
+    }
+
+    private fun renderStill() {
+        val t = CalibrationText.still(this, deps.recordings.state.value, deps.clock.elapsedRealtimeNanos() / 1_000_000)
+        instruction.text = t.instruction
+        progress.setProgressCompat((100 * t.fractionOfHour).toInt().coerceIn(0, 100), false)
+        progressText.text = t.progress
+        result.text = t.result
+        primary.isEnabled = !t.busy
+        primary.text = getString(if (t.recording) R.string.calibration_still_stop else R.string.calibration_still_start)
     }
 
     private fun appVersion(): String = try {

@@ -6,11 +6,13 @@ import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.session.SessionCalibration
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
+import kotlinx.coroutines.flow.asStateFlow
 import kotlinx.coroutines.launch
 import kotlinx.coroutines.withContext
 import java.io.File
@@ -48,8 +50,8 @@ data class DeviceKey(val manufacturer: String, val model: String, val sensors: L
  * The file is read once, on [io], when the store is made; until then [calibration] is null.
  * A damaged file is moved aside to `<name>.damaged` (nothing lost) and [problem] says why.
  *
- * Hooks for the recorder and the live filter (they only read memory: safe on any thread):
- * [activeCalibration] and [sessionMetaMember].
+ * For the recorder and the live filter (they only read memory: safe on any thread):
+ * [active] and [sessionCalibration].
  */
 class CalibrationStore(
     private val dir: File,
@@ -61,38 +63,49 @@ class CalibrationStore(
 ) {
     private val file = File(dir, device.fileName)
     private val current = MutableStateFlow<Calibration?>(null)
+    private val use = MutableStateFlow(false)
+    private val activeFlow = MutableStateFlow<Calibration?>(null)
 
     /** The stored calibration of this device (null: none, or not read yet). */
     val calibration: StateFlow<Calibration?> = current
+
+    /** Setting "use the calibration in the live filter" (off by default; read with the file, on [io]). */
+    val useInLiveFilter: StateFlow<Boolean> = use.asStateFlow()
+
+    /**
+     * The calibration the live filter applies: the stored one while [useInLiveFilter] is on,
+     * else null. The capture applies it as core's `CalibrationRoute` says (an uncalibrated
+     * stream corrected replaces the calibrated one).
+     */
+    val active: StateFlow<Calibration?> = activeFlow.asStateFlow()
 
     /** Why the stored file could not be read or written, or null. */
     @Volatile var problem: String? = null
         private set
 
-    private val loaded: Job = scope.launch(io) { current.value = read() }
-
-    /** Setting "use calibration in the live filter" (off by default). */
-    var useInLiveFilter: Boolean
-        get() = prefs.getBoolean(USE_IN_LIVE_FILTER, false)
-        set(value) = prefs.edit().putBoolean(USE_IN_LIVE_FILTER, value).apply()
-
-    /**
-     * Hook for the live filter: the calibration to apply, or null when the setting is off or
-     * nothing is stored. Apply it as core's `CalibratedEvents` does: a correction whose `stream`
-     * is an uncalibrated stream corrects that stream, which then replaces the calibrated one.
-     */
-    fun activeCalibration(): Calibration? = if (useInLiveFilter) current.value else null
-
-    /**
-     * Hook for the recorder: the member `"calibration"` of a session's meta.json, the stored
-     * calibration as the calibration file holds it (CalibrationJson.tree) plus
-     * `"applied_in_live_filter"`; null when nothing is stored. The recording stays raw: replay
-     * can apply this member or not.
-     */
-    fun sessionMetaMember(appliedInLiveFilter: Boolean): Pair<String, Map<String, Any?>>? {
-        val c = current.value ?: return null
-        return META_MEMBER to (CalibrationJson.tree(c) + ("applied_in_live_filter" to appliedInLiveFilter))
+    private val loaded: Job = scope.launch(io) {
+        use.value = prefs.getBoolean(USE_IN_LIVE_FILTER, false)
+        current.value = read()
+        update()
     }
+
+    /** Turns the setting on or off (stored in the background). */
+    fun setUseInLiveFilter(on: Boolean) {
+        use.value = on
+        update()
+        prefs.edit().putBoolean(USE_IN_LIVE_FILTER, on).apply()
+    }
+
+    private fun update() {
+        activeFlow.value = if (use.value) current.value else null
+    }
+
+    /**
+     * For a session's meta.json (member `calibration`, docs/CALIBRATION.md): the stored
+     * calibration and whether the setting asks the live filter to use it; null when nothing is
+     * stored. The recording stays raw: replay can apply it or not.
+     */
+    fun sessionCalibration(): SessionCalibration? = current.value?.let { SessionCalibration(it, use.value) }
 
     /** Waits until the file has been read. */
     suspend fun awaitLoaded(): Unit = loaded.join()
@@ -120,6 +133,7 @@ class CalibrationStore(
         }
         problem = null
         current.value = merged
+        update()
         merged
     }
 
@@ -143,7 +157,6 @@ class CalibrationStore(
     }
 
     companion object {
-        const val META_MEMBER = "calibration"
         const val PREFS = "calibration"
         private const val USE_IN_LIVE_FILTER = "use_in_live_filter"
     }

@@ -1,7 +1,9 @@
 package dev.motionfusion.app.calibration
 
 import android.content.Context
+import android.text.format.DateUtils
 import dev.motionfusion.app.R
+import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.Fit
@@ -24,6 +26,7 @@ internal object CalibrationText {
                     ?: c.getString(R.string.calibration_pose_all)
                 CalibrationStage.RESULT -> resultHeadline(c, s)
             }
+            CalibrationStep.STILL -> c.getString(R.string.calibration_still_ready) // the screen shows [still] instead
         }
     }
 
@@ -57,6 +60,7 @@ internal object CalibrationText {
                 is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "magnetometer", f.reason)
                 null -> Unit
             }
+            CalibrationStep.STILL -> Unit
             CalibrationStep.POSES -> {
                 when (val f = s.accFit) {
                     is Fit.Done -> f.value.let { a ->
@@ -84,11 +88,41 @@ internal object CalibrationText {
         return lines.joinToString("\n")
     }
 
-    fun stored(c: Context, cal: Calibration?): String {
+    fun stored(c: Context, cal: Calibration?, usedLive: Boolean): String {
         val names = listOfNotNull(
             cal?.magnetometer?.let { "magnetometer" }, cal?.accelerometer?.let { "accelerometer" }, cal?.gyroscope?.let { "gyroscope" },
         )
-        return if (names.isEmpty()) c.getString(R.string.calibration_stored_none) else c.getString(R.string.calibration_stored, names.joinToString(", "))
+        return when {
+            names.isEmpty() -> c.getString(R.string.calibration_stored_none)
+            usedLive -> c.getString(R.string.calibration_stored_applied, names.joinToString(", "))
+            else -> c.getString(R.string.calibration_stored, names.joinToString(", "))
+        }
+    }
+
+    /** The still-recording step's texts: instruction, progress and result lines. */
+    data class Still(val instruction: String, val progress: String, val result: String, val fractionOfHour: Double, val recording: Boolean, val busy: Boolean)
+
+    /** The still step for the recording state [rec] at [nowElapsedMs] (SystemClock.elapsedRealtime). */
+    fun still(c: Context, rec: RecordingState, nowElapsedMs: Long): Still = when {
+        rec is RecordingState.Active && rec.still -> {
+            val s = ((nowElapsedMs - rec.startedElapsedMs) / 1000).coerceAtLeast(0)
+            Still(
+                c.getString(R.string.calibration_still_recording),
+                c.getString(R.string.calibration_still_progress, DateUtils.formatElapsedTime(s), rec.rows()) + "\n" + c.getString(R.string.calibration_still_needs),
+                "", s / 3600.0, recording = true, busy = false,
+            )
+        }
+        rec is RecordingState.Active || rec is RecordingState.Preparing ->
+            Still(c.getString(R.string.calibration_still_busy), "", "", 0.0, recording = false, busy = true)
+        rec is RecordingState.Ended && rec.still && rec.session != null ->
+            Still(
+                c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
+                c.getString(R.string.calibration_still_ended, rec.session.name, rec.result.rows), 0.0, recording = false, busy = false,
+            )
+        else -> Still(
+            c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
+            if (rec is RecordingState.NotStarted) c.getString(R.string.record_not_started, rec.reason) else "", 0.0, recording = false, busy = false,
+        )
     }
 
     private fun vec(v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(Locale.ROOT, it) }

@@ -24,8 +24,8 @@ import kotlinx.coroutines.flow.update
 import kotlinx.coroutines.launch
 import java.io.IOException
 
-/** The two parts of the guided calibration. */
-enum class CalibrationStep { MAGNETOMETER, POSES }
+/** The parts of the calibration screen: the two guided fits, and the still recording for `fusion allan`. */
+enum class CalibrationStep { MAGNETOMETER, POSES, STILL }
 
 /** Where a step is: not started, collecting readings, fitted (accepted or refused). */
 enum class CalibrationStage { READY, COLLECTING, RESULT }
@@ -87,6 +87,7 @@ data class CalibrationUiState(
     val hasAccepted: Boolean get() = when (step) {
         CalibrationStep.MAGNETOMETER -> magFit is Fit.Done
         CalibrationStep.POSES -> accFit is Fit.Done || gyroFit is Fit.Done
+        CalibrationStep.STILL -> false
     }
 }
 
@@ -122,6 +123,7 @@ class CalibrationViewModel(
             gyroStream == null -> "this device has no gyroscope, which tells when the phone is still"
             else -> null
         }
+        CalibrationStep.STILL -> if (SessionStream.ACCELEROMETER !in streams && gyroStream == null) "this device has no accelerometer or gyroscope" else null
     }
 
     /** Shows [step], not started; stops a collection in progress. */
@@ -132,16 +134,13 @@ class CalibrationViewModel(
         _state.value = state0.copy(step = step, unavailable = unavailable(step))
     }
 
-    /** Starts collecting for the current step (again from nothing). */
+    /** Starts collecting for the current step (again from nothing); the still recording is the recording service's. */
     fun start() {
         val s = _state.value
-        if (s.unavailable != null || s.stage == CalibrationStage.COLLECTING) return
+        if (s.unavailable != null || s.stage == CalibrationStage.COLLECTING || s.step == CalibrationStep.STILL) return
         job?.cancel()
         _state.value = state0.copy(step = s.step, stage = CalibrationStage.COLLECTING)
-        job = when (s.step) {
-            CalibrationStep.MAGNETOMETER -> collectMagnetometer()
-            CalibrationStep.POSES -> collectPoses()
-        }
+        job = if (s.step == CalibrationStep.MAGNETOMETER) collectMagnetometer() else collectPoses()
     }
 
     private fun collectMagnetometer(): Job {
@@ -210,7 +209,7 @@ class CalibrationViewModel(
                             cellHits = List(DirectionCoverage.CELLS) { i -> c.hits(i) }, coverage = (fit.valueOrNull()?.coverage ?: c.fraction))
                     }
                 }
-                CalibrationStep.POSES -> {
+                CalibrationStep.POSES, CalibrationStep.STILL -> {
                     val p = still!!
                     val acc = p.accelerometerFit()
                     val gyro = p.gyroscopeFit()

@@ -8,6 +8,8 @@ import dev.motionfusion.app.sensor.SensorSource
 import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorStreams
+import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.calib.CalibrationRoute
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.SessionStream
@@ -37,6 +39,15 @@ internal interface CaptureTap {
     fun end(end: TapEnd)
 }
 
+/**
+ * A reader of the raw events besides the recorder (the calibration screen). Called on the
+ * capture thread, in timestamp order, with the values at [values]`[offset..]`; it must not
+ * block and must not keep [values].
+ */
+internal fun interface RawListener {
+    fun raw(stream: SessionStream, timestampNs: Long, values: FloatArray, offset: Int)
+}
+
 /** Why a tap was detached. */
 internal sealed interface TapEnd {
     /** [Capture.detach]: every event up to the request was handed over. */
@@ -54,7 +65,9 @@ internal sealed interface TapEnd {
  * the user's rate) into one lock-free [EventRing]; one capture thread drains it through a
  * [ReorderWindow] into timestamp order and feeds ONE [FusionPipeline], whose filter has the
  * user's settings, and an attached recorder ([CaptureTap]), which writes the raw events and
- * that same filter's output. The live state is published as [state] (at most every
+ * that same filter's output. With a calibration applied, the filter reads the corrected
+ * streams ([CalibrationRoute]: the uncalibrated magnetometer and gyroscope corrected in place
+ * of the calibrated ones); the recorder still gets every raw event. The live state is published as [state] (at most every
  * [publishIntervalNs]; the snapshot is the only allocation, per batch, not per event).
  *
  * Owned by the application's object graph. It runs between the first [acquire] and the last
@@ -69,6 +82,8 @@ class Capture internal constructor(
     private val hub: SensorSource,
     private val settings: StateFlow<LiveSettings>,
     private val scope: CoroutineScope,
+    /** The calibration the live filter applies while no recording is attached (null: none). */
+    private val calibration: StateFlow<Calibration?> = MutableStateFlow(null),
     reorderWindowNs: Long = ReorderWindow.DEFAULT_WINDOW_NS,
     private val nanoTime: () -> Long = System::nanoTime,
     /** False in tests: nothing runs the capture thread; the test calls [pump]. */
@@ -88,6 +103,9 @@ class Capture internal constructor(
     /** The streams the device has, with their sensors (for a session's meta.json). */
     internal val sensors get() = hub.sensors
 
+    /** The streams the device delivers. */
+    internal val streams: Set<SessionStream> get() = hub.streams
+
     /** The filter's gyroscope saturation from this device's gyroscope range (written into meta.json with the other filter settings). */
     private val gyroSaturation = GyroSaturation.fromRange(sensorInfo[SensorKind.GYROSCOPE]?.maxRange)
 
@@ -102,10 +120,17 @@ class Capture internal constructor(
     @Volatile private var running = false
 
     // Requests from the main thread, taken by the capture thread at its next batch.
-    @Volatile private var attachRequest: Pair<CaptureTap, LiveSettings>? = null
+    @Volatile private var attachRequest: Attach? = null
     @Volatile private var detachRequest: CaptureTap? = null
     private var tap: CaptureTap? = null
     @Volatile private var recording = false
+    @Volatile private var listeners: Array<RawListener> = emptyArray()
+
+    /** The calibration applied now, its routing, and one corrected reading; the store's value last looked at. */
+    private var applied: Calibration? = null
+    private var offered: Any? = NOT_OFFERED
+    private var route: CalibrationRoute? = null
+    private val corrected = DoubleArray(3)
 
     private var lastEventNs = 0L
     private var lastPublishNs = Long.MIN_VALUE / 2
@@ -131,6 +156,27 @@ class Capture internal constructor(
 
     /** The filter settings a recording started now would run with (and write into meta.json). */
     fun filterSettingsFor(s: LiveSettings): FilterSettings = FusionPipeline(available, s, gyroSaturation).filterSettings
+
+    /**
+     * [c] if the live filter can apply it (the device has every stream it corrects), else null:
+     * what a recording started now applies (and writes into meta.json as applied).
+     */
+    fun calibrationFor(c: Calibration?): Calibration? = c?.takeIf { streams.containsAll(it.streams()) }
+
+    /** The calibration the live filter applies now, or null. */
+    internal fun calibrationInUse(): Calibration? = synchronized(pipeline) { applied }
+
+    /** Adds [l]: it gets every raw event from the next batch on. Any thread. */
+    @Synchronized
+    internal fun listen(l: RawListener) {
+        listeners += l
+    }
+
+    /** Removes [l]; after the current batch it gets no more events. Any thread. */
+    @Synchronized
+    internal fun unlisten(l: RawListener) {
+        listeners = listeners.filter { it !== l }.toTypedArray()
+    }
 
     /** The settings of the filter in use. */
     internal fun filterSettingsInUse(): FilterSettings = synchronized(pipeline) { pipeline.filterSettings }
@@ -170,15 +216,19 @@ class Capture internal constructor(
 
     /**
      * Starts feeding [tap] from the next event, with a filter started afresh with [settings]'
-     * filter settings (those of [filterSettingsFor], which the caller wrote into meta.json).
-     * Call while acquired.
+     * filter settings (those of [filterSettingsFor], which the caller wrote into meta.json) on
+     * readings corrected by [calibration] (that of [calibrationFor], also in meta.json), and
+     * the sensors at [settings]' rate. Call while acquired.
      */
-    internal fun attach(tap: CaptureTap, settings: LiveSettings) {
+    internal fun attach(tap: CaptureTap, settings: LiveSettings, calibration: Calibration? = null) {
         check(isRunning) { "attach needs a running capture" }
         recording = true
-        attachRequest = tap to settings
+        if (hub.registeredRate != settings.rate) hub.start(settings.rate)
+        attachRequest = Attach(tap, settings, calibrationFor(calibration))
         thread?.let(LockSupport::unpark)
     }
+
+    private class Attach(val tap: CaptureTap, val settings: LiveSettings, val calibration: Calibration?)
 
     /** Hands [tap] every event up to now, then ends it ([CaptureTap.end] on the capture thread). */
     internal fun detach(tap: CaptureTap) {
@@ -188,14 +238,16 @@ class Capture internal constructor(
 
     /** One batch of the capture thread: returns the events drained. Tests call it directly. */
     internal fun pump(): Int = synchronized(pipeline) {
-        attachRequest?.let { (t, s) ->
+        attachRequest?.let { a ->
             attachRequest = null
             // Events queued before the start belong to the time before it.
             ring.drain(toReorder)
             reorder.flush(dispatch)
-            pipeline.reconfigure(s)
+            pipeline.reconfigure(a.settings)
+            applyCalibration(a.calibration)
+            offered = NOT_OFFERED // after the recording, the store's calibration is looked at again
             pipeline.restartFilter()
-            tap = t
+            tap = a.tap
         }
         val n = ring.drain(toReorder, BATCH)
         val now = nanoTime()
@@ -222,7 +274,14 @@ class Capture internal constructor(
             }
             if (!goOn) endTap(null)
         }
-        if (!recording) applySettings(settings.value)
+        if (!recording) {
+            applySettings(settings.value)
+            val c = calibration.value
+            if (c !== offered) {
+                offered = c
+                applyCalibration(calibrationFor(c))
+            }
+        }
         if (changed && now - lastPublishNs >= publishIntervalNs) {
             lastPublishNs = now
             publish()
@@ -245,8 +304,22 @@ class Capture internal constructor(
                 endTap(TapEnd.Failed(e))
             }
         }
-        val kind = SensorStreams.kindOf(stream) ?: return
-        if (pipeline.onEvent(kind, t, accuracy, values, offset, stream.valueCount)) {
+        val l = listeners
+        for (i in l.indices) l[i].raw(stream, t, values, offset)
+        val r = route
+        val target = if (r == null) stream else r.target(stream) ?: return
+        val kind = SensorStreams.kindOf(target) ?: return
+        val correction = r?.correction(stream)
+        val stepped = if (correction == null) {
+            pipeline.onEvent(kind, t, accuracy, values, offset, stream.valueCount)
+        } else {
+            corrected[0] = values[offset].toDouble()
+            corrected[1] = values[offset + 1].toDouble()
+            corrected[2] = values[offset + 2].toDouble()
+            correction.applyInPlace(corrected)
+            pipeline.onCorrected(kind, t, accuracy, corrected[0], corrected[1], corrected[2])
+        }
+        if (stepped) {
             tap?.let {
                 try {
                     it.stepped(t, pipeline.filter)
@@ -274,6 +347,13 @@ class Capture internal constructor(
         if (!runThread || thread == null) synchronized(pipeline) { applySettings(s); publish() }
     }
 
+    private fun applyCalibration(c: Calibration?) {
+        if (c === applied) return
+        applied = c
+        route = c?.let(::CalibrationRoute)
+        changed = true
+    }
+
     private fun applySettings(s: LiveSettings) {
         if (s == pipeline.settings) return
         pipeline.reconfigure(s)
@@ -290,5 +370,6 @@ class Capture internal constructor(
         const val DEFAULT_RING_CAPACITY = 1 shl 17
         private const val BATCH = 4096
         private const val IDLE_PARK_NS = 2_000_000L
+        private val NOT_OFFERED = Any()
     }
 }

@@ -84,7 +84,23 @@ class FusionPipeline(
      * vectors also w and the heading accuracy). Allocation-free. Returns true when the event
      * stepped the Madgwick [filter] (a gyroscope event with the filter initialised).
      */
-    fun onEvent(kind: SensorKind, timestampNs: Long, accuracy: Int, v: FloatArray, o: Int, count: Int): Boolean {
+    fun onEvent(kind: SensorKind, timestampNs: Long, accuracy: Int, v: FloatArray, o: Int, count: Int): Boolean =
+        fold(kind, timestampNs, accuracy, v, o, count, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+
+    private val correctedScratch = FloatArray(3)
+
+    /**
+     * Folds in one calibrated reading of a three-axis [kind] (accelerometer, gyroscope,
+     * magnetometer): the filter gets [x], [y], [z] as they are, as `fusion replay --calibration`
+     * feeds them; the screen shows them rounded to floats. Allocation-free; returns as [onEvent].
+     */
+    fun onCorrected(kind: SensorKind, timestampNs: Long, accuracy: Int, x: Double, y: Double, z: Double): Boolean {
+        val f = correctedScratch
+        f[0] = x.toFloat(); f[1] = y.toFloat(); f[2] = z.toFloat()
+        return fold(kind, timestampNs, accuracy, f, 0, 3, x, y, z)
+    }
+
+    private fun fold(kind: SensorKind, timestampNs: Long, accuracy: Int, v: FloatArray, o: Int, count: Int, x: Double, y: Double, z: Double): Boolean {
         val i = kind.ordinal
         meters[i].add(timestampNs)
         this.accuracy[i] = accuracy
@@ -95,9 +111,9 @@ class FusionPipeline(
         lastT = timestampNs
         var stepped = false
         when (mode.mode) {
-            FusionMode.MARG, FusionMode.IMU -> stepped = filterSample(kind, timestampNs, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+            FusionMode.MARG, FusionMode.IMU -> stepped = filterSample(kind, timestampNs, x, y, z)
             FusionMode.ACC_MAG -> if (kind == SensorKind.ACCELEROMETER || kind == SensorKind.MAGNETOMETER) accMag()
-            FusionMode.TILT_ONLY -> if (kind == SensorKind.ACCELEROMETER) tilt(v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble())
+            FusionMode.TILT_ONLY -> if (kind == SensorKind.ACCELEROMETER) tilt(x, y, z)
             FusionMode.NONE -> Unit
         }
         when (kind) {

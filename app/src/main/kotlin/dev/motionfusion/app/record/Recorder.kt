@@ -43,7 +43,10 @@ internal class Recorder(
     /** Wall-clock anchors and fsync every [checkpointIntervalNs] when given. */
     private val anchorNow: (() -> ClockAnchor)? = null,
     private val checkpointIntervalNs: Long = 60_000_000_000L,
+    /** The raw streams written (null: all); the others are left out. */
+    streams: Set<SessionStream>? = null,
 ) : CaptureTap {
+    private val writes = BooleanArray(SessionStream.entries.size) { streams == null || SessionStream.entries[it] in streams }
     private var lastDiagnosticsNs = Long.MIN_VALUE / 2
     private val rows = AtomicLongArray(SessionStream.entries.size)
     @Volatile private var fusedRows = 0L
@@ -93,6 +96,7 @@ internal class Recorder(
     val fusedCount: Long get() = fusedRows
 
     override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
+        if (!writes[stream.ordinal]) return
         sink.raw(stream, timestampNs, accuracy, values, offset)
         rows.lazySet(stream.ordinal, rows.get(stream.ordinal) + 1)
     }

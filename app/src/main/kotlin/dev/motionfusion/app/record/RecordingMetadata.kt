@@ -7,6 +7,7 @@ import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.DeviceInfo
 import dev.motionfusion.core.session.SensorInfo
+import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionStream
 
@@ -38,12 +39,17 @@ internal object RecordingMetadata {
         maxReportLatencyUs = maxReportLatencyUs,
     )
 
-    fun create(appVersion: String, sensors: List<SensorInfo>, settings: FilterSettings, anchor: ClockAnchor) = SessionMetadata(
+    fun create(
+        appVersion: String, sensors: List<SensorInfo>, settings: FilterSettings, anchor: ClockAnchor,
+        calibration: SessionCalibration? = null, still: Boolean = false,
+    ) = SessionMetadata(
         appVersion = appVersion,
         source = "Motion Fusion $appVersion",
         device = DeviceInfo(Build.MANUFACTURER ?: "", Build.MODEL ?: "", Build.VERSION.RELEASE ?: "", Build.VERSION.SDK_INT),
         startAnchor = anchor,
         sensors = sensors,
         filterSettings = settings,
+        calibration = calibration,
+        stillRecording = still,
     )
 }

@@ -20,6 +20,8 @@ import androidx.core.app.ServiceCompat
 import androidx.core.content.ContextCompat
 import dev.motionfusion.app.R
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor
 import java.io.File
 
@@ -41,6 +43,7 @@ class RecordingService : Service() {
     private var holdsCapture = false
     private var recorder: Recorder? = null
     private var session: File? = null
+    private var still = false
     private var wakeLock: PowerManager.WakeLock? = null
     private var startedElapsedMs = 0L
     private var startedWallMs = 0L
@@ -89,7 +92,7 @@ class RecordingService : Service() {
     override fun onStartCommand(intent: Intent?, flags: Int, startId: Int): Int {
         when (intent?.action) {
             ACTION_STOP -> stopRecording()
-            ACTION_START -> startRecording()
+            ACTION_START -> startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false))
             // Restarted by the system after the process died: the interrupted session is
             // repaired by recovery; a new recording needs the user's action.
             else -> if (recorder == null && !preparing) stopSelf()
@@ -102,8 +105,9 @@ class RecordingService : Service() {
      * sessions, which takes seconds after a long killed recording, and the new session's files)
      * on the disk executor, with progress in [Recordings]; then the recorder is attached.
      */
-    private fun startRecording() {
+    private fun startRecording(still: Boolean) {
         if (recorder != null || preparing) return
+        this.still = still
         createChannels()
         startedWallMs = deps.clock.wallClockMs()
         startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
@@ -120,11 +124,16 @@ class RecordingService : Service() {
         val capture = deps.capture
         capture.acquire()
         holdsCapture = true
-        val live = deps.settings.value
+        // A still recording: the accelerometer and gyroscope as fast as the device delivers.
+        val live = deps.settings.value.let { if (still) it.copy(rate = SamplingRate.Delay.FASTEST) else it }
         limits = deps.limits.value
         batteryCheckedNs = Long.MIN_VALUE / 2
         val filterSettings = capture.filterSettingsFor(live)
-        val sensors = capture.sensors
+        val sensors = if (still) capture.sensors.filterKeys { it in STILL_STREAMS } else capture.sensors
+        // The calibration the live filter applies during the recording, and what meta.json says of it.
+        val stored = deps.sessionCalibration()
+        val applied = if (stored?.appliedInLiveFilter == true) capture.calibrationFor(stored.calibration) else null
+        val calibration = stored?.copy(appliedInLiveFilter = applied != null)
         val rate = live.rate
         val anchor = ClockAnchor(startedWallMs, deps.clock.elapsedRealtimeNanos())
         val version = appVersion()
@@ -140,9 +149,11 @@ class RecordingService : Service() {
                     sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, 0) },
                     filterSettings,
                     anchor,
+                    calibration,
+                    still,
                 )
                 val sink = deps.format.create(d, metadata)
-                main.post { ready(d, sink, live) }
+                main.post { ready(d, sink, live, applied, still) }
             } catch (e: Exception) {
                 val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
                 main.post { ended(dir, failed) }
@@ -151,7 +162,7 @@ class RecordingService : Service() {
     }
 
     /** Main thread: the session exists; the recorder joins the capture. */
-    private fun ready(dir: File, sink: SessionSink, live: LiveSettings) {
+    private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean) {
         preparing = false
         val minFree = deps.minFreeBytes
         val recorder = Recorder(
@@ -160,20 +171,21 @@ class RecordingService : Service() {
             freeBytes = { dir.usableSpace },
             minFreeBytes = minFree,
             anchorNow = RecordingMetadata::anchorNow,
+            streams = if (still) STILL_STREAMS else null,
         )
         this.recorder = recorder
         this.session = dir
         deps.recordings.set(
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
-                recorder::mark, limits,
+                recorder::mark, limits, still,
             ),
         )
         wakeLock = getSystemService(PowerManager::class.java)
             .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
             .apply { setReferenceCounted(false); acquire(WAKE_LOCK_TIMEOUT_MS) }
         wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
-        deps.capture.attach(recorder, live)
+        deps.capture.attach(recorder, live, calibration)
         main.post(tick)
         if (stopWhenReady) stopRecording()
     }
@@ -231,7 +243,7 @@ class RecordingService : Service() {
         main.removeCallbacks(tick)
         wakeLock?.let { if (it.isHeld) it.release() }
         wakeLock = null
-        deps.recordings.set(RecordingState.Ended(dir, result))
+        deps.recordings.set(RecordingState.Ended(dir, result, still))
         ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
         if (result.end != RecordingEnd.Stopped) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result), result.end.isFailure))
         stopSelf()
@@ -311,6 +323,17 @@ class RecordingService : Service() {
         internal const val END_NOTIFICATION_ID = 7002
         internal const val CHANNEL_RECORDING = "recording"
         internal const val CHANNEL_ALERTS = "recording-alerts"
+        internal const val EXTRA_STILL = "dev.motionfusion.app.record.STILL"
+
+        /**
+         * What a still recording writes: the streams `fusion allan` reads (accelerometer and
+         * gyroscope, calibrated and uncalibrated) and the magnetometers, so that its
+         * orientation.csv replays; not the phone's rotation vectors.
+         */
+        internal val STILL_STREAMS: Set<SessionStream> = setOf(
+            SessionStream.ACCELEROMETER, SessionStream.ACCELEROMETER_UNCALIBRATED, SessionStream.GYROSCOPE, SessionStream.GYROSCOPE_UNCALIBRATED,
+            SessionStream.MAGNETOMETER, SessionStream.MAGNETOMETER_UNCALIBRATED,
+        )
 
         /** The wake lock times out after 10 minutes unless renewed, every minute while recording. */
         internal const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L
@@ -323,11 +346,13 @@ class RecordingService : Service() {
         internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH
 
         /**
-         * Starts a recording; call from a user action (Android 12+ forbids it from the background).
+         * Starts a recording ([still]: a still recording, docs/CALIBRATION.md); call from a user action (Android 12+ forbids it from the background).
          * Returns why the system refused to start the service, or null.
          */
-        fun start(context: Context): String? = try {
-            ContextCompat.startForegroundService(context, Intent(context, RecordingService::class.java).setAction(ACTION_START))
+        fun start(context: Context, still: Boolean = false): String? = try {
+            ContextCompat.startForegroundService(
+                context, Intent(context, RecordingService::class.java).setAction(ACTION_START).putExtra(EXTRA_STILL, still),
+            )
             null
         } catch (e: IllegalStateException) {
             e.message ?: e.javaClass.simpleName

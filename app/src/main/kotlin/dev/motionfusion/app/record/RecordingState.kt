@@ -8,6 +8,7 @@ import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.core.session.Marker
+import dev.motionfusion.core.session.SessionCalibration
 import java.io.File
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
@@ -31,9 +32,11 @@ sealed interface RecordingState {
         val mark: (Long, String) -> Unit = { _, _ -> },
         /** The limits this recording stops at. */
         val limits: RecordingLimits = RecordingLimits(),
+        /** A still recording (accelerometer and gyroscope at the fastest rate, for `fusion allan`). */
+        val still: Boolean = false,
     ) : RecordingState
 
-    data class Ended internal constructor(val session: File?, internal val result: RecorderResult) : RecordingState
+    data class Ended internal constructor(val session: File?, internal val result: RecorderResult, val still: Boolean = false) : RecordingState
 
     /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
     data class NotStarted(val reason: String) : RecordingState
@@ -79,6 +82,8 @@ internal interface RecordingDependencies {
 
     /** Remembers that the user answered it. */
     fun setNotificationsAnswered()
+    /** The phone's stored calibration and whether the user chose it for the live filter, for meta.json; null: none. */
+    fun sessionCalibration(): SessionCalibration?
 
     /** Recording stops cleanly when free space falls below this. */
     val minFreeBytes: Long

@@ -24,6 +24,9 @@ internal interface SensorSource {
     /** The default sensor of each stream the device has (empty for a fake). */
     val sensors: Map<SessionStream, Sensor>
 
+    /** The streams delivered. */
+    val streams: Set<SessionStream> get() = sensors.keys
+
     /** The live screen's kinds the device has. */
     val availableKinds: Set<SensorKind>
 

@@ -9,12 +9,21 @@ import android.widget.TextView
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
+import dev.motionfusion.app.TestGraph
+import dev.motionfusion.app.record.RecordingState
+import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.calib.EllipsoidModel
+import dev.motionfusion.core.calib.MagnetometerCalibration
+import dev.motionfusion.core.calib.Matrix3
+import dev.motionfusion.core.calib.SensorCorrection
+import dev.motionfusion.core.session.SessionStream
+import java.io.File
+import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
-import org.junit.After
+import kotlinx.coroutines.launch
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
-import org.junit.Before
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.Robolectric
@@ -33,23 +42,26 @@ import org.robolectric.annotation.GraphicsMode
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
 @Config(sdk = [34])
 class CalibrationScreensTest {
-    @Before
-    fun setUp() {
-        CalibrationDeps.compute = Dispatchers.Main.immediate
-    }
-
-    @After
-    fun tearDown() = CalibrationDeps.reset()
-
     private fun idle() = shadowOf(Looper.getMainLooper()).idle()
 
     private val variants = listOf("portrait-light" to "+port-notnight", "portrait-dark" to "+port-night", "landscape-light" to "+land-notnight", "landscape-dark" to "+land-night")
 
     /** Renders [state] in the four variants; [act] brings a fresh screen into the state, [check] asserts on it and its picture. */
-    private fun render(state: String, readings: List<CalibrationSample>, act: (CalibrationActivity) -> Unit, check: (CalibrationActivity, Bitmap) -> Unit) {
+    private lateinit var graph: TestGraph
+
+    private val storedMagnetometer = MagnetometerCalibration(
+        SensorCorrection(SimulatedReadings.hardIron, Matrix3.IDENTITY), SessionStream.MAGNETOMETER_UNCALIBRATED, EllipsoidModel.SPHERE, 48.0, 0.4, 0.75, 4500, 20.0, 0.4,
+    )
+
+    private fun render(
+        state: String, readings: List<CalibrationSample>, act: (CalibrationActivity) -> Unit,
+        before: () -> Unit = {}, check: (CalibrationActivity, Bitmap) -> Unit,
+    ) {
         for ((variant, qualifiers) in variants) {
             RuntimeEnvironment.setQualifiers(qualifiers)
-            CalibrationDeps.source = { FakeSampleSource(readings) }
+            graph = TestGraph(calibrationSource = FakeSampleSource(readings))
+            graph.settle()
+            before()
             val c = Robolectric.buildActivity(CalibrationActivity::class.java).setup()
             val a = c.get()
             act(a)
@@ -130,6 +142,42 @@ class CalibrationScreensTest {
         assertTrue(r, Regex("gyroscope bias \\(gyroscope_uncalibrated\\)\nbias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
         assertTrue(text(a, R.id.progress_text), Regex("^6 poses · \\d+ s$").matches(text(a, R.id.progress_text)))
+    }
+
+    @Test
+    fun `calibration applied in the live filter`() = render("applied", emptyList(), {}, before = {
+        val store = graph.graph.calibrationStore
+        CoroutineScope(Dispatchers.Main.immediate).launch {
+            store.accept(Calibration(magnetometer = storedMagnetometer, source = "test"))
+        }
+        graph.settle()
+        store.setUseInLiveFilter(true)
+    }) { a, _ ->
+        assertTrue(a.findViewById<com.google.android.material.materialswitch.MaterialSwitch>(R.id.use_live).isChecked)
+        assertEquals(a.getString(R.string.calibration_stored_applied, "magnetometer"), text(a, R.id.stored))
+    }
+
+    @Test
+    fun `still recording under way`() = render("still-recording", emptyList(), { a ->
+        click(a, R.id.step_still)
+        val started = graph.clock.elapsedNs / 1_000_000
+        graph.graph.recordings.set(RecordingState.Active(File(a.filesDir, "sessions/session_still"), started, { 1_843_200L }, still = true))
+        graph.clock.elapsedNs += (38 * 60 + 25) * 1_000_000_000L
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
+    }) { a, _ ->
+        assertEquals(a.getString(R.string.calibration_still_recording), text(a, R.id.instruction))
+        assertEquals("38:25 recorded · 1,843,200 samples\n" + a.getString(R.string.calibration_still_needs), text(a, R.id.progress_text))
+        assertEquals(a.getString(R.string.calibration_still_stop), text(a, R.id.primary_action))
+        assertEquals(64, a.findViewById<com.google.android.material.progressindicator.LinearProgressIndicator>(R.id.progress).progress)
+        assertEquals(View.GONE, a.findViewById<View>(R.id.coverage_map).visibility)
+        assertEquals(View.GONE, a.findViewById<View>(R.id.save).visibility)
+    }
+
+    @Test
+    fun `still recording explained`() = render("still-ready", emptyList(), { click(it, R.id.step_still) }) { a, _ ->
+        assertEquals(a.getString(R.string.calibration_still_ready), text(a, R.id.instruction))
+        assertEquals(a.getString(R.string.calibration_still_needs), text(a, R.id.progress_text))
+        assertEquals(a.getString(R.string.calibration_still_start), text(a, R.id.primary_action))
     }
 
     @Test

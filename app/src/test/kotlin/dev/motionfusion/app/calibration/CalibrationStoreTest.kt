@@ -9,6 +9,7 @@ import dev.motionfusion.core.calib.EllipsoidModel
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
+import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionStream
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -80,22 +81,18 @@ class CalibrationStoreTest {
     @Test
     fun `the live filter gets the calibration only when the setting is on, the recorder always`() {
         val s = store()
-        assertNull(s.sessionMetaMember(false))
+        assertNull(s.sessionCalibration())
         runBlocking { s.accept(Calibration(magnetometer = mag, accelerometer = acc)) }
-        s.useInLiveFilter = false
-        assertNull(s.activeCalibration())
-        s.useInLiveFilter = true
-        assertEquals(mag, s.activeCalibration()!!.magnetometer)
-        assertTrue(store().useInLiveFilter) // persisted
-        val (name, member) = s.sessionMetaMember(true)!!
-        assertEquals("calibration", name)
-        assertEquals(true, member["applied_in_live_filter"])
-        assertEquals(CalibrationJson.FORMAT, member["format"])
-        @Suppress("UNCHECKED_CAST")
-        val m = member["magnetometer"] as Map<String, Any?>
-        assertEquals("magnetometer_uncalibrated", m["stream"])
-        assertEquals(listOf(221.1, 66.5, -536.6), m["offset_uT"])
-        s.useInLiveFilter = false
+        s.setUseInLiveFilter(false)
+        assertNull(s.active.value)
+        assertEquals(SessionCalibration(s.calibration.value!!, false), s.sessionCalibration())
+        s.setUseInLiveFilter(true)
+        assertEquals(mag, s.active.value!!.magnetometer)
+        assertEquals(SessionCalibration(s.calibration.value!!, true), s.sessionCalibration())
+        val again = store() // persisted, read with the file
+        assertTrue(again.useInLiveFilter.value)
+        assertEquals(mag, again.active.value!!.magnetometer)
+        s.setUseInLiveFilter(false)
     }
 
     @Test

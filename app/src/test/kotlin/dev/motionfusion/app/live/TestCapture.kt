@@ -7,6 +7,8 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSource
+import dev.motionfusion.app.sensor.SensorStreams
+import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.SessionStream
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -15,6 +17,7 @@ import kotlinx.coroutines.flow.MutableStateFlow
 /** Sensors that are only a set of kinds: the test offers their events into the ring itself (it is the sensor thread). */
 internal class FakeSensorSource(override val availableKinds: Set<SensorKind> = SensorKind.entries.toSet()) : SensorSource {
     override val sensors: Map<SessionStream, Sensor> = emptyMap()
+    override val streams: Set<SessionStream> = SensorStreams.all.toSet()
     override val info: Map<SensorKind, SensorInfo> = emptyMap()
     override var registeredRate: SamplingRate? = null
     val registrations = ArrayList<SamplingRate>()
@@ -40,13 +43,15 @@ internal class TestCapture(
     reorderWindowNs: Long = 30_000_000L,
     /** 0: the state is published after every batch (the app: at most every 4 ms). */
     publishIntervalNs: Long = 0L,
+    /** The calibration the live filter applies (the store's active one in the app). */
+    calibration: Calibration? = null,
 ) {
     var nowNs = 0L
     val settings = MutableStateFlow(settings)
     val source = FakeSensorSource(kinds)
     val ring = EventRing(ringCapacity)
     val capture = Capture(
-        ring, source, this.settings, CoroutineScope(Dispatchers.Unconfined),
+        ring, source, this.settings, CoroutineScope(Dispatchers.Unconfined), MutableStateFlow(calibration),
         reorderWindowNs = reorderWindowNs, nanoTime = { nowNs }, runThread = false, publishIntervalNs = publishIntervalNs,
     ).apply { acquire() }
     private val v = FloatArray(6)

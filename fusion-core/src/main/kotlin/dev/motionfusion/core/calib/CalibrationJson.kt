@@ -76,8 +76,11 @@ public object CalibrationJson {
      * @throws DataFormatException naming [sourceName] and the member at fault.
      */
     @JvmStatic
-    public fun parse(text: String, sourceName: String): Calibration {
-        val r = Member(Json.document(text, sourceName).rootObject())
+    public fun parse(text: String, sourceName: String): Calibration = parse(Json.document(text, sourceName).rootObject())
+
+    /** The calibration in [o]: a calibration file's root, or the member of a session's meta.json that holds one. */
+    internal fun parse(o: JsonObject): Calibration {
+        val r = Member(o)
         val root = r.o.map
         if (root["format"] != FORMAT) throw r.error("format", "expected \"$FORMAT\": not a calibration file")
         val version = r.number("format_version", Double.NaN)

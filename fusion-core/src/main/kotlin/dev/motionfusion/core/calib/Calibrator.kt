@@ -77,12 +77,40 @@ internal inline fun SensorEvents.forEachEvent(noinline progress: ((Long) -> Unit
 }
 
 /**
- * [inner] with a [calibration] applied, for replay and the live filter: corrected readings come
- * out as the calibrated streams the filter reads (ACCELEROMETER, GYROSCOPE, MAGNETOMETER). When a
- * calibration was fitted on an uncalibrated stream, that stream is corrected and passed on as
- * the calibrated one, and the recording's own calibrated stream is dropped (Android's correction
- * would otherwise be applied twice). Allocates nothing per event. Throws IllegalArgumentException
- * when the recording ([streams]) lacks a stream the calibration applies to.
+ * Where each reading goes once [calibration] is applied, for replay ([CalibratedEvents]) and the
+ * app's live filter alike: corrected readings feed the filter as the calibrated streams it reads
+ * (ACCELEROMETER, GYROSCOPE, MAGNETOMETER). When a calibration was fitted on an uncalibrated
+ * stream, that stream is corrected and becomes the calibrated one, and the recording's own
+ * calibrated stream is left out (Android's correction would otherwise be applied twice).
+ * Other streams pass unchanged. Allocation-free.
+ */
+public class CalibrationRoute(calibration: Calibration) {
+    private val targets = arrayOfNulls<SessionStream>(SessionStream.entries.size)
+    private val corrections = arrayOfNulls<SensorCorrection>(SessionStream.entries.size)
+
+    init {
+        for (s in SessionStream.entries) targets[s.ordinal] = s
+        fun route(from: SessionStream?, to: SessionStream, c: SensorCorrection?) {
+            if (from == null || c == null) return
+            if (from != to) targets[to.ordinal] = null
+            targets[from.ordinal] = to
+            corrections[from.ordinal] = c
+        }
+        route(calibration.accelerometer?.stream, SessionStream.ACCELEROMETER, calibration.accelerometer?.correction)
+        route(calibration.gyroscope?.stream, SessionStream.GYROSCOPE, calibration.gyroscope?.correction)
+        route(calibration.magnetometer?.stream, SessionStream.MAGNETOMETER, calibration.magnetometer?.correction)
+    }
+
+    /** The stream readings of [s] become, or null when they are left out. */
+    public fun target(s: SessionStream): SessionStream? = targets[s.ordinal]
+
+    /** The correction of readings of [s], or null (passed unchanged). */
+    public fun correction(s: SessionStream): SensorCorrection? = corrections[s.ordinal]
+}
+
+/**
+ * [inner] with a [calibration] applied ([CalibrationRoute]). Allocates nothing per event. Throws
+ * IllegalArgumentException when the recording ([streams]) lacks a stream the calibration applies to.
  */
 public class CalibratedEvents(private val inner: SensorEvents, calibration: Calibration, streams: Set<SessionStream>) : SensorEvents {
     init {
@@ -92,11 +120,7 @@ public class CalibratedEvents(private val inner: SensorEvents, calibration: Cali
         }
     }
 
-    private val acc = calibration.accelerometer?.correction
-    private val gyro = calibration.gyroscope?.correction
-    private val gyroFrom = calibration.gyroscope?.stream
-    private val mag = calibration.magnetometer?.correction
-    private val magFrom = calibration.magnetometer?.stream
+    private val route = CalibrationRoute(calibration)
     override val values: DoubleArray = DoubleArray(8)
     override var stream: SessionStream = SessionStream.ACCELEROMETER
         private set
@@ -107,18 +131,9 @@ public class CalibratedEvents(private val inner: SensorEvents, calibration: Cali
     override fun next(): Boolean {
         while (inner.next()) {
             val s = inner.stream
-            val correction: SensorCorrection?
-            val out: SessionStream
-            when {
-                s == SessionStream.ACCELEROMETER -> { correction = acc; out = s }
-                gyro != null && s == gyroFrom -> { correction = gyro; out = SessionStream.GYROSCOPE }
-                gyro != null && s == SessionStream.GYROSCOPE -> continue // replaced by the corrected uncalibrated stream
-                mag != null && s == magFrom -> { correction = mag; out = SessionStream.MAGNETOMETER }
-                mag != null && s == SessionStream.MAGNETOMETER -> continue
-                else -> { correction = null; out = s }
-            }
+            val out = route.target(s) ?: continue
             inner.values.copyInto(values, 0, 0, minOf(inner.values.size, values.size))
-            correction?.applyInPlace(values)
+            route.correction(s)?.applyInPlace(values)
             stream = out
             return true
         }

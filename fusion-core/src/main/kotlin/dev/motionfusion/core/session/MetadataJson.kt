@@ -6,6 +6,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.io.Json
@@ -84,7 +85,14 @@ internal object MetadataJson {
         "streams" to m.streams.entries.sortedBy { it.key.ordinal }.associateTo(LinkedHashMap<String, Any?>()) { (k, v) -> k.key to stats(k.fileName, v) }
             .also { map -> m.markers?.let { map[SessionMarkers.KEY] = stats(SessionMarkers.FILE_NAME, it) } },
         "filter_settings" to m.filterSettings?.let(::settings),
-    )
+    ).also { map ->
+        // Written only when set: sessions without them stay as they were.
+        if (m.stillRecording) map["still_recording"] = true
+        m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
+    }
+
+    /** The member of `calibration` that says whether the live filter used it. */
+    private const val APPLIED_IN_LIVE_FILTER = "applied_in_live_filter"
 
     private fun stats(file: String, v: StreamStats) = linkedMapOf(
         "file" to file,
@@ -145,6 +153,8 @@ internal object MetadataJson {
                 o.keys().mapNotNull { k -> SessionStream.ofKey(k)?.let { it to parseStats(o.obj(k)) } }.toMap()
             } ?: emptyMap(),
             markers = r.objOrNull("streams")?.objOrNull(SessionMarkers.KEY)?.let(::parseStats),
+            calibration = r.objOrNull("calibration")?.let { SessionCalibration(CalibrationJson.parse(it), it.bool(APPLIED_IN_LIVE_FILTER, false)) },
+            stillRecording = r.bool("still_recording", false),
         )
     }
 

@@ -5,6 +5,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.filter.FilterSettings
 
 /** The device the session was recorded on (android.os.Build). */
@@ -64,6 +65,14 @@ public data class SensorInfo(
     public val requestedRateHz: Double get() = if (requestedPeriodUs > 0) 1e6 / requestedPeriodUs else Double.NaN
 }
 
+/**
+ * The calibration stored on the phone when the session was recorded (meta.json's
+ * `calibration`, docs/CALIBRATION.md). The recorded streams stay raw either way; when
+ * [appliedInLiveFilter], the live filter that wrote orientation.csv ran on the corrected
+ * readings, and `fusion replay` applies [calibration] by default to reproduce it.
+ */
+public data class SessionCalibration(val calibration: Calibration, val appliedInLiveFilter: Boolean)
+
 /** A pause of the recording from [startElapsedRealtimeNs] to [endElapsedRealtimeNs] (null while paused). */
 public data class Pause(val startElapsedRealtimeNs: Long, val endElapsedRealtimeNs: Long?)
 
@@ -104,6 +113,8 @@ public data class StreamStats(
  * @property markers the count and first/last timestamps of markers.csv ([SessionMarkers]),
  *   listed in meta.json's `streams` as "markers"; null when the session has no markers.
  * @property source who made the session, e.g. "Motion Fusion 0.1.0" or "fusion simulate --seed 1".
+ * @property calibration the phone's stored calibration at the start, and whether the live filter used it; null: none stored.
+ * @property stillRecording true for the app's still recording (the phone left untouched, for `fusion allan`).
  */
 public data class SessionMetadata(
     val formatVersion: Int = FORMAT_VERSION,
@@ -121,6 +132,8 @@ public data class SessionMetadata(
     val endReason: String = "",
     val streams: Map<SessionStream, StreamStats> = emptyMap(),
     val markers: StreamStats? = null,
+    val calibration: SessionCalibration? = null,
+    val stillRecording: Boolean = false,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */

@@ -3,15 +3,27 @@ package dev.motionfusion.core.calib
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.SessionCalibration
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionReader
+import dev.motionfusion.core.session.SessionRecovery
 import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.session.SessionWriter
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.io.TempDir
+import java.nio.file.Files
+import java.nio.file.Path
 import java.lang.management.ManagementFactory
 
 class CalibrationFileTest {
+    @TempDir
+    lateinit var tmp: Path
+
     private val calibration = Calibration(
         magnetometer = MagnetometerCalibration(
             SensorCorrection(Vector3(35.0, -20.0, 60.0), Matrix3.symmetric(0.9, 1.1, 1.0, 0.05, -0.02, 0.01)),
@@ -51,6 +63,48 @@ class CalibrationFileTest {
         val f = assertThrows(DataFormatException::class.java) { CalibrationJson.parse(nonFinite, "cal.json") }
         assertTrue("magnetometer.offset_uT: element 1 is not a finite number" in f.reason, f.reason)
         assertEquals(nonFinite.lines()[f.line.toInt() - 1].indexOf("\"x\"") + 1, f.column)
+    }
+
+    @Test
+    fun `a session's meta_json carries the calibration, read back by the session reader, and tolerates its absence`() {
+        val dir = tmp.resolve("s")
+        val meta = SessionMetadata(source = "test", startAnchor = ClockAnchor(0L, 1L), calibration = SessionCalibration(calibration, true), stillRecording = true)
+        SessionWriter.create(dir, meta).use { it.gyroscope(10L, 0.1f, 0.2f, 0.3f, 3) }
+        SessionReader.open(dir).use { r ->
+            assertEquals(SessionCalibration(calibration, true), r.metadata.calibration)
+            assertTrue(r.metadata.stillRecording)
+        }
+        val file = dir.resolve(SessionMetadata.FILE_NAME)
+        val text = String(Files.readAllBytes(file), Charsets.UTF_8)
+        assertTrue("\"applied_in_live_filter\": true" in text, text)
+        assertTrue("\"format\": \"motion-fusion-calibration\"" in text, text)
+
+        // A recovered session (meta.json rewritten) keeps it.
+        val killed = tmp.resolve("killed")
+        val w = SessionWriter.create(killed, meta.copy(calibration = SessionCalibration(calibration, false)))
+        w.gyroscope(10L, 0.1f, 0.2f, 0.3f, 3)
+        w.flush()
+        w.abandon()
+        SessionRecovery.recover(killed)
+        SessionReader.open(killed).use { assertEquals(SessionCalibration(calibration, false), it.metadata.calibration) }
+
+        // A meta.json of before the member (or of another writer) has none.
+        val old = text.lines().filterNot { "\"still_recording\"" in it }.joinToString("\n")
+            .replace(Regex(",\\s*\"calibration\": \\{.*\\}\\s*}\\s*$", RegexOption.DOT_MATCHES_ALL), "\n}\n")
+        assertFalse("calibration" in old, old)
+        Files.write(file, old.toByteArray(Charsets.UTF_8))
+        SessionReader.open(dir).use { r ->
+            assertEquals(null, r.metadata.calibration)
+            assertFalse(r.metadata.stillRecording)
+        }
+
+        // A broken member names its path and position in meta.json.
+        val broken = text.replace("[35.0, -20.0, 60.0]", "[35.0, -20.0]")
+        Files.write(file, broken.toByteArray(Charsets.UTF_8))
+        val e = assertThrows(DataFormatException::class.java) { SessionReader.open(dir) }
+        assertTrue("calibration.magnetometer.offset_uT: expected 3 numbers" in e.reason, e.reason)
+        assertEquals(broken.lines().indexOfFirst { "[35.0, -20.0]" in it } + 1L, e.line)
+        assertTrue(e.message!!.contains(SessionMetadata.FILE_NAME), e.message)
     }
 
     /** Events of a list, for the wrapper test. */
