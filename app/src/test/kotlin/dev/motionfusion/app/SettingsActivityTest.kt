@@ -12,6 +12,7 @@ import com.google.android.material.chip.ChipGroup
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.record.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.settings.Setting
 import dev.motionfusion.app.settings.SettingsActivity
@@ -104,15 +105,21 @@ class SettingsActivityTest {
         a.row("acc_rejection").findViewById<CompoundButton>(R.id.setting_switch).isChecked = true
         a.choose("mode", "IMU")
         a.choose("rate", "hz:400")
+        assertEquals("1 h", Setting.ALL.first { it.key == Setting.MAX_DURATION }.label("3600"))
+        a.choose(Setting.MAX_DURATION, "3600")
+        a.choose(Setting.STOP_BATTERY, "15")
         assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
         a.findViewById<View>(R.id.apply).performClick()
         val expected = LiveSettings(
             filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = 0.0, mode = FilterMode.IMU, accRejection = true),
             rate = SamplingRate.Hz(400),
+            limits = RecordingLimits(maxDurationS = 3600L, stopBatteryPercent = 15),
         )
         assertEquals(expected, store().load())
         val graph = (a.application as MotionFusionApp).graph
         assertEquals(expected, graph.settingsRepository.settings.value)
+        // The recording service's limits are the screen's.
+        assertEquals(expected.limits, graph.limits.value)
         shadowOf(android.os.Looper.getMainLooper()).idle()
         val fs = graph.capture.filterSettingsInUse()
         assertEquals(0.1, fs.beta, 0.0)

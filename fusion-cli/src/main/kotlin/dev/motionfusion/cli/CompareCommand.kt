@@ -41,11 +41,12 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
     override fun run(args: List<String>, out: PrintStream): Int {
         val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--game", "--live") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException("compare needs one INPUT")
-        val settings = FilterOptions.settings(o)
+        FilterOptions.settings(o) // usage errors before the input is opened
         val refStream = if (o.has("--game")) SessionStream.GAME_ROTATION_VECTOR else SessionStream.ROTATION_VECTOR
         val live = o.has("--live")
         val output = o.value("-o") ?: o.value("--output")
         InputOptions.open(input, o, err, name).use { rec ->
+            val settings = FilterOptions.settings(o, rec, err, name)
             if (refStream !in rec.streams) {
                 throw DataFormatException(input, 0, 0, "no ${refStream.fileName} in this ${rec.format.description}: nothing to compare with")
             }

@@ -5,14 +5,19 @@ import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
 import dev.motionfusion.core.filter.SettingKind
+import dev.motionfusion.core.input.Recording
+import java.io.PrintStream
 
 /** The filter settings options shared by replay, eval, compare and plot. */
 internal object FilterOptions {
     val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set")
-    val FLAGS = setOf("--report", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
+    val FLAGS = setOf("--report", "--default-settings", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
 
     val HELP = """
-        |Filter settings (defaults: FilterSettings(), chosen by cross-validation on BROAD and phone recordings):
+        |Filter settings (defaults: FilterSettings(), chosen by cross-validation on BROAD and phone recordings;
+        |a session whose meta.json records the live filter's settings starts from those instead, so
+        |its replay reproduces orientation.csv; a note says so; the options below change them):
+        |  --default-settings   start from FilterSettings() even for such a session
         |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d)
         |  --beta B             gradient step gain β, rad/s (default ${FilterSettings().beta})
         |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default 0)
@@ -37,8 +42,21 @@ internal object FilterOptions {
         }
     }
 
-    fun settings(o: Options): FilterSettings {
-        var s = if (o.has("--report")) FilterSettings.report() else FilterSettings()
+    /**
+     * The settings for [rec]: the options applied to the live filter's recorded settings when its
+     * meta.json has them (a note on [err] unless --quiet), else to the defaults.
+     */
+    fun settings(o: Options, rec: Recording, err: PrintStream, command: String): FilterSettings {
+        val recorded = rec.metadata?.filterSettings?.takeUnless { o.has("--report") || o.has("--default-settings") }
+        if (recorded != null && !o.has("--quiet")) {
+            err.println("fusion $command: note: ${rec.name}: starting from the live filter's settings in meta.json (--default-settings for the defaults)")
+        }
+        return settings(o, recorded)
+    }
+
+    /** The options applied to [base], or to the defaults (FilterSettings.report() with --report). */
+    fun settings(o: Options, base: FilterSettings? = null): FilterSettings {
+        var s = base ?: if (o.has("--report")) FilterSettings.report() else FilterSettings()
         try {
             o.value("--mode")?.let {
                 s = s.copy(mode = when (it.lowercase()) {

@@ -46,9 +46,10 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             "aerospace" -> true
             else -> throw UsageException("--angles expects android or aerospace")
         }
-        val settings = FilterOptions.settings(o)
+        FilterOptions.settings(o) // usage errors before the input is opened
         val inputPath = InputOptions.path(input)
         InputOptions.open(input, o, err, name).use { rec ->
+            val settings = FilterOptions.settings(o, rec, err, name)
             // Read before the replay: each read of a zip counts against the decompression limit anew.
             val markers = rec.markers()
             val besideTable = rec.format == RecordingFormat.IMU_TABLE && Files.isDirectory(inputPath)

@@ -54,11 +54,12 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
     override fun run(args: List<String>, out: PrintStream): Int {
         val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
-        val settings = FilterOptions.settings(o)
+        FilterOptions.settings(o) // usage errors before the input is opened
         val output = o.value("-o") ?: o.value("--output")
         val calibrationOption = o.value("--calibration")
         val file = calibrationOption?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
         InputOptions.open(input, o, err, name).use { rec ->
+            val settings = FilterOptions.settings(o, rec, err, name)
             val recorded = rec.metadata?.calibration
             val calibration = when (calibrationOption) {
                 null -> recorded?.takeIf { it.appliedInLiveFilter }?.calibration?.also {

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.live
 
+import dev.motionfusion.app.record.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
@@ -26,13 +27,14 @@ enum class AngleConvention {
 /**
  * Everything the settings decide, validated: the whole [FilterSettings] (its own type checks
  * every value; the output frame stays ENU, the frame the app shows and records), the angle
- * convention and the requested sensor rate. One object for the live filter, the recorder (its
+ * convention, the requested sensor rate and when a recording stops by itself. One object for the live filter, the recorder (its
  * meta.json) and the settings screen; [dev.motionfusion.app.settings.Setting] lists its values.
  */
 data class LiveSettings(
     val filter: FilterSettings = DEFAULT_FILTER,
     val convention: AngleConvention = AngleConvention.ANDROID,
     val rate: SamplingRate = SamplingRate.Hz(100),
+    val limits: RecordingLimits = RecordingLimits(),
 ) {
     init {
         require(filter.outputFrame == WorldFrame.ENU) { "the app's filter outputs device → ENU, got ${filter.outputFrame}" }

@@ -2,6 +2,7 @@ package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.record.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterSettingDescriptor
 import dev.motionfusion.core.filter.FilterSettingDescriptors
@@ -79,12 +80,20 @@ class Setting(
     /** The choices to offer with [s]: [choices], and the current one if it is none of them (a rate typed in another version). */
     fun choicesFor(s: LiveSettings): List<String> = value(s).toString().let { if (it in choices) choices else choices + it }
 
-    private fun choiceIsValid(c: String): Boolean = key == RATE && SamplingRate.parse(c) != null
+    /** A choice not offered but valid: a rate, a duration or a battery level kept by another version. */
+    private fun choiceIsValid(c: String): Boolean = when (key) {
+        RATE -> SamplingRate.parse(c) != null
+        MAX_DURATION -> c.toLongOrNull()?.let { it in 0L..RecordingLimits.MAX_DURATION_LIMIT_S } == true
+        STOP_BATTERY -> c.toIntOrNull()?.let { it in 0..RecordingLimits.MAX_STOP_BATTERY_PERCENT } == true
+        else -> false
+    }
 
     override fun toString(): String = key
 
     companion object {
         const val RATE = "rate"
+        const val MAX_DURATION = "max_duration_s"
+        const val STOP_BATTERY = "stop_battery_percent"
 
         /** A filter setting of fusion-core's table, as the screen shows it. */
         fun of(d: FilterSettingDescriptor): Setting = Setting(
@@ -102,6 +111,12 @@ class Setting(
         val APP: List<Setting> = listOf(
             Setting(RATE, "Requested sensor rate", Section.RECORDING, SettingKind.CHOICE, choices = RATES, choiceLabel = ::rateLabel,
                 read = { it.rate.key }, write = { s, v -> s.copy(rate = requireNotNull(SamplingRate.parse(v as String)) { "no rate $v" }) }),
+            Setting(MAX_DURATION, "Stop recording after", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.DURATION_CHOICES_S.map { it.toString() },
+                choiceLabel = ::durationLabel, read = { it.limits.maxDurationS.toString() },
+                write = { s, v -> s.copy(limits = s.limits.copy(maxDurationS = (v as String).toLong())) }),
+            Setting(STOP_BATTERY, "Stop recording at battery", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.BATTERY_CHOICES.map { it.toString() },
+                choiceLabel = { if (it == "0") "Never" else "$it %" }, read = { it.limits.stopBatteryPercent.toString() },
+                write = { s, v -> s.copy(limits = s.limits.copy(stopBatteryPercent = (v as String).toInt())) }),
             Setting("convention", "Angles shown", Section.DISPLAY, SettingKind.CHOICE, choices = AngleConvention.entries.map { it.name }, choiceLabel = ::conventionLabel,
                 read = { it.convention.name }, write = { s, v -> s.copy(convention = AngleConvention.valueOf(v as String)) }),
         )
@@ -117,6 +132,17 @@ class Setting(
             "MARG" -> "MARG (9D, with magnetometer)"
             "IMU" -> "IMU (6D)"
             else -> c.lowercase().replace('_', ' ').replaceFirstChar { it.uppercase() }
+        }
+
+        /** 0 → "No limit", 900 → "15 min", 7200 → "2 h". */
+        internal fun durationLabel(c: String): String {
+            val seconds = c.toLongOrNull() ?: return c
+            return when {
+                seconds == 0L -> "No limit"
+                seconds % 3600 == 0L -> "${seconds / 3600} h"
+                seconds % 60 == 0L -> "${seconds / 60} min"
+                else -> "$seconds s"
+            }
         }
 
         private fun rateLabel(key: String): String = SamplingRate.parse(key)?.label ?: key

@@ -19,17 +19,15 @@ class SettingsRepository(private val store: SettingsStore) {
     fun update(s: LiveSettings) {
         store.save(s)
         flow.value = s
+        limitsFlow.value = s.limits
     }
 
-    private val limitsFlow = MutableStateFlow(store.loadLimits())
+    private val limitsFlow = MutableStateFlow(flow.value.limits)
 
-    /** When recordings stop by themselves; a recording takes them when it starts. */
+    /** When recordings stop by themselves (part of [settings]); a recording takes them when it starts. */
     val recordingLimits: StateFlow<RecordingLimits> = limitsFlow.asStateFlow()
 
-    fun updateLimits(l: RecordingLimits) {
-        store.saveLimits(l)
-        limitsFlow.value = l
-    }
+    fun updateLimits(l: RecordingLimits) = update(settings.value.copy(limits = l))
 
     /** True once the user answered the notification-permission explanation before a first recording. */
     @Volatile var notificationsAnswered: Boolean = store.loadNotificationsAnswered()

@@ -4,7 +4,6 @@ import android.content.Context
 import android.content.SharedPreferences
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.MainThreadPolicy
-import dev.motionfusion.app.record.RecordingLimits
 
 /**
  * [LiveSettings] persisted in SharedPreferences, one text entry per [Setting] under its key
@@ -39,23 +38,6 @@ class SettingsStore(private val prefs: SharedPreferences, private val settings: 
         e.apply()
     }
 
-    /** The recording limits; a stored value that is not valid falls back to its default. */
-    fun loadLimits(): RecordingLimits {
-        val d = RecordingLimits()
-        return RecordingLimits(
-            maxDurationS = prefs.getString(MAX_DURATION_S, null)?.toLongOrNull()?.takeIf { it in 0L..RecordingLimits.MAX_DURATION_LIMIT_S } ?: d.maxDurationS,
-            stopBatteryPercent = prefs.getString(STOP_BATTERY, null)?.toIntOrNull()?.takeIf { it in 0..RecordingLimits.MAX_STOP_BATTERY_PERCENT }
-                ?: d.stopBatteryPercent,
-        )
-    }
-
-    fun saveLimits(l: RecordingLimits) {
-        prefs.edit()
-            .putString(MAX_DURATION_S, l.maxDurationS.toString())
-            .putString(STOP_BATTERY, l.stopBatteryPercent.toString())
-            .apply()
-    }
-
     /** True once the user answered the notification-permission explanation (it is shown once). */
     fun loadNotificationsAnswered(): Boolean = prefs.getBoolean(NOTIFICATIONS_ANSWERED, false)
 
@@ -65,8 +47,6 @@ class SettingsStore(private val prefs: SharedPreferences, private val settings: 
 
     companion object {
         const val FILE = "live_settings"
-        private const val MAX_DURATION_S = "max_duration_s"
-        private const val STOP_BATTERY = "stop_battery_percent"
         private const val NOTIFICATIONS_ANSWERED = "notifications_answered"
 
         /** Keys of the first settings screen, by the key that replaced them. */
