@@ -20,7 +20,7 @@ import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.BatterySource
 import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.RecordingDependencies
-import dev.motionfusion.app.record.RecordingLimits
+import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.record.StickyBattery
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.record.SessionFormat

@@ -12,7 +12,7 @@ import com.google.android.material.chip.ChipGroup
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.record.RecordingLimits
+import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.settings.Setting
 import dev.motionfusion.app.settings.SettingsActivity

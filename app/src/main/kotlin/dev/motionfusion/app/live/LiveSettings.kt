@@ -1,6 +1,5 @@
 package dev.motionfusion.app.live
 
-import dev.motionfusion.app.record.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.live.RecordingLimits
 import android.Manifest
 import android.content.Intent
 import android.content.pm.PackageManager

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.core.session.SessionStream
 import android.app.Notification
 import android.app.NotificationChannel

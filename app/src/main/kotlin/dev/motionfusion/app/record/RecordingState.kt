@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.live.RecordingLimits
 import android.app.Notification
 import android.app.Service
 import dev.motionfusion.app.live.Capture

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionStream
 import java.io.IOException

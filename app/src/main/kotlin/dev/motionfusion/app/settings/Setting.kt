@@ -2,7 +2,7 @@ package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.live.AngleConvention
 import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.record.RecordingLimits
+import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterSettingDescriptor
 import dev.motionfusion.core.filter.FilterSettingDescriptors

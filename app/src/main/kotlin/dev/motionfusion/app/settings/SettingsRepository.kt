@@ -1,7 +1,7 @@
 package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.record.RecordingLimits
+import dev.motionfusion.app.live.RecordingLimits
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
