@@ -15,7 +15,7 @@ import dev.motionfusion.app.record.RecorderResult;
 import dev.motionfusion.app.sensor.EventRing;
 import dev.motionfusion.app.sensor.SensorStreams;
 import dev.motionfusion.core.session.SessionMetadata;
-import dev.motionfusion.core.session.SessionStream;
+import dev.motionfusion.core.event.SessionStream;
 import java.lang.management.ManagementFactory;
 import java.lang.management.MemoryMXBean;
 import java.nio.file.Files;

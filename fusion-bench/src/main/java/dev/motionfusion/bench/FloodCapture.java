@@ -14,7 +14,7 @@ import dev.motionfusion.app.sensor.SamplingRate;
 import dev.motionfusion.app.sensor.SensorInfo;
 import dev.motionfusion.app.sensor.SensorKind;
 import dev.motionfusion.app.sensor.SensorSource;
-import dev.motionfusion.core.session.SessionStream;
+import dev.motionfusion.core.event.SessionStream;
 import java.util.Collections;
 import java.util.EnumSet;
 import java.util.Map;

@@ -14,7 +14,7 @@ import dev.motionfusion.app.record.Recorder;
 import dev.motionfusion.app.sensor.EventRing;
 import dev.motionfusion.app.sensor.SensorStreams;
 import dev.motionfusion.core.session.SessionMetadata;
-import dev.motionfusion.core.session.SessionStream;
+import dev.motionfusion.core.event.SessionStream;
 import java.io.IOException;
 import java.nio.file.Files;
 import java.nio.file.Path;

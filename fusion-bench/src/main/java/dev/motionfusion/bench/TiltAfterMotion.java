@@ -6,7 +6,7 @@ import dev.motionfusion.core.replay.ReplayListener;
 import dev.motionfusion.core.replay.ReplayStep;
 import dev.motionfusion.core.replay.Replayer;
 import dev.motionfusion.core.event.SensorEvents;
-import dev.motionfusion.core.session.SessionStream;
+import dev.motionfusion.core.event.SessionStream;
 
 import java.nio.file.Paths;
 import java.util.ArrayList;

@@ -7,7 +7,7 @@ import dev.motionfusion.core.replay.OrientationComparison
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.BufferedOutputStream
 import java.io.OutputStream
 import java.io.PrintStream

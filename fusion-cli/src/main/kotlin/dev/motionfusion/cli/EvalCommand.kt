@@ -14,7 +14,7 @@ import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.File
 import java.io.PrintStream
 import java.nio.file.Files

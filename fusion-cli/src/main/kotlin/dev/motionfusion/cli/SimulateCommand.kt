@@ -9,7 +9,7 @@ import dev.motionfusion.core.session.DeviceInfo
 import dev.motionfusion.core.session.SensorInfo
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionMetadata
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.sim.CalibrationMotion

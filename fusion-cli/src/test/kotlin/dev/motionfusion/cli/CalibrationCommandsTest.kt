@@ -6,7 +6,7 @@ import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings

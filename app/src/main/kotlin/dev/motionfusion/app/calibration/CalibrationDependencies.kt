@@ -4,7 +4,7 @@ import android.hardware.Sensor
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.core.calib.CalibrationSettings
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineDispatcher
 
 /** What the calibration screen needs, from the application's object graph. */

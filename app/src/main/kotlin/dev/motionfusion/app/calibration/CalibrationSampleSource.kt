@@ -3,7 +3,7 @@ package dev.motionfusion.app.calibration
 import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.RawListener
 import dev.motionfusion.core.calib.Calibrator
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.channels.Channel
 import kotlinx.coroutines.channels.awaitClose

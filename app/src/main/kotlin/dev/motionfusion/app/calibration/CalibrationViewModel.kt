@@ -13,7 +13,7 @@ import dev.motionfusion.core.calib.GyroscopeCalibration
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.MagnetometerFitter
 import dev.motionfusion.core.calib.StillPeriods
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.cancelAndJoin

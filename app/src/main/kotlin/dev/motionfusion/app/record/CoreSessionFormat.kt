@@ -4,7 +4,7 @@ import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.app.sessions.CoreSessionRepair
 import dev.motionfusion.core.session.SessionRecovery
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import java.io.File
 

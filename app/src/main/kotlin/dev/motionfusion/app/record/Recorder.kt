@@ -4,7 +4,7 @@ import dev.motionfusion.app.live.CaptureTap
 import dev.motionfusion.app.live.TapEnd
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionMarkers
 import java.util.concurrent.ConcurrentLinkedQueue

@@ -9,7 +9,7 @@ import dev.motionfusion.core.session.DeviceInfo
 import dev.motionfusion.core.session.SensorInfo
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /** The metadata of a session about to be recorded (docs/SESSION_FORMAT.md, meta.json). */
 internal object RecordingMetadata {

@@ -1,7 +1,7 @@
 package dev.motionfusion.app.record
 
 import dev.motionfusion.app.live.RecordingLimits
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
 import android.app.NotificationChannel
 import android.app.NotificationManager

@@ -2,7 +2,7 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.core.session.ClockAnchor
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.IOException
 
 /**

@@ -1,6 +1,6 @@
 package dev.motionfusion.app.sensor
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.util.concurrent.atomic.AtomicLong
 
 /**

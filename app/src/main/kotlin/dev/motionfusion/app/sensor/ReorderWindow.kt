@@ -1,6 +1,6 @@
 package dev.motionfusion.app.sensor
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /**
  * Puts sensor events back in timestamp order. Android delivers each sensor's events in order,

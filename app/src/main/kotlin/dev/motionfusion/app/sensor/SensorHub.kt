@@ -7,7 +7,7 @@ import android.hardware.SensorManager
 import android.os.Handler
 import android.os.HandlerThread
 import android.os.Process
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /** What the device says about one of its sensors (name and vendor are the driver's strings). */
 data class SensorInfo(

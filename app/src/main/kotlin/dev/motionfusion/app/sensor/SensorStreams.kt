@@ -1,6 +1,6 @@
 package dev.motionfusion.app.sensor
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /**
  * The session streams that come from an Android sensor (accelerometer, gyroscope,

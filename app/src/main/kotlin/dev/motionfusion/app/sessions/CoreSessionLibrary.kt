@@ -5,7 +5,7 @@ import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.sensormanager.androidOrientation
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.File
 
 /** Reading sessions with the session format's reader of `fusion-core` (docs/SESSION_FORMAT.md). */

@@ -6,16 +6,18 @@ import org.junit.jupiter.api.Test
 import java.io.File
 
 /**
- * The app's packages follow the data flow (sensor → live → record → sessions …): no two import
- * each other, directly or through others. Read from the import lines and the same-package
- * app/src/main (the generated resource class R aside); the root package (the application, its
- * object graph, the live screen) uses the others, none of them uses it.
+ * Packages follow the data flow, in the app and in fusion-core: no two import each other, directly or through
+ * others. Read from the import lines of each module's src/main (the app's generated resource
+ * class R aside). In the app (sensor → live → record → sessions …) the root package (the
+ * application, its object graph, the live screen) uses the others, none of them uses it; in
+ * fusion-core the codecs (`io`) and the event stream (`event`, with the streams it names) use no
+ * other package, and the formats, the filter's drivers and the calibration build on them.
  */
 class PackageCycleTest {
     private val base = "dev.motionfusion.app"
 
-    /** Package → the app packages it imports. */
-    internal fun dependencies(sources: File): Map<String, Set<String>> {
+    /** Package → the packages under [base] it imports. */
+    internal fun dependencies(sources: File, base: String = this.base): Map<String, Set<String>> {
         val deps = HashMap<String, MutableSet<String>>()
         sources.walkTopDown().filter { it.isFile && it.extension == "kt" }.forEach { f ->
             val text = f.readLines()
@@ -59,6 +61,13 @@ class PackageCycleTest {
         val deps = dependencies(main)
         assertTrue(deps.size >= 8, "packages found: ${deps.keys}")
         assertEquals(null, cycle(deps), "a cycle between packages")
+    }
+
+    @Test
+    fun `fusion-core's packages import each other in one direction only`() {
+        val core = dependencies(File(BuildFiles.repositoryRoot, "fusion-core/src/main/kotlin"), "dev.motionfusion.core")
+        assertTrue(core.size >= 10, "packages found: ${core.keys}")
+        assertEquals(null, cycle(core), "a cycle between fusion-core's packages")
     }
 
     @Test

@@ -25,7 +25,7 @@ import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import kotlinx.coroutines.CoroutineScope

@@ -16,7 +16,7 @@ import dev.motionfusion.core.calib.EllipsoidModel
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.File
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers

@@ -10,7 +10,7 @@ import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
 import dev.motionfusion.core.session.SessionCalibration
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob

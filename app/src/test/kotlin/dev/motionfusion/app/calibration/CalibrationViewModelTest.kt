@@ -4,7 +4,7 @@ import android.content.Context
 import dev.motionfusion.core.calib.CalibrationSettings
 import dev.motionfusion.core.calib.DirectionCoverage
 import dev.motionfusion.core.calib.Fit
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.flow.first
 import kotlinx.coroutines.runBlocking

@@ -3,7 +3,7 @@ package dev.motionfusion.app.calibration
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.Matrix3
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow

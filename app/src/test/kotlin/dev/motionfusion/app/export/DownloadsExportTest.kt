@@ -11,7 +11,7 @@ import dev.motionfusion.app.record.RecordingEnd
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertTrue
 import org.junit.Test

@@ -8,7 +8,7 @@ import dev.motionfusion.core.calib.GyroscopeCalibration
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertTrue

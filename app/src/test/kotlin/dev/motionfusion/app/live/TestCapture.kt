@@ -9,7 +9,7 @@ import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSource
 import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.core.calib.Calibration
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.flow.MutableStateFlow

@@ -8,7 +8,7 @@ import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import org.junit.jupiter.api.Assertions.assertEquals

@@ -1,6 +1,6 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.IOException
 import java.util.concurrent.CopyOnWriteArrayList
 

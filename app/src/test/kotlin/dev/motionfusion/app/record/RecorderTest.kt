@@ -3,7 +3,7 @@ package dev.motionfusion.app.record
 import dev.motionfusion.app.live.TestCapture
 import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.core.session.ClockAnchor
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertInstanceOf

@@ -21,7 +21,7 @@ import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertNotNull

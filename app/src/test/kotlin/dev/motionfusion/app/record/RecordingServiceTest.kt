@@ -1,6 +1,6 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
 import android.app.NotificationManager
 import android.content.Intent

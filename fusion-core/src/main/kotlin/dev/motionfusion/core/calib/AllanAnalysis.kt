@@ -7,7 +7,7 @@
 package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.event.SensorEvents
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.util.Locale
 
 /** The Allan curves of a recording ([gyroscope], [accelerometer] null when absent) and their noise terms. */

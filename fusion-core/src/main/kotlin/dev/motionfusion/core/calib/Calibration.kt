@@ -6,7 +6,7 @@
 package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.Vector3
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /** A fit that produced a result, or was refused with a reason. */
 public sealed class Fit<out T> {

@@ -8,7 +8,7 @@ import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.Json
 import dev.motionfusion.core.io.JsonObject
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 public object CalibrationJson {
     public const val FORMAT: String = "motion-fusion-calibration"

@@ -6,7 +6,7 @@
 package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.event.SensorEvents
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 public object Calibrator {
     /** The magnetometer stream a calibration is fitted on, given the recording's [streams]. */

@@ -4,7 +4,7 @@
  */
 package dev.motionfusion.core.calib
 
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlin.math.sqrt
 
 /**

@@ -7,7 +7,7 @@
 package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.Vector3
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import kotlin.math.acos
 import kotlin.math.sqrt
 

@@ -5,7 +5,6 @@
  */
 package dev.motionfusion.core.event
 
-import dev.motionfusion.core.session.SessionStream
 import java.io.Closeable
 
 /**

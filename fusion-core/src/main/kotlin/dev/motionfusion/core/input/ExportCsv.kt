@@ -9,7 +9,7 @@ import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.FieldError
 import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.event.SensorEvents
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.event.StreamCursor
 import kotlin.math.roundToLong
 

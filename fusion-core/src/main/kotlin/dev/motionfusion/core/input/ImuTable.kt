@@ -21,7 +21,7 @@ import dev.motionfusion.core.io.InputLimits
 import dev.motionfusion.core.io.Inputs
 import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.Closeable
 import java.io.InputStream
 import java.util.concurrent.ArrayBlockingQueue

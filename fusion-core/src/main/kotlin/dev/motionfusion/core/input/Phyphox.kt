@@ -13,7 +13,7 @@ package dev.motionfusion.core.input
 import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 internal object PhyphoxImport {
     /** What a data set measures. Only the first three are filter inputs. */

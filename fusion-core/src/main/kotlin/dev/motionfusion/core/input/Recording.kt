@@ -15,7 +15,7 @@ import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import java.io.Closeable
 import java.nio.file.Files
 import java.nio.file.NoSuchFileException

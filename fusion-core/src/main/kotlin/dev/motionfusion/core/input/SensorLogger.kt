@@ -14,7 +14,7 @@ package dev.motionfusion.core.input
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /** The phone platform of an export, where it decides sign conventions and units. */
 public enum class Platform { ANDROID, IOS }

@@ -11,7 +11,7 @@ import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 
 /** The state after one gyroscope step. Reused from step to step: copy what you keep. */
 public class ReplayStep internal constructor() {

@@ -11,6 +11,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FieldError

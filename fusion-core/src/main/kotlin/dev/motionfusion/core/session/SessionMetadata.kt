@@ -6,6 +6,7 @@
 package dev.motionfusion.core.session
 
 import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterSettings
 
 /** The device the session was recorded on (android.os.Build). */

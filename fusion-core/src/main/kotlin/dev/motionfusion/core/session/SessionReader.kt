@@ -6,6 +6,7 @@ package dev.motionfusion.core.session
 
 import dev.motionfusion.core.event.MergedEvents
 import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.event.StreamCursor
 import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException

@@ -18,6 +18,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException

@@ -16,6 +16,7 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.AsciiNumbers
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.FileOperations

@@ -8,7 +8,7 @@ import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionRecovery
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse

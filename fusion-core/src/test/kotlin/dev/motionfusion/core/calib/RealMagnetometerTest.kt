@@ -1,7 +1,7 @@
 package dev.motionfusion.core.calib
 
 import dev.motionfusion.core.input.Recording
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Assumptions.assumeTrue
 import org.junit.jupiter.api.Test

@@ -4,7 +4,7 @@ import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionMetadata
-import dev.motionfusion.core.session.SessionStream
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.io.TempDir

@@ -1,5 +1,6 @@
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FaultyFiles
 import dev.motionfusion.core.io.Json

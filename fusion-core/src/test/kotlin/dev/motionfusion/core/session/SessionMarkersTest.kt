@@ -1,5 +1,6 @@
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.DataFormatException
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse

@@ -1,6 +1,7 @@
 package dev.motionfusion.core.session
 
 import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.io.DataFormatException

@@ -7,7 +7,7 @@
  * the screen); rotation vectors and the fused orientation sensor → East-North-Up (magnetic
  * north). Units: m/s², rad/s, µT, rad; quaternions unitless.
  */
-package dev.motionfusion.core.session
+package dev.motionfusion.core.event
 
 /**
  * One stream of a session: its file, its value columns (after `timestamp_ns`) and whether it
