@@ -25,6 +25,9 @@ internal class ByteCsvReader(
     }
 
     private var buf = ByteArray(1 shl 16)
+
+    /** [buf] read 8 bytes at a time (the digits of a plain row's fractions, see [digitRun]). */
+    private var words = littleEndian(buf)
     private var pos = 0
     private var limit = 0
     private var eof = false
@@ -108,6 +111,7 @@ internal class ByteCsvReader(
                 throw DataFormatException(sourceName, lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
             }
             buf = buf.copyOf(minOf(buf.size * 2, maxLineBytes))
+            words = littleEndian(buf)
         }
         pos = 0
         limit = unread
@@ -219,6 +223,19 @@ internal class ByteCsvReader(
                 }
                 if (c == DOT_INT || (decimalComma && c == COMMA_INT)) {
                     if (++p >= lim) return MORE
+                    c = b[p].toInt()
+                    // Up to 8 digits at a time while 8 bytes are left (the digits stay ≤ 18: m is exact).
+                    while (p + 8 <= lim) {
+                        val x = words.getLong(p) - ASCII_ZEROS
+                        val n = digitRun(x)
+                        if (n == 0 || digits + n > 18) break
+                        m = m * LONG_POW10[n] + digitsValue(x, n)
+                        digits += n
+                        fraction += n
+                        p += n
+                        if (n < 8) break
+                    }
+                    if (p >= lim) return MORE
                     c = b[p].toInt()
                     while (c in ZERO_INT..NINE_INT) {
                         m = m * 10L + (c - ZERO_INT)
@@ -480,6 +497,28 @@ internal class ByteCsvReader(
         }
         private const val ZERO = '0'.code.toByte()
         private val POW10 = DoubleArray(23) { k -> "1e$k".toDouble() }
+        private val LONG_POW10 = LongArray(9).also { p -> p[0] = 1L; for (i in 1 until 9) p[i] = p[i - 1] * 10L }
+        private const val ASCII_ZEROS = 0x30303030_30303030L
+
+        private fun littleEndian(b: ByteArray): java.nio.ByteBuffer = java.nio.ByteBuffer.wrap(b).order(java.nio.ByteOrder.LITTLE_ENDIAN)
+
+        /**
+         * How many of the 8 bytes of x (bytes − '0', the first in the lowest byte) are digits
+         * before the first that is not: a byte is a digit when neither x nor x + 0x76 sets its
+         * high bit (borrows and carries only reach the bytes after the first non-digit).
+         */
+        private fun digitRun(x: Long): Int =
+            java.lang.Long.numberOfTrailingZeros((x or (x + 0x76767676_76767676L)) and HIGH_BITS) ushr 3
+
+        private const val HIGH_BITS = -0x7f7f7f7f_7f7f7f80L // 0x8080808080808080
+
+        /** The value of the first [n] (1..8) digits of x (as [digitRun]): in pairs, then fours, then all eight. */
+        private fun digitsValue(x: Long, n: Int): Long {
+            var v = x shl (8 * (8 - n)) // the n digits last, zeros before them
+            v = v * 10L + (v ushr 8)
+            v = (((v and 0x000000FF_000000FFL) * 0x000F4240_00000064L) + (((v ushr 16) and 0x000000FF_000000FFL) * 0x00002710_00000001L)) ushr 32
+            return v
+        }
     }
 }
 

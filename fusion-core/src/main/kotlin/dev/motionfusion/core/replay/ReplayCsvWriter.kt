@@ -63,15 +63,43 @@ public class ReplayCsvWriter @JvmOverloads constructor(
             pos = AsciiNumbers.fixed(buf, pos, q[qAt + k], 9)
         }
         derived(q, qAt, a, aAt, angles)
-        for (k in 0 until 6) {
-            buf[pos++] = COMMA
-            pos = AsciiNumbers.fixed(buf, pos, angles[k], 4)
-        }
-        for (k in 6 until 9) {
-            buf[pos++] = COMMA
-            pos = AsciiNumbers.fixed(buf, pos, angles[k], 5)
-        }
+        // Android azimuth, pitch, roll; then the aerospace angles, which are the same numbers
+        // (yaw = azimuth, pitch = −pitch, roll = roll) except at gimbal lock: their text is copied.
+        val azimuth = field(angles[0], 4)
+        val pitch = field(angles[1], 4)
+        val roll = field(angles[2], 4)
+        val rollEnd = pos
+        if (angles[3] == angles[0]) copy(azimuth, pitch - 1) else field(angles[3], 4)
+        if (angles[4] == -angles[1]) negated(pitch, roll - 1) else field(angles[4], 4)
+        if (angles[5] == angles[2]) copy(roll, rollEnd) else field(angles[5], 4)
+        for (k in 6 until 9) field(angles[k], 5)
         buf[pos++] = NL
+    }
+
+    /** Writes ",v" with [decimals]; returns where v starts. */
+    private fun field(v: Double, decimals: Int): Int {
+        buf[pos++] = COMMA
+        val start = pos
+        pos = AsciiNumbers.fixed(buf, pos, v, decimals)
+        return start
+    }
+
+    /** Writes "," and the text at buf[from until to] (a field of this row), after a '-' if [minus]. */
+    private fun copy(from: Int, to: Int, minus: Boolean = false) {
+        var p = pos
+        buf[p++] = COMMA
+        if (minus) buf[p++] = MINUS
+        for (i in from until to) buf[p++] = buf[i]
+        pos = p
+    }
+
+    /**
+     * Writes "," and the text of −v, where buf[from until to] is the text of v written by
+     * [AsciiNumbers.fixed]: its sign flipped, except in "0" and "NaN", which have none.
+     */
+    private fun negated(from: Int, to: Int) {
+        val c = buf[from]
+        if (c == MINUS) copy(from + 1, to) else copy(from, to, minus = c != N && !(c == ZERO && to - from == 1))
     }
 
     private fun drain() {
@@ -192,6 +220,9 @@ public class ReplayCsvWriter @JvmOverloads constructor(
             "lin_acc_east_m_s2,lin_acc_north_m_s2,lin_acc_up_m_s2"
         private const val COMMA = ','.code.toByte()
         private const val NL = '\n'.code.toByte()
+        private const val MINUS = '-'.code.toByte()
+        private const val ZERO = '0'.code.toByte()
+        private const val N = 'N'.code.toByte()
         private const val MAX_ROW = 14 * 48
         private const val DEG = 180.0 / Math.PI
 

@@ -4,6 +4,7 @@ import org.junit.jupiter.api.Assertions.assertArrayEquals
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Test
+import dev.motionfusion.core.io.AsciiNumbers
 import java.io.ByteArrayOutputStream
 import java.io.IOException
 import java.io.OutputStream
@@ -42,6 +43,43 @@ class ReplayCsvWriterTest {
             assertEquals(rows.toLong(), write(true, parallel, rows, flushEvery))
             assertArrayEquals(serial.toByteArray(), parallel.toByteArray(), "$rows rows")
         }
+    }
+
+    @Test
+    fun `every column is its own value's text, also where the writer copies one angle's text for another`() {
+        val r = Random(3)
+        val h = Math.sqrt(0.5)
+        val special = listOf(
+            doubleArrayOf(1.0, 0.0, 0.0, 0.0), // all angles 0
+            doubleArrayOf(h, h, 0.0, 0.0), doubleArrayOf(h, -h, 0.0, 0.0), // top edge up / down: gimbal lock
+            doubleArrayOf(0.5, 0.5, 0.5, 0.5), doubleArrayOf(Math.cos(1e-7), Math.sin(1e-7), 0.0, 0.0), // pitch rounding to 0
+            doubleArrayOf(Math.cos(-2e-6), Math.sin(-2e-6), 0.0, 0.0), doubleArrayOf(Double.NaN, Double.NaN, Double.NaN, Double.NaN),
+        )
+        val qs = special + List(20_000) {
+            val q = DoubleArray(4) { r.nextGaussian() * if (it == 2 && r.nextInt(4) == 0) 1e-6 else 1.0 }
+            val n = Math.sqrt(q.sumOf { it * it })
+            DoubleArray(4) { q[it] / n }
+        }
+        val out = ByteArrayOutputStream()
+        val step = ReplayStep()
+        ReplayCsvWriter(out).use { w ->
+            for (q in qs) {
+                q.copyInto(step.orientation)
+                for (k in 0 until 3) step.specificForce[k] = r.nextGaussian()
+                w.step(step)
+            }
+        }
+        val lines = out.toString("US-ASCII").lines().drop(1).filter { it.isNotEmpty() }
+        assertEquals(qs.size, lines.size)
+        val angles = DoubleArray(9)
+        var gimbalLock = 0
+        for ((i, q) in qs.withIndex()) {
+            val fields = lines[i].split(',')
+            ReplayCsvWriter.derived(q, doubleArrayOf(0.0, 0.0, 0.0), angles) // the angles depend on q alone
+            if (angles[3] != angles[0] && !q[0].isNaN()) gimbalLock++
+            for (k in 0 until 6) assertEquals(AsciiNumbers.fixedToString(angles[k], 4), fields[5 + k], "row $i column ${5 + k}")
+        }
+        assertEquals(2, gimbalLock, "the two gimbal-lock orientations")
     }
 
     @Test
