@@ -101,9 +101,10 @@ public object Orientations {
         val r20 = 2 * (x * z - w * y)
         val r21 = 2 * (y * z + w * x)
         val r22 = 1 - 2 * (x * x + y * y)
-        val azimuth = atan2(r01, r11)
-        val pitch = Fdlibm.asin((-r21).coerceIn(-1.0, 1.0)) // = asin, about ten times faster (Fdlibm.kt)
-        val roll = atan2(-r20, r22)
+        // Fdlibm's asin and atan2 are exactly Math's, faster on the JVM (Fdlibm.kt).
+        val azimuth = Fdlibm.atan2(r01, r11)
+        val pitch = Fdlibm.asin((-r21).coerceIn(-1.0, 1.0))
+        val roll = Fdlibm.atan2(-r20, r22)
         out[offset] = azimuth
         out[offset + 1] = pitch
         out[offset + 2] = roll
@@ -116,7 +117,7 @@ public object Orientations {
             out[offset + 3] = azimuth
             out[offset + 5] = roll
         } else {
-            out[offset + 3] = atan2(-r10, r00)
+            out[offset + 3] = Fdlibm.atan2(-r10, r00)
             out[offset + 5] = 0.0
         }
     }
