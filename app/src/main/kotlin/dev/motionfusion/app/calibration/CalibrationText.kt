@@ -105,7 +105,7 @@ internal object CalibrationText {
     /** The still step for the recording state [rec] at [nowElapsedMs] (SystemClock.elapsedRealtime). */
     fun still(c: Context, rec: RecordingState, nowElapsedMs: Long): Still = when {
         rec is RecordingState.Active && rec.still -> {
-            val s = ((nowElapsedMs - rec.startedElapsedMs) / 1000).coerceAtLeast(0)
+            val s = rec.elapsedS(nowElapsedMs)
             Still(
                 c.getString(R.string.calibration_still_recording),
                 c.getString(R.string.calibration_still_progress, DateUtils.formatElapsedTime(s), rec.rows()) + "\n" + c.getString(R.string.calibration_still_needs),
