@@ -87,6 +87,9 @@ class RecordingBannerTest {
             shadowOf(Looper.getMainLooper()).idle()
             assertEquals("$name, starting", View.VISIBLE, banner(a).visibility)
             assertEquals(a.getString(R.string.record_preparing), bannerText(a))
+            graph.graph.recordings.set(RecordingState.Preparing(1, 3))
+            shadowOf(Looper.getMainLooper()).idle()
+            assertEquals("Repairing interrupted sessions before recording: 1 of 3 done", bannerText(a))
 
             graph.graph.recordings.set(active(nowMs() - 133_000))
             shadowOf(Looper.getMainLooper()).idle()

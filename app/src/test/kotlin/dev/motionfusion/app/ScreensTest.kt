@@ -255,9 +255,10 @@ class ScreensTest {
             assertEquals(a.getString(R.string.record_stop), a.findViewById<TextView>(R.id.record_toggle).text.toString())
             val status = a.findViewById<TextView>(R.id.record_status).text.toString()
             assertTrue("$n: $status", status.startsWith("Recording 01:23 · 41,522 samples · 2 markers"))
-            // Scrolled to the plot, where the markers are: two labelled lines in the picture.
+            // Scrolled to the plot's card, where the markers are: two labelled lines in the picture.
             val plot = a.findViewById<AnglePlotView>(R.id.plot)
-            plot.requestRectangleOnScreen(android.graphics.Rect(0, 0, plot.width, plot.height), true)
+            val card = plot.parent.parent as View
+            card.requestRectangleOnScreen(android.graphics.Rect(0, 0, card.width, card.height), true)
             val b = Screenshots.captureScreen(a, name("live-recording-plot", shape, dark))
             assertEquals("$n: marker lines in the plot", 2, markerLines(b, plot, MaterialColors.getColor(plot, MaterialR.attr.colorTertiary)))
         }
