@@ -72,7 +72,7 @@ class RecordingBannerTest {
     }
 
     private fun active(startedMs: Long, streams: Int = 4, still: Boolean = false) =
-        RecordingState.Active(File(app.filesDir, "sessions/session_now"), startedMs, rows = { 41_522L }, still = still, streams = streams)
+        RecordingState.Active(File("sessions", "session_now"), startedMs, rows = { 41_522L }, still = still, streams = streams)
 
     @Test
     fun `every screen shows the recording under its app bar while it runs, and only then`() {

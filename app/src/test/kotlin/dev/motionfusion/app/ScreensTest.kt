@@ -411,7 +411,8 @@ class ScreensTest {
 
     /** The detail screen of [detailName] (its folder exists), showing what it read. */
     private fun detailScreen(): SessionDetailActivity {
-        File(sessionsRoot(), detailName).mkdirs()
+        val dir = File(sessionsRoot(), detailName)
+        Thread { dir.mkdirs() }.apply { start(); join() } // off the main thread, as the app's disk work
         val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, detailName)
         val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
         idle()
