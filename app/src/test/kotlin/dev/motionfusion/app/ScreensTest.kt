@@ -36,6 +36,7 @@ import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
+import dev.motionfusion.core.session.Marker
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertTrue
 import org.junit.Before
@@ -220,18 +221,106 @@ class ScreensTest {
         Screenshots.captureScreen(a, name("live-no-magnetometer", Shape.PHONE, false))
     }
 
+    /** A recording of [streams] streams that started [elapsedS] ago, with [markers] set. */
+    private fun recording(elapsedS: Long, markers: List<PlotMarker> = emptyList(), streams: Int = 4) = RecordingState.Active(
+        File(sessionsRoot(), "session_2026-12-01_18-40-00"), graph.clock.elapsedNs / 1_000_000 - elapsedS * 1000, rows = { 41_522L },
+        markers = { markers.map { Marker(it.timestampNs, it.text) } }, streams = streams,
+    )
+
+    /** Vertical lines of [colour] across most of [plot]'s height in [b]: the markers drawn. */
+    private fun markerLines(b: android.graphics.Bitmap, plot: View, colour: Int): Int {
+        val r = Screenshots.boundsInWindow(plot)
+        var lines = 0
+        var inLine = false
+        for (x in r.left until r.right) {
+            val column = android.graphics.Rect(x, r.top + r.height() / 4, x + 1, r.bottom - r.height() / 4)
+            val on = Screenshots.share(b, column, colour, tolerance = 40) > 0.6
+            if (on && !inLine) lines++
+            inLine = on
+        }
+        return lines
+    }
+
     @Test
     fun `live screen while recording, with markers`() {
-        val session = File(sessionsRoot(), "session_2026-12-01_18-40-00")
-        for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE)) for (dark in listOf(false, true)) {
-            graph.graph.recordings.set(RecordingState.Active(session, graph.clock.elapsedNs / 1_000_000 - 83_000, rows = { 41_522L }))
-            val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
+        val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
+        for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE, Shape.TABLET)) for (dark in listOf(false, true)) {
+            graph.graph.recordings.set(recording(83, markers))
             val a = live(shape, dark, markers)
-            Screenshots.captureScreen(a, name("live-recording", shape, dark))
-            // Scrolled to the plot, where the markers are.
-            val plot = a.findViewById<View>(R.id.plot)
-            plot.requestRectangleOnScreen(android.graphics.Rect(0, 0, plot.width, plot.height), true)
-            Screenshots.captureScreen(a, name("live-recording-plot", shape, dark))
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
+            val n = name("live-recording", shape, dark)
+            Screenshots.captureScreen(a, n)
+            val mark = a.findViewById<View>(R.id.record_mark)
+            assertEquals("$n: the Mark button", View.VISIBLE, mark.visibility)
+            assertEquals(a.getString(R.string.record_stop), a.findViewById<TextView>(R.id.record_toggle).text.toString())
+            val status = a.findViewById<TextView>(R.id.record_status).text.toString()
+            assertTrue("$n: $status", status.startsWith("Recording 01:23 · 41,522 samples · 2 markers"))
+            // Scrolled to the plot's card, where the markers are: two labelled lines in the picture.
+            val plot = a.findViewById<AnglePlotView>(R.id.plot)
+            val card = plot.parent.parent as View
+            card.requestRectangleOnScreen(android.graphics.Rect(0, 0, card.width, card.height), true)
+            val b = Screenshots.captureScreen(a, name("live-recording-plot", shape, dark))
+            assertEquals("$n: marker lines in the plot", 2, markerLines(b, plot, MaterialColors.getColor(plot, MaterialR.attr.colorTertiary)))
+        }
+    }
+
+    @Test
+    fun `the notification explained before the first recording`() {
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
+            val a = live(shape, dark) // the explanation never answered
+            a.findViewById<View>(R.id.record_toggle).performClick()
+            val dialog = org.robolectric.shadows.ShadowDialog.getLatestDialog() as androidx.appcompat.app.AlertDialog
+            assertTrue(dialog.isShowing)
+            idle()
+            val n = name("notification-explained", shape, dark)
+            val (b, at) = Screenshots.captureDialog(a, dialog, n)
+            // The dialog's card is drawn: its surface fills most of the dialog's window, its texts are on it.
+            val surface = MaterialColors.getColor(dialog.window!!.decorView, MaterialR.attr.colorSurfaceContainerHigh)
+            assertTrue("$n: the dialog's surface ${Screenshots.share(b, at, surface)}", Screenshots.share(b, at, surface, tolerance = 4) > 0.5)
+            for (id in listOf(androidx.appcompat.R.id.alertTitle, android.R.id.message, android.R.id.button1, android.R.id.button2)) {
+                val v = dialog.findViewById<TextView>(id)!!
+                val r = Screenshots.boundsInWindow(v) // the dialog's window laid out where it is drawn
+                assertTrue("$n: ${v.text.take(20)} at $r inside the dialog $at", at.contains(r) && r.height() > 0)
+                assertTrue("$n: ${v.text.take(20)} drawn", Screenshots.colours(b, r) > 3)
+            }
+            assertEquals(a.getString(R.string.record_notifications_continue), dialog.getButton(androidx.appcompat.app.AlertDialog.BUTTON_POSITIVE).text.toString())
+            // Held upright, the whole text is shown without scrolling; sideways it scrolls between the title and the buttons.
+            val scroll = dialog.findViewById<View>(androidx.appcompat.R.id.scrollView)!!
+            val text = dialog.findViewById<TextView>(android.R.id.message)!!
+            if (shape != Shape.LANDSCAPE) assertTrue("$n: the message fits", scroll.height >= text.height)
+            dialog.dismiss()
+        }
+    }
+
+    @Test
+    fun `the other screens while recording show it under their app bar`() {
+        val root = sessionsRoot()
+        for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to true, Shape.TABLET to false)) {
+            configure(shape, dark)
+            graph.graph.recordings.set(recording(133))
+            val screens = listOf(
+                "settings-recording" to Robolectric.buildActivity(SettingsActivity::class.java).setup().get(),
+                "sessions-recording" to Robolectric.buildActivity(SessionsActivity::class.java).setup().get().also {
+                    idle()
+                    it.show(SessionsUiState.Loaded(listOf(SessionItem(File(root, "session_2026-12-01_18-40-00"), summary("session_2026-12-01_18-40-00", 133, 200.0, 1_795_698_300_000L), null, recordingNow = true)) + sessionItems(root)))
+                },
+                "session-detail-recording" to detailScreen().also { it.show(detailState()) },
+                "calibration-recording" to Robolectric.buildActivity(dev.motionfusion.app.calibration.CalibrationActivity::class.java).setup().get(),
+            )
+            for ((screen, a) in screens) {
+                idle()
+                val n = name(screen, shape, dark)
+                val b = Screenshots.captureScreen(a, n)
+                val banner = a.findViewById<View>(R.id.recording_banner)
+                assertEquals(n, View.VISIBLE, banner.visibility)
+                assertEquals(n, "Recording 02:13 · 4 streams", a.findViewById<TextView>(R.id.recording_banner_text).text.toString())
+                val r = Screenshots.boundsInWindow(banner)
+                assertEquals("$n: under the app bar", Screenshots.boundsInWindow(a.findViewById(R.id.toolbar)).bottom, r.top)
+                val fill = MaterialColors.getColor(banner, MaterialR.attr.colorErrorContainer)
+                assertTrue("$n: the banner's colour in the picture", Screenshots.share(b, r, fill, tolerance = 2) > 0.6)
+                val text = MaterialColors.getColor(banner, MaterialR.attr.colorOnErrorContainer)
+                assertTrue("$n: the banner's text readable", ColorUtils.calculateContrast(text, fill) >= 4.5)
+            }
         }
     }
 
@@ -289,6 +378,15 @@ class ScreensTest {
         )
     }
 
+    /** Four sessions, one recovered, and one that cannot be read. */
+    private fun sessionItems(root: File) = listOf(
+        summary("walk to the station", 754, 200.0, 1_795_688_100_000L),
+        summary("session_2026-11-26_13-05-00", 62, 100.0, 1_795_698_300_000L, recovered = true),
+        summary("session_2026-11-26_09-15-00", 1830, 400.0, 1_795_684_500_000L),
+        summary("bike, handlebar mount", 2710, 200.0, 1_795_600_000_000L),
+    ).map { SessionItem(File(root, it.name), it, null) } +
+        SessionItem(File(root, "broken"), null, "meta.json:3:14: expected a number")
+
     @Test
     fun `sessions list, empty and full`() {
         for (dark in listOf(false, true)) {
@@ -298,14 +396,7 @@ class ScreensTest {
             assertEquals(View.VISIBLE, empty.findViewById<View>(R.id.sessions_empty).visibility)
             Screenshots.captureScreen(empty, name("sessions-empty", Shape.PHONE, dark))
         }
-        val root = sessionsRoot()
-        val items = listOf(
-            summary("walk to the station", 754, 200.0, 1_795_688_100_000L),
-            summary("session_2026-11-26_13-05-00", 62, 100.0, 1_795_698_300_000L, recovered = true),
-            summary("session_2026-11-26_09-15-00", 1830, 400.0, 1_795_684_500_000L),
-            summary("bike, handlebar mount", 2710, 200.0, 1_795_600_000_000L),
-        ).map { SessionItem(File(root, it.name), it, null) } +
-            SessionItem(File(root, "broken"), null, "meta.json:3:14: expected a number")
+        val items = sessionItems(sessionsRoot())
         for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.TABLET to false, Shape.LANDSCAPE to true)) {
             configure(shape, dark)
             val a = Robolectric.buildActivity(SessionsActivity::class.java).setup().get()
@@ -316,10 +407,20 @@ class ScreensTest {
         }
     }
 
-    @Test
-    fun `session detail with angles, markers and rates`() {
-        val name = "walk to the station"
-        File(sessionsRoot(), name).mkdirs()
+    private val detailName = "walk to the station"
+
+    /** The detail screen of [detailName] (its folder exists), showing what it read. */
+    private fun detailScreen(): SessionDetailActivity {
+        val dir = File(sessionsRoot(), detailName)
+        Thread { dir.mkdirs() }.apply { start(); join() } // off the main thread, as the app's disk work
+        val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, detailName)
+        val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
+        idle()
+        return a
+    }
+
+    /** A 754-s walk: angles, three markers, each stream's rate in 1-s bins. */
+    private fun detailState(): SessionDetailUiState {
         val n = 1500
         val timeS = FloatArray(n) { it * 0.5f }
         fun angles(f: (Double) -> Double) = FloatArray(n) { f(timeS[it].toDouble()).toFloat() }
@@ -335,7 +436,7 @@ class ScreensTest {
                 PlotMarker(2_000_000_000L + 700_000_000_000L, "platform"),
             ),
         )
-        // 754 s in 1-s bins: steady rates, a 20-s stall of the magnetometer, the game rotation vector slower at first.
+        // Steady rates, a 20-s stall of the magnetometer, the game rotation vector slower at first.
         val rates = RateSeries(
             2_000_000_000L, 1.0,
             linkedMapOf(
@@ -345,12 +446,15 @@ class ScreensTest {
                 "game_rotation_vector" to FloatArray(754) { if (it < 60) 50f else 99.6f },
             ),
         )
+        return SessionDetailUiState(detailName, loading = false, summary = summary(detailName, 754, 200.0, 1_795_688_100_000L), angles = series, rates = rates)
+    }
+
+    @Test
+    fun `session detail with angles, markers and rates`() {
         for ((shape, dark) in listOf(Shape.PHONE to false, Shape.PHONE to true, Shape.LANDSCAPE to false, Shape.TABLET to true)) {
             configure(shape, dark)
-            val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, name)
-            val a = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
-            idle()
-            a.show(SessionDetailUiState(name, loading = false, summary = summary(name, 754, 200.0, 1_795_688_100_000L), angles = series, rates = rates))
+            val a = detailScreen()
+            a.show(detailState())
             val png = name("session-detail", shape, dark)
             Screenshots.captureScreen(a, png)
             assertPlotReadable(a, R.id.detail_plot, png)

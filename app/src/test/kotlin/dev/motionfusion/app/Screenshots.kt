@@ -25,25 +25,98 @@ object Screenshots {
      * whether anything lies under them.
      */
     fun capture(activity: Activity, name: String, width: Int = 1080, height: Int = 1920, systemBars: Pair<Int, Int>? = null): Bitmap {
-        val root: View = activity.window.decorView
+        val bitmap = render(activity.window.decorView, width, height)
+        val canvas = Canvas(bitmap)
+        if (systemBars != null) {
+            val bar = android.graphics.Paint().apply { color = Color.argb(0xE0, 0, 0, 0) }
+            canvas.drawRect(0f, 0f, width.toFloat(), systemBars.first.toFloat(), bar)
+            canvas.drawRect(0f, (height - systemBars.second).toFloat(), width.toFloat(), height.toFloat(), bar)
+        }
+        write(bitmap, name)
+        return bitmap
+    }
+
+    /** [root] laid out at [width] × [height] and drawn into a new bitmap. */
+    private fun render(root: View, width: Int, height: Int): Bitmap {
         root.measure(
             View.MeasureSpec.makeMeasureSpec(width, View.MeasureSpec.EXACTLY),
             View.MeasureSpec.makeMeasureSpec(height, View.MeasureSpec.EXACTLY),
         )
         root.layout(0, 0, width, height)
         val bitmap = Bitmap.createBitmap(width, height, Bitmap.Config.ARGB_8888)
-        val canvas = Canvas(bitmap)
-        root.draw(canvas)
-        if (systemBars != null) {
-            val bar = android.graphics.Paint().apply { color = Color.argb(0xE0, 0, 0, 0) }
-            canvas.drawRect(0f, 0f, width.toFloat(), systemBars.first.toFloat(), bar)
-            canvas.drawRect(0f, (height - systemBars.second).toFloat(), width.toFloat(), height.toFloat(), bar)
-        }
+        root.draw(Canvas(bitmap))
+        return bitmap
+    }
+
+    /** Writes [bitmap] as [name].png and checks it is not blank. */
+    private fun write(bitmap: Bitmap, name: String) {
         val dir = File(System.getProperty("screenshots.dir") ?: "target/screenshots")
         dir.mkdirs()
         File(dir, "$name.png").outputStream().use { bitmap.compress(Bitmap.CompressFormat.PNG, 100, it) }
         assertTrue("$name rendered blank", distinctColours(bitmap) > 2)
-        return bitmap
+    }
+
+    /** Where [v] lies in its window's picture. */
+    fun boundsInWindow(v: View): Rect {
+        val at = IntArray(2).also(v::getLocationInWindow)
+        return Rect(at[0], at[1], at[0] + v.width, at[1] + v.height)
+    }
+
+    /** The share of [area]'s pixels in [b] whose colour is within [tolerance] (per channel) of [colour]. */
+    fun share(b: Bitmap, area: Rect, colour: Int, tolerance: Int = 12): Double {
+        var n = 0
+        var hits = 0
+        for (y in area.top until area.bottom) for (x in area.left until area.right) {
+            val p = b.getPixel(x, y)
+            n++
+            if (Math.abs(Color.red(p) - Color.red(colour)) <= tolerance && Math.abs(Color.green(p) - Color.green(colour)) <= tolerance &&
+                Math.abs(Color.blue(p) - Color.blue(colour)) <= tolerance
+            ) hits++
+        }
+        return if (n == 0) 0.0 else hits.toDouble() / n
+    }
+
+    /** Distinct colours (a sample of every 3rd pixel) in [area] of [b]. */
+    fun colours(b: Bitmap, area: Rect): Int {
+        val seen = HashSet<Int>()
+        for (y in area.top until area.bottom step 3) for (x in area.left until area.right step 3) seen += b.getPixel(x, y) and Color.WHITE
+        return seen.size
+    }
+
+    /**
+     * Renders [dialog] over [activity] as the phone shows it: the activity at its configuration's
+     * size, dimmed by the dialog's scrim, and the dialog's own window (a dialog lives in a window of
+     * its own, which the activity's decor view does not draw) laid out as its window attributes
+     * say (at most 560 dp wide, the Material 3 dialogs' limit) and centred. Returns the picture
+     * and where the dialog's window lies in it.
+     */
+    fun captureDialog(activity: Activity, dialog: android.app.Dialog, name: String): Pair<Bitmap, Rect> {
+        val c = activity.resources.configuration
+        val d = activity.resources.displayMetrics.density
+        val width = (c.screenWidthDp * d).toInt()
+        val height = (c.screenHeightDp * d).toInt()
+        val bitmap = render(activity.window.decorView, width, height)
+        val canvas = Canvas(bitmap)
+        val window = dialog.window!!
+        val dim = if (window.attributes.flags and android.view.WindowManager.LayoutParams.FLAG_DIM_BEHIND != 0) window.attributes.dimAmount else 0f
+        canvas.drawColor(Color.argb((255 * dim).toInt(), 0, 0, 0))
+        val decor = window.decorView
+        val maxWidth = minOf(width, (560 * d).toInt())
+        val widthSpec = when (val w = window.attributes.width) {
+            android.view.ViewGroup.LayoutParams.MATCH_PARENT -> View.MeasureSpec.makeMeasureSpec(maxWidth, View.MeasureSpec.EXACTLY)
+            android.view.ViewGroup.LayoutParams.WRAP_CONTENT -> View.MeasureSpec.makeMeasureSpec(maxWidth, View.MeasureSpec.AT_MOST)
+            else -> View.MeasureSpec.makeMeasureSpec(minOf(w, width), View.MeasureSpec.EXACTLY)
+        }
+        decor.measure(widthSpec, View.MeasureSpec.makeMeasureSpec(height, View.MeasureSpec.AT_MOST))
+        val left = (width - decor.measuredWidth) / 2
+        val top = (height - decor.measuredHeight) / 2
+        decor.layout(left, top, left + decor.measuredWidth, top + decor.measuredHeight)
+        canvas.save()
+        canvas.translate(left.toFloat(), top.toFloat())
+        decor.draw(canvas)
+        canvas.restore()
+        write(bitmap, name)
+        return bitmap to Rect(left, top, left + decor.measuredWidth, top + decor.measuredHeight)
     }
 
     /**
@@ -106,10 +179,14 @@ object Screenshots {
             val layout = v.layout
             if (layout != null) for (line in 0 until layout.lineCount) assertEquals("$what is cut short", 0, layout.getEllipsisCount(line))
         }
+        // Buttons of a group (MaterialButtonToggleGroup) share their 1-dp border: that is no overlap.
+        val border = Math.ceil(activity.resources.displayMetrics.density.toDouble()).toInt()
         for (i in seen.indices) for (j in i + 1 until seen.size) {
             val (a, ra) = seen[i]
             val (b, rb) = seen[j]
-            assertFalse("$name: '${a.text.take(30)}' $ra overlaps '${b.text.take(30)}' $rb", Rect.intersects(ra, rb))
+            val common = Rect()
+            val overlap = common.setIntersect(ra, rb) && minOf(common.width(), common.height()) > border
+            assertFalse("$name: '${a.text.take(30)}' $ra overlaps '${b.text.take(30)}' $rb", overlap)
         }
     }
 

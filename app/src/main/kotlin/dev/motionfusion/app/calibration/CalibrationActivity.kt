@@ -50,6 +50,7 @@ class CalibrationActivity : AppCompatActivity() {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_calibration)
         fitToSystemBars(findViewById(R.id.calibration_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
         supportActionBar?.setDisplayHomeAsUpEnabled(true)
         deps = (application as CalibrationDependencies.Provider).calibrationDependencies
         store = deps.calibrationStore

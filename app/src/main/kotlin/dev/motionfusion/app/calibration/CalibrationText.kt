@@ -53,7 +53,7 @@ internal object CalibrationText {
                 is Fit.Done -> f.value.let { m ->
                     lines += "magnetometer (${m.stream.key}, ${m.model})"
                     lines += "hard iron  " + vec(m.correction.offset, "%.1f") + " µT"
-                    if (m.model.name != "SPHERE") lines += "soft iron  " + rows(m.correction)
+                    if (m.model.name != "SPHERE") lines += rows("soft iron  ", m.correction)
                     lines += "field %.1f µT · residual %.2f µT".format(Locale.ROOT, m.fieldStrength, m.residualRms)
                     lines += "coverage %.0f %% · |B| spread %.1f → %.2f µT".format(Locale.ROOT, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
                 }
@@ -66,7 +66,7 @@ internal object CalibrationText {
                     is Fit.Done -> f.value.let { a ->
                         lines += "accelerometer (${a.model}, ${a.poses} poses)"
                         lines += "offset  " + vec(a.correction.offset, "%.3f") + " m/s²"
-                        lines += "scale   " + rows(a.correction)
+                        lines += rows("scale   ", a.correction)
                         lines += "residual %.4f m/s² at g = %.5f m/s²".format(Locale.ROOT, a.residualRms, a.gravity)
                     }
                     is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "accelerometer", f.reason)
@@ -105,7 +105,7 @@ internal object CalibrationText {
     /** The still step for the recording state [rec] at [nowElapsedMs] (SystemClock.elapsedRealtime). */
     fun still(c: Context, rec: RecordingState, nowElapsedMs: Long): Still = when {
         rec is RecordingState.Active && rec.still -> {
-            val s = ((nowElapsedMs - rec.startedElapsedMs) / 1000).coerceAtLeast(0)
+            val s = rec.elapsedS(nowElapsedMs)
             Still(
                 c.getString(R.string.calibration_still_recording),
                 c.getString(R.string.calibration_still_progress, DateUtils.formatElapsedTime(s), rec.rows()) + "\n" + c.getString(R.string.calibration_still_needs),
@@ -127,5 +127,8 @@ internal object CalibrationText {
 
     private fun vec(v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(Locale.ROOT, it) }
 
-    private fun rows(c: SensorCorrection) = (0 until 3).joinToString(" | ") { r -> (0 until 3).joinToString(" ") { k -> "%.3f".format(Locale.ROOT, c.matrix[r, k]) } }
+    /** The correction's matrix after [label], a row a line, the rows aligned under the first. */
+    private fun rows(label: String, c: SensorCorrection) = label + (0 until 3).joinToString("\n" + " ".repeat(label.length)) { r ->
+        (0 until 3).joinToString(" ") { k -> "%6.3f".format(Locale.ROOT, c.matrix[r, k]) }
+    }
 }

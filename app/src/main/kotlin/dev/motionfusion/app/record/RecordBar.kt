@@ -164,7 +164,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 }
             }
             is RecordingState.Active -> {
-                val elapsed = (deps.clock.elapsedRealtimeNanos() / 1_000_000 - s.startedElapsedMs) / 1000
+                val elapsed = s.elapsedS(deps.clock.elapsedRealtimeNanos() / 1_000_000)
                 toggle.setText(R.string.record_stop)
                 toggle.contentDescription = activity.getString(R.string.record_stop_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_active))

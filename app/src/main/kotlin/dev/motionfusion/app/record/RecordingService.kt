@@ -179,7 +179,7 @@ class RecordingService : Service() {
         deps.recordings.set(
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
-                recorder::mark, limits, still,
+                recorder::mark, limits, still, deps.capture.sensors.keys.count { !still || it in STILL_STREAMS },
             ),
         )
         wakeLock = getSystemService(PowerManager::class.java)

@@ -15,7 +15,10 @@ import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
 
-/** The recording state, for screens to show (always visible: the record bar renders it). */
+/**
+ * The recording state, for screens to show: the live screen's record bar and every other
+ * screen's [RecordingBanner] render it, the notification says it outside the app.
+ */
 sealed interface RecordingState {
     data object Idle : RecordingState
 
@@ -35,7 +38,12 @@ sealed interface RecordingState {
         val limits: RecordingLimits = RecordingLimits(),
         /** A still recording (accelerometer and gyroscope at the fastest rate, for `fusion allan`). */
         val still: Boolean = false,
-    ) : RecordingState
+        /** How many sensor streams are recorded (0: not told). */
+        val streams: Int = 0,
+    ) : RecordingState {
+        /** Whole seconds recorded at [nowElapsedMs] (`SystemClock.elapsedRealtime()`). */
+        fun elapsedS(nowElapsedMs: Long): Long = ((nowElapsedMs - startedElapsedMs) / 1000).coerceAtLeast(0)
+    }
 
     data class Ended internal constructor(val session: File?, internal val result: RecorderResult, val still: Boolean = false) : RecordingState
 

@@ -44,7 +44,11 @@ import org.robolectric.annotation.GraphicsMode
 class CalibrationScreensTest {
     private fun idle() = shadowOf(Looper.getMainLooper()).idle()
 
-    private val variants = listOf("portrait-light" to "+port-notnight", "portrait-dark" to "+port-night", "landscape-light" to "+land-notnight", "landscape-dark" to "+land-night")
+    /** A phone held upright and sideways (400 × 860 dp at xhdpi), light and dark. */
+    private val variants = listOf(
+        "portrait-light" to "w400dp-h860dp-port-notnight-xhdpi", "portrait-dark" to "w400dp-h860dp-port-night-xhdpi",
+        "landscape-light" to "w860dp-h400dp-land-notnight-xhdpi", "landscape-dark" to "w860dp-h400dp-land-night-xhdpi",
+    )
 
     /** Renders [state] in the four variants; [act] brings a fresh screen into the state, [check] asserts on it and its picture. */
     private lateinit var graph: TestGraph
@@ -66,11 +70,16 @@ class CalibrationScreensTest {
             val a = c.get()
             act(a)
             idle()
-            val land = "land" in variant
-            val bitmap = Screenshots.capture(a, "calibration-$state-$variant", width = if (land) 1920 else 1080, height = if (land) 1080 else 1920)
+            val bitmap = Screenshots.captureScreen(a, "calibration-$state-$variant")
             val background = bitmap.getPixel(bitmap.width - 4, bitmap.height - 4)
             val luminance = (Color.red(background) * 0.3 + Color.green(background) * 0.59 + Color.blue(background) * 0.11) / 255
             if ("dark" in variant) assertTrue("$state $variant background $luminance", luminance < 0.3) else assertTrue("$state $variant background $luminance", luminance > 0.7)
+            // The app bar: the screen's title and the way back, at the top.
+            val toolbar = a.findViewById<androidx.appcompat.widget.Toolbar>(R.id.toolbar)
+            assertEquals(a.getString(R.string.calibration_title), toolbar.title.toString())
+            assertTrue("$state $variant: the up button", toolbar.navigationIcon != null)
+            assertEquals(0, Screenshots.boundsInWindow(toolbar).top)
+            assertEquals(if (state == "still-recording") View.VISIBLE else View.GONE, a.findViewById<View>(R.id.recording_banner).visibility)
             check(a, bitmap)
             c.pause().stop().destroy()
         }
@@ -161,7 +170,7 @@ class CalibrationScreensTest {
     fun `still recording under way`() = render("still-recording", emptyList(), { a ->
         click(a, R.id.step_still)
         val started = graph.clock.elapsedNs / 1_000_000
-        graph.graph.recordings.set(RecordingState.Active(File(a.filesDir, "sessions/session_still"), started, { 1_843_200L }, still = true))
+        graph.graph.recordings.set(RecordingState.Active(File(a.filesDir, "sessions/session_still"), started, { 1_843_200L }, still = true, streams = 2))
         graph.clock.elapsedNs += (38 * 60 + 25) * 1_000_000_000L
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
     }) { a, _ ->
@@ -171,6 +180,7 @@ class CalibrationScreensTest {
         assertEquals(64, a.findViewById<com.google.android.material.progressindicator.LinearProgressIndicator>(R.id.progress).progress)
         assertEquals(View.GONE, a.findViewById<View>(R.id.coverage_map).visibility)
         assertEquals(View.GONE, a.findViewById<View>(R.id.save).visibility)
+        assertEquals("Still recording 38:25 · 2 streams", text(a, R.id.recording_banner_text))
     }
 
     @Test

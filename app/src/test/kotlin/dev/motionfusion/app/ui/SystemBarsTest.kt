@@ -15,6 +15,7 @@ import com.google.android.material.color.MaterialColors
 import dev.motionfusion.app.MainActivity
 import dev.motionfusion.app.R
 import dev.motionfusion.app.Screenshots
+import dev.motionfusion.app.calibration.CalibrationActivity
 import dev.motionfusion.app.sessions.SessionDetailActivity
 import dev.motionfusion.app.sessions.SessionsActivity
 import dev.motionfusion.app.settings.SettingsActivity
@@ -87,6 +88,9 @@ class SystemBarsTest {
 
     @Test
     fun `the sessions list`() = check(ActivityScenario.launch(SessionsActivity::class.java), R.id.sessions_root, "edge-to-edge-sessions")
+
+    @Test
+    fun `the calibration`() = check(ActivityScenario.launch(CalibrationActivity::class.java), R.id.calibration_root, "edge-to-edge-calibration")
 
     @Test
     fun `a session's detail`() {
