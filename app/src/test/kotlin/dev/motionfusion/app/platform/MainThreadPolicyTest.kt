@@ -42,17 +42,19 @@ class MainThreadPolicyTest {
     @Test
     fun `a Robolectric test that touches the disk on the main thread is reported as failing, at the call`() {
         val result = run(OnMainThread::class.java)
-        assertEquals(3, result.runCount)
+        val report = result.failures.joinToString("\n") { it.trace }
+        assertEquals(report, 3, result.runCount)
+        assertEquals(report, 3, result.failureCount)
         val failures = result.failures.associate { it.description.methodName to it.exception }
-        assertEquals(setOf("creates a folder", "reads a file's attributes", "reads the settings"), failures.keys)
+        assertEquals(report, setOf("creates a folder", "reads a file's attributes", "reads the settings"), failures.keys)
         fun strictMode(e: Throwable) = e.message == "StrictMode ThreadPolicy violation"
         val write = failures.getValue("creates a folder")
-        assertTrue("$write", strictMode(write) && write.cause is DiskWriteViolation)
+        assertTrue(report, strictMode(write) && write.cause is DiskWriteViolation)
         val read = failures.getValue("reads a file's attributes")
-        assertTrue("$read", strictMode(read) && read.cause is DiskReadViolation)
+        assertTrue(report, strictMode(read) && read.cause is DiskReadViolation)
         // The app's own paths to its files say so themselves (StrictMode does not see java.io on a JVM).
         val settings = failures.getValue("reads the settings")
-        assertTrue("$settings", settings is IllegalStateException && settings.message == "disk work on the main thread")
+        assertTrue(report, settings is IllegalStateException && settings.message == "disk work on the main thread")
     }
 
     @Test

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.offMainThread
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.live.RecordingLimits
 import android.Manifest
@@ -104,7 +105,7 @@ class RecordingAsExpectedTest {
         shadowOf(Looper.getMainLooper()).idle()
     }
 
-    private fun zipOf(dir: File): File = File(app.cacheDir, "${dir.name}.zip").also { SessionArchive.zip(dir.toPath(), it.toPath()) }
+    private fun zipOf(dir: File): File = offMainThread { File(app.cacheDir, "${dir.name}.zip").also { SessionArchive.zip(dir.toPath(), it.toPath()) } }
 
     @Test
     fun `Mark on the record bar, tapped and long-pressed with a note, lands in the exported session`() {
