@@ -12,6 +12,7 @@ import dev.motionfusion.app.calibration.CalibrationStore
 import dev.motionfusion.app.calibration.CaptureSampleSource
 import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.platform.AppFiles
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
@@ -20,7 +21,6 @@ import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.BatterySource
 import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.RecordingDependencies
-import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.record.StickyBattery
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.record.SessionFormat
@@ -33,7 +33,6 @@ import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.session.SessionCalibration
-import java.io.File
 import java.util.concurrent.Executor
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.CoroutineScope
@@ -51,10 +50,11 @@ import kotlinx.coroutines.flow.StateFlow
  */
 internal class AppGraph(
     sensorManager: SensorManager,
-    filesDir: File,
-    val settingsRepository: SettingsRepository,
-    /** Where the calibration screen's "use in the live filter" is kept. */
-    calibrationPrefs: SharedPreferences,
+    /** The app's files folder, resolved on the disk executor. */
+    files: AppFiles,
+    settingsStore: SettingsStore,
+    /** Where the calibration screen's "use in the live filter" is kept (opened on the disk executor). */
+    calibrationPrefs: () -> SharedPreferences,
     override val disk: DiskExecutor = SerialDiskExecutor(),
     override val clock: Clock = Clock.System,
     override val format: SessionFormat = CoreSessionFormat,
@@ -74,18 +74,23 @@ internal class AppGraph(
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
 
+    override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
+    val settingsRepository = SettingsRepository(settingsStore, io, scope)
     override val settings: StateFlow<LiveSettings> get() = settingsRepository.settings
-    override val limits: StateFlow<RecordingLimits> get() = settingsRepository.recordingLimits
     private val ring = EventRing(ringCapacity)
     private val hub = SensorHub(sensorManager, ring)
-    override val io: CoroutineDispatcher = Executor { r -> disk.execute(null) { r.run() } }.asCoroutineDispatcher()
     override val calibrationStore = CalibrationStore(
-        File(filesDir, "calibration"), CalibrationDependencies.deviceKey(hub.sensors), calibrationPrefs, io, scope,
+        { files.folder("calibration") }, CalibrationDependencies.deviceKey(hub.sensors), calibrationPrefs, io, scope,
     )
     override val capture = Capture(ring, hub, settingsRepository.settings, scope, calibrationStore.active, nanoTime = captureClock, runThread = captureThread)
     override val calibrationSource: CalibrationSampleSource = calibrationSource ?: CaptureSampleSource(capture)
     override val recordings = Recordings()
-    override val sessions = SessionsRepository(filesDir, format, locks)
+    override val sessions = SessionsRepository(files, format, locks)
+
+    override suspend fun awaitStores() {
+        settingsRepository.awaitLoaded()
+        calibrationStore.awaitLoaded()
+    }
 
     override fun sessionCalibration(): SessionCalibration? = calibrationStore.sessionCalibration()
 
@@ -97,12 +102,12 @@ internal class AppGraph(
         enterForeground(service, id, notification, type)
 
     companion object {
-        /** The graph of a running app. */
+        /** The graph of a running app. Nothing here touches the disk: folders and files are opened on the disk executor. */
         fun create(context: Context): AppGraph = AppGraph(
             context.getSystemService(SensorManager::class.java),
-            context.filesDir,
-            SettingsRepository(SettingsStore(context)),
-            context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE),
+            AppFiles { context.filesDir },
+            SettingsStore(context),
+            { context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
             battery = StickyBattery(context),
         )
     }

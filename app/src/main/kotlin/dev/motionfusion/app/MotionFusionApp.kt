@@ -10,10 +10,12 @@ import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.settings.SettingsRepository
 
 /**
- * The application: owns the object graph ([AppGraph]) and applies Material You colours from the
- * wallpaper on Android 12+ (the theme's own colours before).
+ * The application: owns the object graph ([AppGraph]), turns StrictMode on for the main thread
+ * in debug builds (violations logged; every Robolectric test makes them fail, `StrictTestApp`)
+ * and applies Material You colours from the wallpaper on Android 12+ (the theme's own colours
+ * before).
  */
-internal class MotionFusionApp :
+internal open class MotionFusionApp :
     Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider, CalibrationDependencies.Provider {
     private var built: AppGraph? = null
 
@@ -26,8 +28,13 @@ internal class MotionFusionApp :
 
     override fun onCreate() {
         super.onCreate()
-        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install()
+        installMainThreadPolicy()
         DynamicColors.applyToActivitiesIfAvailable(this)
+    }
+
+    /** Debug builds: StrictMode logs disk and network work on the main thread. */
+    protected open fun installMainThreadPolicy() {
+        if (applicationInfo.flags and ApplicationInfo.FLAG_DEBUGGABLE != 0) MainThreadPolicy.install(fail = false)
     }
 
     override val recordingDependencies: RecordingDependencies get() = graph

@@ -187,7 +187,7 @@ class MainActivityTest {
 
     @Test
     fun `tilted, in aerospace angles, beside the rotation vector`() {
-        RuntimeEnvironment.getApplication().let { SettingsStore(it).save(LiveSettings(convention = AngleConvention.AEROSPACE)) }
+        offMainThread { SettingsStore(RuntimeEnvironment.getApplication()).save(LiveSettings(convention = AngleConvention.AEROSPACE)) }
         val c = start(acc, gyro, mag, rv, grv)
         // Top edge raised by 30° (rotation about device x), top towards north.
         val s = sin(Math.toRadians(30.0)).toFloat()
@@ -357,8 +357,8 @@ class MainActivityTest {
         assertEquals(0.2, engine().filterSettingsInUse().beta, 0.0)
         assertEquals(a.getString(R.string.mode_imu_chosen), a.text(R.id.mode_explanation))
         // Persisted for the next start of the app.
-        val prefs = RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE)
-        assertEquals(LiveSettings(filter = FilterSettings(mode = FilterMode.IMU, beta = 0.2)), SettingsStore(prefs).load())
+        graph.settle()
+        assertEquals(LiveSettings(filter = FilterSettings(mode = FilterMode.IMU, beta = 0.2)), offMainThread { SettingsStore(RuntimeEnvironment.getApplication()).load() })
         assertNotNull(a.text(R.id.yaw))
     }
 

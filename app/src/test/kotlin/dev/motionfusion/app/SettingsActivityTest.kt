@@ -28,6 +28,7 @@ import org.junit.Before
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.Robolectric
+import org.robolectric.android.controller.ActivityController
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
@@ -58,8 +59,22 @@ class SettingsActivityTest {
         (0 until g.childCount).map { g.getChildAt(it) as Chip }.first { it.tag == choice }.performClick()
     }
 
+    private var graph: TestGraph? = null
     private fun store() = SettingsStore(RuntimeEnvironment.getApplication())
-    private fun start() = Robolectric.buildActivity(SettingsActivity::class.java).setup()
+
+    /** What is stored, once the app's writes are done. */
+    private fun stored(): LiveSettings {
+        graph?.settle()
+        return offMainThread { store().load() }
+    }
+
+    private fun save(s: LiveSettings) = offMainThread { store().save(s) }
+
+    /** The screen, on the app's graph made on first use (after what the test stored: the graph reads it). */
+    private fun start(): ActivityController<SettingsActivity> {
+        if (graph == null) graph = TestGraph()
+        return Robolectric.buildActivity(SettingsActivity::class.java).setup()
+    }
 
     @Test
     fun `every filter setting of the core table has a row with its unit and default`() {
@@ -84,7 +99,7 @@ class SettingsActivityTest {
 
     @Test
     fun `the form shows the stored settings`() {
-        store().save(LiveSettings(filter = FilterSettings(beta = 0.07, mode = FilterMode.IMU, gyroSaturation = 0.0), convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
+        save(LiveSettings(filter = FilterSettings(beta = 0.07, mode = FilterMode.IMU, gyroSaturation = 0.0), convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
         val a = start().get()
         assertEquals(0.07f, a.slider("beta").value, 1e-6f)
         assertEquals("0.07 rad/s (4.0°/s)", a.text("beta", R.id.setting_value))
@@ -115,11 +130,9 @@ class SettingsActivityTest {
             rate = SamplingRate.Hz(400),
             limits = RecordingLimits(maxDurationS = 3600L, stopBatteryPercent = 15),
         )
-        assertEquals(expected, store().load())
+        assertEquals(expected, stored())
         val graph = (a.application as MotionFusionApp).graph
         assertEquals(expected, graph.settingsRepository.settings.value)
-        // The recording service's limits are the screen's.
-        assertEquals(expected.limits, graph.limits.value)
         shadowOf(android.os.Looper.getMainLooper()).idle()
         val fs = graph.capture.filterSettingsInUse()
         assertEquals(0.1, fs.beta, 0.0)
@@ -156,22 +169,24 @@ class SettingsActivityTest {
         val a = c.get()
         assertEquals(0.25f, a.slider("beta").value, 1e-6f)
         assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
-        assertEquals(LiveSettings(), store().load())
+        assertEquals(LiveSettings(), stored())
     }
 
     @Test
     fun `a damaged or older settings file loses nothing it can read`() {
-        val prefs = RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE)
+        val prefs = offMainThread { RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE) }
         // The first settings screen stored flags as booleans under shorter keys.
-        prefs.edit().putString("beta", "0.04").putString("zeta", "NaN").putBoolean("rest_bias", false).putBoolean("acc_rejection", true)
-            .putString("rest_min_time_s", "-3").putString("rate", "hz:137").putString("mode", "6D").commit()
-        val s = store().load()
+        offMainThread {
+            prefs.edit().putString("beta", "0.04").putString("zeta", "NaN").putBoolean("rest_bias", false).putBoolean("acc_rejection", true)
+                .putString("rest_min_time_s", "-3").putString("rate", "hz:137").putString("mode", "6D").commit()
+        }
+        val s = stored()
         assertEquals(LiveSettings(filter = FilterSettings(beta = 0.04, restBiasEstimation = false, accRejection = true), rate = SamplingRate.Hz(137)), s)
         // A rate outside the offered choices is still offered and shown.
         val a = start().get()
         assertEquals("hz:137", a.checkedChoice("rate"))
-        store().save(s)
-        assertEquals(s, store().load())
-        assertFalse(prefs.contains("rest_bias"))
+        save(s)
+        assertEquals(s, stored())
+        assertFalse(offMainThread { prefs.contains("rest_bias") })
     }
 }

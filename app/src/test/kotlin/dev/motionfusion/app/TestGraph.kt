@@ -8,6 +8,7 @@ import android.os.Looper
 import androidx.core.app.ServiceCompat
 import dev.motionfusion.app.calibration.CalibrationSampleSource
 import dev.motionfusion.app.calibration.CalibrationStore
+import dev.motionfusion.app.platform.AppFiles
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
@@ -15,7 +16,6 @@ import dev.motionfusion.app.record.BatterySource
 import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.SessionFormat
-import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
 import java.io.File
 import kotlinx.coroutines.Dispatchers
@@ -64,7 +64,24 @@ internal class FakeBattery(@Volatile var state: BatteryState = BatteryState(80, 
     override fun read(): BatteryState = state.also { reads++ }
 }
 
-/** The application graph of a Robolectric test: capture pumped by the test, disk tasks run by the test. */
+/**
+ * Runs [block] on a thread of its own and returns its result (rethrowing its failure): a test's
+ * own disk work (files it prepares or reads back, `Context.getFilesDir()`, SharedPreferences)
+ * stays off the main thread, where StrictMode fails the test (StrictTestApp).
+ */
+internal fun <T> offMainThread(block: () -> T): T {
+    var result: Result<T>? = null
+    val t = Thread { result = runCatching(block) }
+    t.start()
+    t.join()
+    return result!!.getOrThrow()
+}
+
+/**
+ * The application graph of a Robolectric test: capture pumped by the test, disk tasks run by the
+ * test. The settings and the calibration are read from storage as the graph is made ([loadStores];
+ * false: they stay unread until the test runs the disk tasks, as in the first moments of a process).
+ */
 internal class TestGraph(
     format: SessionFormat = CoreSessionFormat,
     minFreeBytes: Long = 0L,
@@ -72,20 +89,25 @@ internal class TestGraph(
     val battery: FakeBattery = FakeBattery(),
     /** The calibration screen's readings; null: the capture's. */
     calibrationSource: CalibrationSampleSource? = null,
+    loadStores: Boolean = true,
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     val disk = ManualDiskExecutor()
     val clock = FakeClock()
     var captureNs = 0L
     val graph = AppGraph(
-        app.getSystemService(SensorManager::class.java), app.filesDir, SettingsRepository(SettingsStore(app)),
-        app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE),
+        app.getSystemService(SensorManager::class.java), AppFiles { app.filesDir }, SettingsStore(app),
+        { app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
         disk = disk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
         captureClock = { captureNs }, enterForeground = enterForeground, battery = battery,
         // The calibration's fits run on the main thread: each step is complete when the looper is idle.
         calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
     ).also { app.graph = it }
     val capture get() = graph.capture
+
+    init {
+        if (loadStores) settle()
+    }
 
     /** The capture thread's work for what was delivered, including the end of the reorder window; then the main thread's. */
     fun pump() {

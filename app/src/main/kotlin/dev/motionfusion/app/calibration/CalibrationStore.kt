@@ -2,6 +2,7 @@ package dev.motionfusion.app.calibration
 
 import android.content.SharedPreferences
 import android.os.Build
+import dev.motionfusion.app.platform.MainThreadPolicy
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.io.AtomicFiles
@@ -47,21 +48,25 @@ data class DeviceKey(val manufacturer: String, val model: String, val sensors: L
  * AtomicFiles), read and written on [io] only. Each sensor keeps its latest accepted fit: a new
  * magnetometer fit replaces the stored magnetometer and leaves the stored accelerometer.
  *
- * The file is read once, on [io], when the store is made; until then [calibration] is null.
- * A damaged file is moved aside to `<name>.damaged` (nothing lost) and [problem] says why.
+ * The file and the setting are read once, on [io], when the store is made; [dir] and [prefs]
+ * are resolved there on first use (the store itself is made on the main thread, which must not
+ * touch the disk). Until then [calibration] is null. A damaged file is moved aside to `<name>.damaged` (nothing lost)
+ * and [problem] says why.
  *
  * For the recorder and the live filter (they only read memory: safe on any thread):
- * [active] and [sessionCalibration].
+ * [active] and [sessionCalibration], once [awaitLoaded] has returned.
  */
 class CalibrationStore(
-    private val dir: File,
+    dir: () -> File,
     val device: DeviceKey,
-    private val prefs: SharedPreferences,
+    prefs: () -> SharedPreferences,
     private val io: CoroutineDispatcher,
-    scope: CoroutineScope,
+    private val scope: CoroutineScope,
     private val files: AtomicFiles = AtomicFiles(),
 ) {
-    private val file = File(dir, device.fileName)
+    private val dir by lazy(dir)
+    private val prefs by lazy(prefs)
+    private val file by lazy { File(this.dir, device.fileName) }
     private val current = MutableStateFlow<Calibration?>(null)
     private val use = MutableStateFlow(false)
     private val activeFlow = MutableStateFlow<Calibration?>(null)
@@ -83,17 +88,32 @@ class CalibrationStore(
     @Volatile var problem: String? = null
         private set
 
+    /** The setting was chosen before the stored one was read: the choice wins. */
+    private var useChosen = false
+
     private val loaded: Job = scope.launch(io) {
-        use.value = prefs.getBoolean(USE_IN_LIVE_FILTER, false)
-        current.value = read()
-        update()
+        val stored = prefs().getBoolean(USE_IN_LIVE_FILTER, false)
+        val read = read()
+        synchronized(this@CalibrationStore) {
+            if (!useChosen) use.value = stored
+            current.value = read
+            update()
+        }
+    }
+
+    private fun prefs(): SharedPreferences {
+        MainThreadPolicy.checkNotMainThread()
+        return prefs
     }
 
     /** Turns the setting on or off (stored in the background). */
     fun setUseInLiveFilter(on: Boolean) {
-        use.value = on
-        update()
-        prefs.edit().putBoolean(USE_IN_LIVE_FILTER, on).apply()
+        synchronized(this) {
+            useChosen = true
+            use.value = on
+            update()
+        }
+        scope.launch(io) { prefs().edit().putBoolean(USE_IN_LIVE_FILTER, on).apply() }
     }
 
     private fun update() {
@@ -132,12 +152,15 @@ class CalibrationStore(
             throw e
         }
         problem = null
-        current.value = merged
-        update()
+        synchronized(this@CalibrationStore) {
+            current.value = merged
+            update()
+        }
         merged
     }
 
     private fun read(): Calibration? {
+        MainThreadPolicy.checkNotMainThread()
         if (!file.isFile) return null
         return try {
             CalibrationJson.parse(file.readText(Charsets.UTF_8), file.name)

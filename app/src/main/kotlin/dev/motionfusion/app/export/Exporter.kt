@@ -24,7 +24,7 @@ import java.io.IOException
  * Blocking: call off the main thread.
  */
 internal object Exporter {
-    fun zipName(dir: File): String = "${dir.name}.zip"
+    fun zipName(session: String): String = "$session.zip"
 
     /** Only a finished (or repaired) session leaves the app: never one being written. */
     @Throws(IOException::class)
@@ -55,7 +55,7 @@ internal object Exporter {
         check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
         checkExportable(dir)
         val resolver = context.contentResolver
-        val name = zipName(dir)
+        val name = zipName(dir.name)
         val values = ContentValues().apply {
             put(MediaStore.MediaColumns.DISPLAY_NAME, name)
             put(MediaStore.MediaColumns.MIME_TYPE, ExportProvider.MIME_ZIP)
@@ -91,7 +91,7 @@ internal object Exporter {
         // The cache is for handing over, not for keeping: zips shared a day ago are gone.
         val dayAgo = System.currentTimeMillis() - 24L * 3600 * 1000
         exports.listFiles()?.filter { it.lastModified() < dayAgo }?.forEach { it.delete() }
-        val zip = File(exports, zipName(dir))
+        val zip = File(exports, zipName(dir.name))
         writeZip(dir, zip)
         val uri = ExportProvider.uriFor(context, zip)
         val send = Intent(Intent.ACTION_SEND)

@@ -218,12 +218,12 @@ class Capture internal constructor(
      * Starts feeding [tap] from the next event, with a filter started afresh with [settings]'
      * filter settings (those of [filterSettingsFor], which the caller wrote into meta.json) on
      * readings corrected by [calibration] (that of [calibrationFor], also in meta.json), and
-     * the sensors at [settings]' rate. Call while acquired.
+     * the sensors of [streams] (null: all) registered at [settings]' rate. Call while acquired.
      */
-    internal fun attach(tap: CaptureTap, settings: LiveSettings, calibration: Calibration? = null) {
+    internal fun attach(tap: CaptureTap, settings: LiveSettings, calibration: Calibration? = null, streams: Set<SessionStream>? = null) {
         check(isRunning) { "attach needs a running capture" }
         recording = true
-        if (hub.registeredRate != settings.rate) hub.start(settings.rate)
+        hub.start(settings.rate, streams)
         attachRequest = Attach(tap, settings, calibrationFor(calibration))
         thread?.let(LockSupport::unpark)
     }
@@ -336,14 +336,14 @@ class Capture internal constructor(
         tap = null
         recording = attachRequest != null
         if (end != null) t.end(end)
-        // A rate chosen during the recording is registered now.
+        // A rate chosen during the recording, and every stream, are registered now.
         scope.launch { onSettings(settings.value) }
     }
 
     private fun onSettings(s: LiveSettings) {
         if (recording) return // applied when the recording ends
         // The new registration's events follow in order; any late ones are counted.
-        if (isRunning && hub.registeredRate != s.rate) hub.start(s.rate)
+        if (isRunning) hub.start(s.rate)
         if (!runThread || thread == null) synchronized(pipeline) { applySettings(s); publish() }
     }
 

@@ -39,16 +39,22 @@ class FolderLocks {
 
 /**
  * The app's one rule against disk and network work on the main thread. Android's StrictMode
- * watches the framework's own disk and network calls (SharedPreferences, getFilesDir's mkdir,
- * SQLite, sockets) once [install]ed: debug builds log them (throwing in every test is not on
- * yet, see docs/RECORDING.md). The app's own file work (java.io/java.nio) is
- * invisible to StrictMode on a JVM, so every path into it (the disk executor's folder locks)
- * calls [checkNotMainThread], which throws.
+ * watches the framework's own disk and network calls (SharedPreferences, the folder that
+ * `getFilesDir()` creates, SQLite, sockets) once [install]ed: debug builds log them, and every
+ * Robolectric test installs it with [fail], so a test whose main thread touches the disk fails
+ * at that call. The app's own file work (java.io/java.nio) is invisible to StrictMode on a JVM,
+ * so every path into it (the disk executor's folder locks, [AppFiles], the settings and
+ * calibration stores) calls [checkNotMainThread], which throws.
  */
 object MainThreadPolicy {
-    /** Turns StrictMode on for the calling (main) thread: disk reads, disk writes and network are logged. */
-    fun install() {
-        StrictMode.setThreadPolicy(StrictMode.ThreadPolicy.Builder().detectDiskReads().detectDiskWrites().detectNetwork().penaltyLog().build())
+    /**
+     * Turns StrictMode on for the calling (main) thread: disk reads, disk writes and network.
+     * [fail]: the offending call throws (penaltyDeath alone: StrictMode then reports at the call,
+     * not later from the looper), else the violation is logged.
+     */
+    fun install(fail: Boolean) {
+        val policy = StrictMode.ThreadPolicy.Builder().detectDiskReads().detectDiskWrites().detectNetwork()
+        StrictMode.setThreadPolicy((if (fail) policy.penaltyDeath() else policy.penaltyLog()).build())
     }
 
     /** Throws on the main thread: the app's own disk work must go through the disk executor. */
@@ -57,19 +63,20 @@ object MainThreadPolicy {
             "disk work on the main thread"
         }
     }
+}
 
-    /**
-     * Runs [block] with disk reads allowed on this thread. The one exemption: the settings file
-     * (under a kilobyte) is read once when the process starts, because the first screen and a
-     * recording need the user's settings before anything else (SettingsStore).
-     */
-    fun <T> allowingDiskReads(block: () -> T): T {
-        val old = StrictMode.allowThreadDiskReads()
-        try {
-            return block()
-        } finally {
-            StrictMode.setThreadPolicy(old)
-        }
+/**
+ * The app's private files folder, `Context.getFilesDir()`, resolved on first use, off the main
+ * thread only: the framework creates the folder on its first call (a disk write). The object
+ * graph is built on the main thread with this handle; the disk executor resolves it.
+ */
+class AppFiles(resolve: () -> File) {
+    private val root by lazy(resolve)
+
+    /** The folder [name] inside it (not created). Off the main thread. */
+    fun folder(name: String): File {
+        MainThreadPolicy.checkNotMainThread()
+        return File(root, name)
     }
 }
 

@@ -25,6 +25,11 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor
 import java.io.File
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.launch
 
 /**
  * Records every sensor stream into a session while the user wants it: a foreground service of
@@ -38,6 +43,7 @@ import java.io.File
  */
 class RecordingService : Service() {
     private val main = Handler(Looper.getMainLooper())
+    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
     private lateinit var deps: RecordingDependencies
     private var preparing = false
     private var stopWhenReady = false
@@ -104,7 +110,9 @@ class RecordingService : Service() {
     /**
      * Foreground and sensors at once (main thread); the disk work (repair of interrupted
      * sessions, which takes seconds after a long killed recording, and the new session's files)
-     * on the disk executor, with progress in [Recordings]; then the recorder is attached.
+     * on the disk executor, with progress in [Recordings]; then the recorder is attached. The
+     * session's settings and calibration are taken once the stores have been read (a Record in
+     * the first moments after the process started waits for them; never the defaults instead).
      */
     private fun startRecording(still: Boolean) {
         if (recorder != null || preparing) return
@@ -122,12 +130,20 @@ class RecordingService : Service() {
         preparing = true
         stopWhenReady = false
         deps.recordings.set(RecordingState.Preparing(0, 0))
-        val capture = deps.capture
-        capture.acquire()
+        deps.capture.acquire()
         holdsCapture = true
-        // A still recording: the accelerometer and gyroscope as fast as the device delivers.
+        scope.launch {
+            deps.awaitStores()
+            prepare(still)
+        }
+    }
+
+    /** Main thread, the stores read: the session's settings, sensors and calibration; then its files on the disk executor. */
+    private fun prepare(still: Boolean) {
+        val capture = deps.capture
+        // A still recording: the streams it writes, as fast as the device delivers.
         val live = deps.settings.value.let { if (still) it.copy(rate = SamplingRate.Delay.FASTEST) else it }
-        limits = deps.limits.value
+        limits = live.limits
         batteryCheckedNs = Long.MIN_VALUE / 2
         val filterSettings = capture.filterSettingsFor(live)
         val sensors = if (still) capture.sensors.filterKeys { it in STILL_STREAMS } else capture.sensors
@@ -186,7 +202,7 @@ class RecordingService : Service() {
             .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
             .apply { setReferenceCounted(false); acquire(WAKE_LOCK_TIMEOUT_MS) }
         wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
-        deps.capture.attach(recorder, live, calibration)
+        deps.capture.attach(recorder, live, calibration, if (still) STILL_STREAMS else null)
         main.post(tick)
         if (stopWhenReady) stopRecording()
     }
@@ -255,6 +271,7 @@ class RecordingService : Service() {
         // recording (it should not), finish what is queued rather than leave it open.
         if (recorder != null) stopRecording()
         main.removeCallbacks(tick)
+        scope.cancel()
         super.onDestroy()
     }
 

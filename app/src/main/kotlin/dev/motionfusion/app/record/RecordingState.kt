@@ -78,10 +78,11 @@ internal interface RecordingDependencies {
     val format: SessionFormat
     val disk: DiskExecutor
     val clock: Clock
+    /** The user's settings, the recording limits among them. */
     val settings: StateFlow<LiveSettings>
 
-    /** When recordings stop by themselves (settings). */
-    val limits: StateFlow<RecordingLimits>
+    /** Waits until the settings and the stored calibration have been read from storage (at once once they have). */
+    suspend fun awaitStores()
 
     /** The battery level and charging state. */
     val battery: BatterySource

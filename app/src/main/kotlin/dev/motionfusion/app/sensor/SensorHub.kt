@@ -36,8 +36,11 @@ internal interface SensorSource {
     /** The rate the sensors are registered at, or null when stopped. */
     val registeredRate: SamplingRate?
 
-    /** Registers every sensor at [rate] into the ring (re-registers at another rate). */
-    fun start(rate: SamplingRate)
+    /**
+     * Registers the sensors of [streams] (null: every stream) at [rate] into the ring;
+     * re-registers when the rate or the streams differ from those registered.
+     */
+    fun start(rate: SamplingRate, streams: Set<SessionStream>? = null)
 
     /** Unregisters; after it returns nothing more is offered to the ring. */
     fun stop()
@@ -65,6 +68,7 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
     }.toMap()
 
     private var thread: HandlerThread? = null
+    private var registered: List<Sensor> = emptyList()
 
     /** The rate the listeners are registered at, or null when stopped. */
     @Volatile override var registeredRate: SamplingRate? = null
@@ -80,14 +84,16 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
         override fun onAccuracyChanged(sensor: Sensor, accuracy: Int) = Unit // read on every event instead
     }
 
-    /** Registers every sensor at [rate] (re-registers when running at another rate). Main thread. */
-    override fun start(rate: SamplingRate) {
-        if (registeredRate == rate) return
+    /** Registers the sensors of [streams] (null: all) at [rate] (re-registers when either differs). Main thread. */
+    override fun start(rate: SamplingRate, streams: Set<SessionStream>?) {
+        val wanted = (if (streams == null) sensors else sensors.filterKeys { it in streams }).values.toList()
+        if (registeredRate == rate && registered == wanted) return
         val t = thread ?: HandlerThread("sensors", Process.THREAD_PRIORITY_URGENT_DISPLAY).apply { start() }.also { thread = it }
         if (registeredRate != null) sensorManager.unregisterListener(listener)
         val handler = Handler(t.looper)
-        for ((_, sensor) in sensors) sensorManager.registerListener(listener, sensor, rate.registerArgument, handler)
+        for (sensor in wanted) sensorManager.registerListener(listener, sensor, rate.registerArgument, handler)
         registeredRate = rate
+        registered = wanted
     }
 
     /**
@@ -97,6 +103,7 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
     override fun stop() {
         sensorManager.unregisterListener(listener)
         registeredRate = null
+        registered = emptyList()
         val t = thread ?: return
         thread = null
         t.quitSafely()

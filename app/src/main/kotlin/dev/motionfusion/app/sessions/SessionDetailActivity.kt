@@ -37,7 +37,6 @@ class SessionDetailActivity : AppCompatActivity() {
     private val model: SessionDetailViewModel by viewModels {
         SessionDetailViewModel.Factory(deps, intent.getStringExtra(EXTRA_SESSION) ?: "")
     }
-    private val dir: File get() = model.dir
 
     /** The dialog on screen (rename or delete), for tests. */
     internal var dialog: AlertDialog? = null
@@ -57,11 +56,11 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
         findViewById<Button>(R.id.detail_downloads).apply {
             visibility = if (Exporter.downloadsAvailable) View.VISIBLE else View.GONE
-            setOnClickListener { export { getString(R.string.export_done_downloads, Exporter.toDownloads(this@SessionDetailActivity, dir)) } }
+            setOnClickListener { export { dir -> getString(R.string.export_done_downloads, Exporter.toDownloads(this@SessionDetailActivity, dir)) } }
         }
         findViewById<Button>(R.id.detail_save_as).setOnClickListener {
             try {
-                saveAs.launch(Exporter.zipName(dir))
+                saveAs.launch(Exporter.zipName(model.name))
             } catch (e: ActivityNotFoundException) {
                 model.message(getString(R.string.export_failed, e.message))
             }
@@ -69,7 +68,7 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<Button>(R.id.detail_share).setOnClickListener {
             lifecycleScope.launch {
                 try {
-                    val intent = withContext(deps.io) { deps.sessions.locks.withFolder(dir) { Exporter.shareIntent(this@SessionDetailActivity, dir) } }
+                    val intent = withContext(deps.io) { model.folder().let { dir -> deps.sessions.locks.withFolder(dir) { Exporter.shareIntent(this@SessionDetailActivity, dir) } } }
                     startActivity(intent)
                 } catch (e: Exception) {
                     model.message(getString(R.string.export_failed, e.message))
@@ -122,11 +121,12 @@ class SessionDetailActivity : AppCompatActivity() {
         }
     }
 
-    private fun export(action: () -> String) {
+    /** Runs [action] on the session's folder, on the disk executor under the folder's lock. */
+    private fun export(action: (File) -> String) {
         lifecycleScope.launch {
             model.message(
                 try {
-                    withContext(deps.io) { deps.sessions.locks.withFolder(dir) { action() } }
+                    withContext(deps.io) { model.folder().let { dir -> deps.sessions.locks.withFolder(dir) { action(dir) } } }
                 } catch (e: Exception) {
                     getString(R.string.export_failed, e.message)
                 },
@@ -137,7 +137,7 @@ class SessionDetailActivity : AppCompatActivity() {
     /** Save as…: the system's document picker creates the zip's document, then it is written there. */
     private val saveAs = registerForActivityResult(ActivityResultContracts.CreateDocument(ExportProvider.MIME_ZIP)) { uri ->
         if (uri != null) {
-            export {
+            export { dir ->
                 Exporter.toDocument(this, dir, uri)
                 getString(R.string.export_done_document)
             }
@@ -146,7 +146,7 @@ class SessionDetailActivity : AppCompatActivity() {
 
     private fun askRename() {
         val input = EditText(this).apply {
-            setText(dir.name)
+            setText(model.name)
             setSelection(text.length)
             hint = getString(R.string.session_rename_hint)
             inputType = InputType.TYPE_CLASS_TEXT
@@ -164,7 +164,7 @@ class SessionDetailActivity : AppCompatActivity() {
 
     private fun askDelete() {
         dialog = MaterialAlertDialogBuilder(this)
-            .setMessage(getString(R.string.session_delete_confirm, dir.name))
+            .setMessage(getString(R.string.session_delete_confirm, model.name))
             .setNegativeButton(R.string.cancel, null)
             .setPositiveButton(R.string.session_delete) { _, _ -> model.delete() }
             .show()

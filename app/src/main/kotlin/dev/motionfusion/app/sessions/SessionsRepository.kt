@@ -1,6 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import android.util.Log
+import dev.motionfusion.app.platform.AppFiles
 import dev.motionfusion.app.platform.FolderLocks
 import dev.motionfusion.core.session.SessionRecovery
 import java.io.File
@@ -35,7 +36,7 @@ internal object CoreSessionRepair : SessionRepair {
  * with the folder's lock ([locks]).
  */
 internal class SessionsRepository(
-    private val filesDir: File,
+    private val files: AppFiles,
     val repair: SessionRepair = CoreSessionRepair,
     val locks: FolderLocks = FolderLocks(),
 ) {
@@ -43,13 +44,10 @@ internal class SessionsRepository(
     @Volatile var recording: File? = null
         private set
 
-    fun root(): File {
-        FolderLocks.checkNotMainThread()
-        return File(filesDir, "sessions").apply { mkdirs() }
-    }
+    fun root(): File = files.folder(SESSIONS).apply { mkdirs() }
 
-    /** The session folder called [name] (not checked to exist). No disk access. */
-    fun folder(name: String): File = File(File(filesDir, "sessions"), name)
+    /** The session folder called [name] (not checked to exist). Off the main thread (the first call resolves the files folder). */
+    fun folder(name: String): File = File(files.folder(SESSIONS), name)
 
     /** Session folders, newest first by name. */
     fun list(): List<File> = root().listFiles { f -> f.isDirectory }?.sortedByDescending { it.name } ?: emptyList()
@@ -102,5 +100,9 @@ internal class SessionsRepository(
         }
         if (todo.isNotEmpty()) progress(todo.size, todo.size)
         return repaired
+    }
+
+    private companion object {
+        const val SESSIONS = "sessions"
     }
 }

@@ -88,19 +88,22 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
     private val flow = MutableStateFlow(SessionDetailUiState(name))
     val state: StateFlow<SessionDetailUiState> = flow.asStateFlow()
 
-    /** The session's folder (its name changes with [rename]). */
-    val dir: File get() = deps.sessions.folder(flow.value.name)
+    /** The session's name (it changes with [rename]). */
+    val name: String get() = flow.value.name
+
+    /** The session's folder. Off the main thread (as every path of the sessions repository). */
+    fun folder(): File = deps.sessions.folder(name)
 
     init {
         load()
     }
 
     fun load() {
-        val dir = dir
         viewModelScope.launch {
             flow.value = try {
                 val lib = deps.library
-                val (summary, angles, rates) = withContext(deps.io) { Triple(lib.summary(dir), lib.angles(dir, PLOT_POINTS), lib.rates(dir, RATE_BINS)) }
+                val (dir, data) = withContext(deps.io) { folder().let { it to Triple(lib.summary(it), lib.angles(it, PLOT_POINTS), lib.rates(it, RATE_BINS)) } }
+                val (summary, angles, rates) = data
                 flow.value.copy(loading = false, summary = summary, angles = angles, rates = rates, recordingNow = deps.sessions.isRecording(dir), error = null)
             } catch (e: Exception) {
                 flow.value.copy(loading = false, error = e.message ?: e.javaClass.simpleName)
@@ -110,10 +113,9 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
 
     /** Renames the session; [refused] is the message when the name is not allowed. */
     fun rename(newName: String, refused: String) {
-        val old = dir
         viewModelScope.launch {
             try {
-                val renamed = withContext(deps.io) { deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } }
+                val renamed = withContext(deps.io) { folder().let { old -> deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } } }
                 flow.value = flow.value.copy(name = renamed.name, message = null)
                 load()
             } catch (e: Exception) {
@@ -123,10 +125,9 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
     }
 
     fun delete() {
-        val dir = dir
         viewModelScope.launch {
             flow.value = try {
-                withContext(deps.io) { deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } }
+                withContext(deps.io) { folder().let { dir -> deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } } }
                 flow.value.copy(deleted = true)
             } catch (e: Exception) {
                 flow.value.copy(message = e.message)

@@ -1,41 +1,56 @@
 package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.RecordingLimits
+import kotlinx.coroutines.CoroutineDispatcher
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Job
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
+import kotlinx.coroutines.launch
+import kotlinx.coroutines.withContext
 
 /**
  * The user's settings, one source for the whole app: the live filter, the recording (whose
- * meta.json gets them) and the settings screen read [settings]; [update] persists and publishes.
+ * meta.json gets them, with their recording limits) and the settings screen read [settings];
+ * [update] publishes and persists.
+ *
+ * The store is read on [io] when the repository is made (as a DataStore's first read): until
+ * then [settings] holds the defaults, which the live screen shows for those first moments; what
+ * must not start on defaults (a recording) waits for [awaitLoaded]. A change made before the
+ * read completes wins over the stored value. [update] and [markNotificationsAnswered] are called
+ * on the main thread ([scope]'s); the store's writes run on [io].
  */
-class SettingsRepository(private val store: SettingsStore) {
-    private val flow = MutableStateFlow(store.load())
+class SettingsRepository(private val store: SettingsStore, private val io: CoroutineDispatcher, private val scope: CoroutineScope) {
+    private val flow = MutableStateFlow(LiveSettings())
+    private var changedBeforeLoad = false
 
     val settings: StateFlow<LiveSettings> = flow.asStateFlow()
 
-    /** Stores [s] (SharedPreferences writes it in the background) and hands it to every reader at once. */
-    fun update(s: LiveSettings) {
-        store.save(s)
-        flow.value = s
-        limitsFlow.value = s.limits
+    private val loaded: Job = scope.launch {
+        val (stored, answered) = withContext(io) { store.load() to store.loadNotificationsAnswered() }
+        if (!changedBeforeLoad) flow.value = stored
+        if (answered) notificationsAnswered = true
     }
 
-    private val limitsFlow = MutableStateFlow(flow.value.limits)
+    /** Waits until the stored settings have been read (at once when they have). */
+    suspend fun awaitLoaded(): Unit = loaded.join()
 
-    /** When recordings stop by themselves (part of [settings]); a recording takes them when it starts. */
-    val recordingLimits: StateFlow<RecordingLimits> = limitsFlow.asStateFlow()
-
-    fun updateLimits(l: RecordingLimits) = update(settings.value.copy(limits = l))
+    /** Hands [s] to every reader at once and stores it on [io]. Main thread. */
+    fun update(s: LiveSettings) {
+        changedBeforeLoad = true
+        flow.value = s
+        scope.launch(io) { store.save(s) }
+    }
 
     /** True once the user answered the notification-permission explanation before a first recording. */
-    @Volatile var notificationsAnswered: Boolean = store.loadNotificationsAnswered()
+    @Volatile var notificationsAnswered: Boolean = false
         private set
 
+    /** Main thread. */
     fun markNotificationsAnswered() {
-        store.saveNotificationsAnswered()
         notificationsAnswered = true
+        scope.launch(io) { store.saveNotificationsAnswered() }
     }
 
     /** What the settings screen needs, from the application's object graph. */

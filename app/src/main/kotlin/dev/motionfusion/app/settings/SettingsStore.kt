@@ -10,12 +10,19 @@ import dev.motionfusion.app.platform.MainThreadPolicy
  * (numbers as exact, locale-independent doubles; flags as true/false; choices by name). A stored
  * value that is missing or refused keeps its default, so a damaged file never stops the app; a
  * value kept under a key of an earlier version ([LEGACY]) is still read.
+ *
+ * The file is opened on first use, and every call touches it: off the main thread only
+ * ([SettingsRepository] calls it on the disk executor).
  */
-class SettingsStore(private val prefs: SharedPreferences, private val settings: List<Setting> = Setting.ALL) {
-    /** Reads the file at once (MainThreadPolicy's one exemption: the settings are needed before the first frame). */
-    constructor(context: Context) : this(
-        MainThreadPolicy.allowingDiskReads { context.getSharedPreferences(FILE, Context.MODE_PRIVATE).also { it.all } },
-    )
+class SettingsStore(open: () -> SharedPreferences, private val settings: List<Setting> = Setting.ALL) {
+    constructor(context: Context) : this({ context.getSharedPreferences(FILE, Context.MODE_PRIVATE) })
+
+    private val file by lazy(open)
+
+    private val prefs: SharedPreferences get() {
+        MainThreadPolicy.checkNotMainThread()
+        return file
+    }
 
     fun load(): LiveSettings {
         val stored = prefs.all

@@ -2,10 +2,12 @@ package dev.motionfusion.app.settings
 
 import androidx.lifecycle.ViewModel
 import androidx.lifecycle.ViewModelProvider
+import androidx.lifecycle.viewModelScope
 import dev.motionfusion.app.live.LiveSettings
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
+import kotlinx.coroutines.launch
 
 /**
  * What the settings screen shows: the values being edited ([draft], always valid: each change
@@ -26,10 +28,21 @@ data class SettingsUiState(
 /**
  * The settings screen's state, kept across configuration changes: edits change the draft, [apply]
  * persists it through [SettingsRepository] and hands it to the live filter and the recorder.
+ * The settings in force follow the repository (its first read from storage can end after the
+ * screen opened); an unchanged draft follows with them.
  */
 class SettingsViewModel(private val repository: SettingsRepository) : ViewModel() {
     private val flow = MutableStateFlow(repository.settings.value.let { SettingsUiState(it, it) })
     val state: StateFlow<SettingsUiState> = flow.asStateFlow()
+
+    init {
+        viewModelScope.launch {
+            repository.settings.collect { s ->
+                val ui = flow.value
+                if (s != ui.applied) flow.value = if (ui.changed) ui.copy(applied = s) else ui.copy(draft = s, applied = s)
+            }
+        }
+    }
 
     /** The last value other than 0 of a setting that 0 turns off, to give back when it is turned on again. */
     private val lastOn = HashMap<String, Double>()

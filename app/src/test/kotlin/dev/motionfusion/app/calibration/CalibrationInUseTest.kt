@@ -19,6 +19,7 @@ import dev.motionfusion.core.calib.GyroscopeCalibration
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
@@ -228,6 +229,29 @@ class CalibrationInUseTest {
     }
 
     @Test
+    fun `a recording started before the stores are read waits for them, and meta_json has the stored settings and calibration`() {
+        store(calibration, useLive = true)
+        graph.graph.settingsRepository.update(graph.graph.settings.value.copy(filter = FilterSettings(beta = 0.05)))
+        graph.settle()
+        val stored = graph.graph.calibrationStore.calibration.value!!
+        // The process starts again and Record is pressed before the disk executor has read the stores.
+        graph = TestGraph(loadStores = false)
+        assertNull(graph.graph.calibrationStore.calibration.value)
+        val intent = Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START)
+        val c = Robolectric.buildService(RecordingService::class.java, intent).create().startCommand(0, 1)
+        assertTrue(graph.graph.recordings.state.value is RecordingState.Preparing)
+        graph.settle()
+        assertTrue(graph.graph.recordings.state.value is RecordingState.Active)
+        assertEquals(stored, graph.capture.calibrationInUse())
+        deliverMotion(1.0)
+        val dir = stop(c)
+        SessionReader.open(dir.toPath()).use { r ->
+            assertEquals(SessionCalibration(stored, appliedInLiveFilter = true), r.metadata.calibration)
+            assertEquals(0.05, r.metadata.filterSettings!!.beta, 0.0)
+        }
+    }
+
+    @Test
     fun `calibration and live screen together register each sensor once, and the calibration gets the capture's events`() {
         val main = Robolectric.buildActivity(MainActivity::class.java).setup()
         assertEquals(1, sensors.listeners.size)
@@ -269,6 +293,9 @@ class CalibrationInUseTest {
         graph.settle()
         val active = graph.graph.recordings.state.value as RecordingState.Active
         assertTrue(active.still)
+        // Only the streams it writes are registered (the rotation vectors are not).
+        val listener = sensors.listeners.single()
+        assertEquals(RecordingService.STILL_STREAMS, all.filterValues { sensors.hasListener(listener, it) }.keys)
         deliverMotion(2.0)
         for (k in 0 until 10) send(SessionStream.ROTATION_VECTOR, 4_000_000_000L + k * 10_000_000L, floatArrayOf(0f, 0f, 0f, 1f, 0.1f))
         graph.pump()
@@ -277,7 +304,11 @@ class CalibrationInUseTest {
         assertEquals(a.getString(R.string.calibration_still_stop), a.findViewById<TextView>(R.id.primary_action).text.toString())
         val progress = a.findViewById<TextView>(R.id.progress_text).text.toString()
         assertTrue(progress, progress.startsWith("12:34 recorded · "))
+        // A reader that stays after the recording (as the live screen would) gets every sensor back.
+        graph.capture.acquire()
         val dir = stop(c)
+        assertEquals(all.keys, all.filterValues { sensors.hasListener(sensors.listeners.single(), it) }.keys)
+        graph.capture.release()
         SessionReader.open(dir.toPath()).use { r ->
             assertTrue(r.metadata.stillRecording)
             val recorded = r.streams.filter { it in SensorStreams.all }.toSet()

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.calibration
 
 import android.content.Context
+import dev.motionfusion.app.offMainThread
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.AccelerometerCalibration
 import dev.motionfusion.core.calib.Calibration
@@ -34,12 +35,12 @@ import java.io.IOException
 @Config(sdk = [34])
 class CalibrationStoreTest {
     private val app = RuntimeEnvironment.getApplication()
-    private val dir = File(app.filesDir, "calibration")
+    private val dir = offMainThread { File(app.filesDir, "calibration") }
     private val pixel = DeviceKey("Google", "Pixel 8", listOf("accelerometer: LSM6DSV (STMicro)", "magnetometer_uncalibrated: AK09918 (AKM)"))
-    private val prefs = app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE)
+    private val prefs = offMainThread { app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) }
 
     private fun store(device: DeviceKey = pixel, at: File = dir) =
-        CalibrationStore(at, device, prefs, Dispatchers.IO, CoroutineScope(SupervisorJob())).also { runBlocking { it.awaitLoaded() } }
+        CalibrationStore({ at }, device, { prefs }, Dispatchers.IO, CoroutineScope(SupervisorJob())).also { runBlocking { it.awaitLoaded() } }
 
     private val mag = MagnetometerCalibration(
         SensorCorrection(Vector3(221.1, 66.5, -536.6), Matrix3.symmetric(0.979, 1.022, 1.004, -0.047, -0.037, -0.034)),

@@ -30,8 +30,8 @@ import java.io.File
 class CalibrationViewModelTest {
     private val app = RuntimeEnvironment.getApplication()
     private fun store() = CalibrationStore(
-        File(app.filesDir, "calibration"), DeviceKey("Google", "Pixel 8", listOf("magnetometer_uncalibrated: AK09918 (AKM)")),
-        app.getSharedPreferences("calibration-test", Context.MODE_PRIVATE), Dispatchers.IO, kotlinx.coroutines.GlobalScope,
+        { File(app.filesDir, "calibration") }, DeviceKey("Google", "Pixel 8", listOf("magnetometer_uncalibrated: AK09918 (AKM)")),
+        { app.getSharedPreferences("calibration-test", Context.MODE_PRIVATE) }, Dispatchers.IO, kotlinx.coroutines.GlobalScope,
     )
 
     private fun viewModel(source: CalibrationSampleSource, store: CalibrationStore = store()): CalibrationViewModel {

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.export
 
+import dev.motionfusion.app.offMainThread
 import android.content.ContentProvider
 import android.content.ContentValues
 import android.database.Cursor
@@ -67,12 +68,12 @@ class DownloadsExportTest {
         override fun getType(uri: Uri): String? = null
     }
 
-    private fun session(name: String, finish: Boolean = true): File {
+    private fun session(name: String, finish: Boolean = true): File = offMainThread {
         val dir = File(File(RuntimeEnvironment.getApplication().filesDir, "sessions"), name)
         val sink = CoreSessionFormat.create(dir, SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(0, 0)))
         for (i in 0 until 100) sink.raw(SessionStream.GYROSCOPE, 1_000L * i, 3, floatArrayOf(0.1f, 0.2f, 0.3f), 0)
         if (finish) sink.finish(RecordingEnd.Stopped) else sink.flush()
-        return dir
+        dir
     }
 
     @Test
@@ -81,11 +82,11 @@ class DownloadsExportTest {
         val media = Robolectric.setupContentProvider(FakeMediaStore::class.java, MediaStore.AUTHORITY)
         val dir = session("walk")
 
-        assertEquals("walk.zip", Exporter.toDownloads(app, dir))
+        assertEquals("walk.zip", offMainThread { Exporter.toDownloads(app, dir) })
         assertEquals("walk.zip", media.name)
         assertEquals("Download", media.relativePath)
         assertEquals(listOf("insert ${MediaStore.Downloads.EXTERNAL_CONTENT_URI}", "open w pending=1", "update pending=0"), media.log)
-        val zip = File(app.cacheDir, "check.zip").apply { writeBytes(media.file.readBytes()) }
+        val zip = offMainThread { File(app.cacheDir, "check.zip").apply { writeBytes(media.file.readBytes()) } }
         SessionReader.open(zip.toPath()).use { r -> assertEquals(100L, r.metadata.streams.getValue(SessionStream.GYROSCOPE).samples) }
     }
 
@@ -94,7 +95,8 @@ class DownloadsExportTest {
         val app = RuntimeEnvironment.getApplication()
         val media = Robolectric.setupContentProvider(FakeMediaStore::class.java, MediaStore.AUTHORITY)
         media.failOpen = true
-        val failure = runCatching { Exporter.toDownloads(app, session("walk")) }.exceptionOrNull()
+        val dir = session("walk")
+        val failure = runCatching { offMainThread { Exporter.toDownloads(app, dir) } }.exceptionOrNull()
         assertTrue("$failure", failure is java.io.IOException)
         assertEquals("delete", media.log.last())
     }
@@ -103,10 +105,10 @@ class DownloadsExportTest {
     fun `neither a folder that is not a session nor a session being recorded is exported`() {
         val app = RuntimeEnvironment.getApplication()
         val media = Robolectric.setupContentProvider(FakeMediaStore::class.java, MediaStore.AUTHORITY)
-        val notASession = File(File(app.filesDir, "sessions"), "empty").apply { mkdirs() }
-        assertTrue(runCatching { Exporter.toDownloads(app, notASession) }.exceptionOrNull() is java.io.IOException)
+        val notASession = offMainThread { File(File(app.filesDir, "sessions"), "empty").apply { mkdirs() } }
+        assertTrue(runCatching { offMainThread { Exporter.toDownloads(app, notASession) } }.exceptionOrNull() is java.io.IOException)
         val recording = session("recording", finish = false)
-        val e = runCatching { Exporter.writeZip(recording, File(app.cacheDir, "x.zip")) }.exceptionOrNull()
+        val e = runCatching { offMainThread { Exporter.writeZip(recording, File(app.cacheDir, "x.zip")) } }.exceptionOrNull()
         assertTrue("$e", e?.message?.contains("still being recorded") == true)
         assertTrue("nothing inserted", media.log.isEmpty())
     }

@@ -22,7 +22,8 @@ internal class FakeSensorSource(override val availableKinds: Set<SensorKind> = S
     override var registeredRate: SamplingRate? = null
     val registrations = ArrayList<SamplingRate>()
 
-    override fun start(rate: SamplingRate) {
+    override fun start(rate: SamplingRate, streams: Set<SessionStream>?) {
+        if (registeredRate == rate) return
         registeredRate = rate
         registrations += rate
     }

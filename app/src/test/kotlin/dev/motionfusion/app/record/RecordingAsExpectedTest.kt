@@ -1,5 +1,7 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.offMainThread
+import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.live.RecordingLimits
 import android.Manifest
 import android.app.Activity
@@ -103,7 +105,7 @@ class RecordingAsExpectedTest {
         shadowOf(Looper.getMainLooper()).idle()
     }
 
-    private fun zipOf(dir: File): File = File(app.cacheDir, "${dir.name}.zip").also { SessionArchive.zip(dir.toPath(), it.toPath()) }
+    private fun zipOf(dir: File): File = offMainThread { File(app.cacheDir, "${dir.name}.zip").also { SessionArchive.zip(dir.toPath(), it.toPath()) } }
 
     @Test
     fun `Mark on the record bar, tapped and long-pressed with a note, lands in the exported session`() {
@@ -198,7 +200,7 @@ class RecordingAsExpectedTest {
 
     @Test
     fun `the maximum duration stops the recording on the injected clock and meta json says why`() {
-        graph.graph.settingsRepository.updateLimits(RecordingLimits(maxDurationS = 15 * 60L, stopBatteryPercent = 0))
+        graph.graph.settingsRepository.update(LiveSettings(limits = RecordingLimits(maxDurationS = 15 * 60L, stopBatteryPercent = 0)))
         val start = graph.clock.elapsedNs
         val c = startService()
         sendRound(start + 1_000_000L)
@@ -216,7 +218,7 @@ class RecordingAsExpectedTest {
 
     @Test
     fun `a low battery stops the recording unless it is charging, and meta json says why`() {
-        graph.graph.settingsRepository.updateLimits(RecordingLimits(stopBatteryPercent = 10))
+        graph.graph.settingsRepository.update(LiveSettings(limits = RecordingLimits(stopBatteryPercent = 10)))
         graph.battery.state = BatteryState(10, charging = true)
         startService()
         sendRound(graph.clock.elapsedNs + 1_000_000L)

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.offMainThread
 import android.app.Activity
 import androidx.appcompat.app.AlertDialog
 import android.content.Intent
@@ -69,7 +70,7 @@ class SessionsScreensTest {
 
     /** A real session of [seconds] of simulated motion at 200 Hz, recorded through the capture; left unfinished if [kill]. */
     private fun record(name: String, seconds: Double, wallMs: Long, seed: Long, kill: Boolean = false): File {
-        val dir = File(File(app.filesDir, "sessions"), name)
+        val dir = offMainThread { File(File(app.filesDir, "sessions"), name) }
         val meta = SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(wallMs, 1_000_000_000L), filterSettings = FilterSettings())
         val c = TestCapture()
         val recorder = Recorder(CoreSessionFormat.create(dir, meta), onEnd = {}, flushIntervalNs = 50_000_000L)
@@ -233,7 +234,7 @@ class SessionsScreensTest {
         val uri = send.getParcelableExtra<Uri>(Intent.EXTRA_STREAM)!!
         assertEquals("content", uri.scheme)
         assertEquals(ExportProvider.authority(app), uri.authority)
-        val copy = File(app.cacheDir, "received.zip")
+        val copy = offMainThread { File(app.cacheDir, "received.zip") }
         app.contentResolver.openInputStream(uri)!!.use { input -> copy.outputStream().use { input.copyTo(it) } }
         SessionReader.open(copy.toPath()).use { r ->
             assertEquals(600L, r.metadata.streams.getValue(SessionStream.GYROSCOPE).samples)
@@ -254,7 +255,7 @@ class SessionsScreensTest {
         assertEquals(Intent.ACTION_CREATE_DOCUMENT, create.intent.action)
         assertEquals("application/zip", create.intent.type)
         assertEquals("walk.zip", create.intent.getStringExtra(Intent.EXTRA_TITLE))
-        val picked = File(app.cacheDir, "picked/walk.zip").apply { parentFile!!.mkdirs(); createNewFile() }
+        val picked = offMainThread { File(app.cacheDir, "picked/walk.zip").apply { parentFile!!.mkdirs(); createNewFile() } }
         shadowOf(a).receiveResult(create.intent, Activity.RESULT_OK, Intent().setData(Uri.fromFile(picked)))
         idle()
         assertEquals(a.getString(R.string.export_done_document), a.findViewById<TextView>(R.id.detail_message).text.toString())

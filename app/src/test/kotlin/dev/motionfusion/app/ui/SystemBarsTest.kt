@@ -1,5 +1,6 @@
 package dev.motionfusion.app.ui
 
+import dev.motionfusion.app.offMainThread
 import android.content.Context
 import android.content.Intent
 import android.graphics.Color
@@ -94,7 +95,7 @@ class SystemBarsTest {
 
     @Test
     fun `a session's detail`() {
-        File(File(app.filesDir, "sessions"), "empty session").mkdirs()
+        offMainThread { File(File(app.filesDir, "sessions"), "empty session").mkdirs() }
         val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, "empty session")
         check(ActivityScenario.launch<SessionDetailActivity>(intent), R.id.detail_root, "edge-to-edge-session-detail")
     }
