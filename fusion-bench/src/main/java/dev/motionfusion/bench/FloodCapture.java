@@ -36,7 +36,7 @@ final class FloodCapture {
         @Override public Set<SensorKind> getAvailableKinds() { return EnumSet.allOf(SensorKind.class); }
         @Override public Map<SensorKind, SensorInfo> getInfo() { return Collections.emptyMap(); }
         @Override public SamplingRate getRegisteredRate() { return rate; }
-        @Override public void start(SamplingRate r) { rate = r; }
+        @Override public void start(SamplingRate r, Set<? extends SessionStream> streams) { rate = r; }
         @Override public void stop() { rate = null; }
     }
 
@@ -58,7 +58,7 @@ final class FloodCapture {
     }
 
     static void attach(Capture c, CaptureTap tap) {
-        c.attach$app(tap, new LiveSettings(), null);
+        c.attach$app(tap, new LiveSettings(), null, null);
         if (!c.isRunning()) throw new IllegalStateException("not running");
     }
 
