@@ -163,7 +163,8 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
     private fun sensorText(kind: SensorKind, s: FusionState): String {
         val name = activity.getString(kindName(kind))
         val info = sensorInfo[kind] ?: return activity.getString(R.string.sensor_missing, name)
-        val head = activity.getString(R.string.sensor_line, name, info.name, info.vendor)
+        val head = if (info.vendor.isBlank()) activity.getString(R.string.sensor_line_no_vendor, name, info.name)
+        else activity.getString(R.string.sensor_line, name, info.name, info.vendor)
         val st = s.sensors[kind] ?: return head + "\n" + activity.getString(R.string.sensor_no_data)
         val rates = activity.getString(
             R.string.sensor_rates,

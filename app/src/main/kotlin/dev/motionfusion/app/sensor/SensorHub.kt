@@ -9,7 +9,7 @@ import android.os.HandlerThread
 import android.os.Process
 import dev.motionfusion.core.event.SessionStream
 
-/** What the device says about one of its sensors (name and vendor are the driver's strings). */
+/** What the device says about one of its sensors (name and vendor are the driver's strings; the vendor empty when it gives none). */
 data class SensorInfo(
     val kind: SensorKind,
     val name: String,
@@ -64,7 +64,7 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
 
     /** Name, vendor and limits of each live-screen sensor the device has. */
     override val info: Map<SensorKind, SensorInfo> = sensors.entries.mapNotNull { (stream, s) ->
-        SensorStreams.kindOf(stream)?.let { it to SensorInfo(it, s.name ?: "?", s.vendor ?: "?", s.minDelay, s.maximumRange, s.resolution) }
+        SensorStreams.kindOf(stream)?.let { it to SensorInfo(it, s.name ?: "?", s.vendor.orEmpty(), s.minDelay, s.maximumRange, s.resolution) }
     }.toMap()
 
     private var thread: HandlerThread? = null

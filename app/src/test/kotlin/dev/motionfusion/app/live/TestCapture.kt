@@ -20,12 +20,10 @@ internal class FakeSensorSource(override val availableKinds: Set<SensorKind> = S
     override val streams: Set<SessionStream> = SensorStreams.all.toSet()
     override val info: Map<SensorKind, SensorInfo> = emptyMap()
     override var registeredRate: SamplingRate? = null
-    val registrations = ArrayList<SamplingRate>()
 
     override fun start(rate: SamplingRate, streams: Set<SessionStream>?) {
         if (registeredRate == rate) return
         registeredRate = rate
-        registrations += rate
     }
 
     override fun stop() {
