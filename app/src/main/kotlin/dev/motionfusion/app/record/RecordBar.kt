@@ -2,6 +2,7 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.app.live.RecordingLimits
 import android.Manifest
+import android.content.Context
 import android.content.Intent
 import android.content.pm.PackageManager
 import android.content.res.ColorStateList
@@ -157,11 +158,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 toggle.setText(R.string.record_stop)
                 toggle.contentDescription = activity.getString(R.string.record_stop_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_active))
-                status.text = if (s.toRepair > 0) {
-                    activity.getString(R.string.record_repairing, s.repaired, s.toRepair)
-                } else {
-                    activity.getString(R.string.record_preparing)
-                }
+                status.text = s.line(activity)
             }
             is RecordingState.Active -> {
                 val elapsed = s.elapsedS(deps.clock.elapsedRealtimeNanos() / 1_000_000)
@@ -199,3 +196,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         }
     }
 }
+
+/** What a starting recording is doing: repairing interrupted sessions (n of m), or preparing. The record bar and the banner show it. */
+internal fun RecordingState.Preparing.line(c: Context): String =
+    if (toRepair > 0) c.getString(R.string.record_repairing, repaired, toRepair) else c.getString(R.string.record_preparing)

@@ -76,8 +76,7 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
                 val what = context.getString(if (s.still) R.string.recording_banner_still else R.string.recording_banner_active, elapsed)
                 if (s.streams == 0) what else context.getString(R.string.recording_banner_streams_line, what, resources.getQuantityString(R.plurals.recording_banner_streams, s.streams, s.streams))
             }
-            is RecordingState.Preparing ->
-                if (s.toRepair > 0) context.getString(R.string.record_repairing, s.repaired, s.toRepair) else context.getString(R.string.record_preparing)
+            is RecordingState.Preparing -> s.line(context)
             else -> null
         }
         visibility = if (line == null) View.GONE else View.VISIBLE
