@@ -18,7 +18,9 @@ import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.SessionFormat
 import dev.motionfusion.app.settings.SettingsStore
 import java.io.File
+import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.Dispatchers
+import kotlin.coroutines.CoroutineContext
 import java.util.concurrent.LinkedBlockingDeque
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
@@ -75,6 +77,25 @@ internal fun <T> offMainThread(block: () -> T): T {
     t.start()
     t.join()
     return result!!.getOrThrow()
+}
+
+/**
+ * A dispatcher whose tasks wait until the test runs them, newest first ([runNewestFirst], off the
+ * main thread): the worst order a dispatcher with several threads could pick for background writes.
+ */
+internal class HeldDispatcher : CoroutineDispatcher() {
+    private val tasks = ArrayList<Runnable>()
+
+    override fun dispatch(context: CoroutineContext, block: Runnable) {
+        synchronized(tasks) { tasks += block }
+    }
+
+    fun runNewestFirst() = offMainThread {
+        while (true) {
+            val task = synchronized(tasks) { tasks.removeLastOrNull() } ?: break
+            task.run()
+        }
+    }
 }
 
 /**

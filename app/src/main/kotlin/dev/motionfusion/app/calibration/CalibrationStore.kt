@@ -113,8 +113,14 @@ class CalibrationStore(
             use.value = on
             update()
         }
-        scope.launch(io) { prefs().edit().putBoolean(USE_IN_LIVE_FILTER, on).apply() }
+        scope.launch(io) {
+            val p = prefs()
+            // Stores the latest choice, whatever order the writes run in ([io] need not be serial).
+            synchronized(writing) { p.edit().putBoolean(USE_IN_LIVE_FILTER, use.value).apply() }
+        }
     }
+
+    private val writing = Any()
 
     private fun update() {
         activeFlow.value = if (use.value) current.value else null
@@ -181,6 +187,6 @@ class CalibrationStore(
 
     companion object {
         const val PREFS = "calibration"
-        private const val USE_IN_LIVE_FILTER = "use_in_live_filter"
+        internal const val USE_IN_LIVE_FILTER = "use_in_live_filter"
     }
 }

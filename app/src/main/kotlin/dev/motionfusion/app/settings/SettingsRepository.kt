@@ -40,8 +40,13 @@ class SettingsRepository(private val store: SettingsStore, private val io: Corou
     fun update(s: LiveSettings) {
         changedBeforeLoad = true
         flow.value = s
-        scope.launch(io) { store.save(s) }
+        scope.launch(io) {
+            // Stores the latest settings, whatever order the writes run in ([io] need not be serial).
+            synchronized(writing) { store.save(flow.value) }
+        }
     }
+
+    private val writing = Any()
 
     /** True once the user answered the notification-permission explanation before a first recording. */
     @Volatile var notificationsAnswered: Boolean = false

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.calibration
 
 import android.content.Context
+import dev.motionfusion.app.HeldDispatcher
 import dev.motionfusion.app.offMainThread
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.AccelerometerCalibration
@@ -13,7 +14,7 @@ import dev.motionfusion.core.calib.SensorCorrection
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineScope
-import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.runBlocking
 import org.junit.Assert.assertEquals
@@ -22,6 +23,7 @@ import org.junit.Assert.assertNotEquals
 import org.junit.Assert.assertNull
 import org.junit.Assert.assertTrue
 import org.junit.Assert.fail
+import org.junit.After
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
@@ -29,6 +31,7 @@ import org.robolectric.RuntimeEnvironment
 import org.robolectric.annotation.Config
 import java.io.File
 import java.io.IOException
+import java.util.concurrent.Executors
 
 /** The per-device calibration store: atomic JSON files keyed by device, merged per sensor, and the recorder's and live filter's hooks. */
 @RunWith(RobolectricTestRunner::class)
@@ -39,8 +42,14 @@ class CalibrationStoreTest {
     private val pixel = DeviceKey("Google", "Pixel 8", listOf("accelerometer: LSM6DSV (STMicro)", "magnetometer_uncalibrated: AK09918 (AKM)"))
     private val prefs = offMainThread { app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) }
 
+    /** One background thread, tasks in order, as the app's disk executor: a store made after a write reads what was written. */
+    private val io = Executors.newSingleThreadExecutor().asCoroutineDispatcher()
+
+    @After
+    fun stopIo() = io.close()
+
     private fun store(device: DeviceKey = pixel, at: File = dir) =
-        CalibrationStore({ at }, device, { prefs }, Dispatchers.IO, CoroutineScope(SupervisorJob())).also { runBlocking { it.awaitLoaded() } }
+        CalibrationStore({ at }, device, { prefs }, io, CoroutineScope(SupervisorJob())).also { runBlocking { it.awaitLoaded() } }
 
     private val mag = MagnetometerCalibration(
         SensorCorrection(Vector3(221.1, 66.5, -536.6), Matrix3.symmetric(0.979, 1.022, 1.004, -0.047, -0.037, -0.034)),
@@ -94,6 +103,21 @@ class CalibrationStoreTest {
         assertTrue(again.useInLiveFilter.value)
         assertEquals(mag, again.active.value!!.magnetometer)
         s.setUseInLiveFilter(false)
+    }
+
+    @Test
+    fun `the stored setting is the last choice whatever order the background writes run in`() {
+        val held = HeldDispatcher()
+        val s = CalibrationStore({ dir }, pixel, { prefs }, held, CoroutineScope(SupervisorJob()))
+        held.runNewestFirst() // the first read
+        s.setUseInLiveFilter(false)
+        s.setUseInLiveFilter(true)
+        held.runNewestFirst()
+        assertTrue(offMainThread { prefs.getBoolean(CalibrationStore.USE_IN_LIVE_FILTER, false) })
+        s.setUseInLiveFilter(true)
+        s.setUseInLiveFilter(false)
+        held.runNewestFirst()
+        assertFalse(offMainThread { prefs.getBoolean(CalibrationStore.USE_IN_LIVE_FILTER, true) })
     }
 
     @Test

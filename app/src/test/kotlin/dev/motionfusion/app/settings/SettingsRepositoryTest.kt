@@ -1,0 +1,39 @@
+package dev.motionfusion.app.settings
+
+import android.os.Looper
+import dev.motionfusion.app.HeldDispatcher
+import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.offMainThread
+import dev.motionfusion.core.filter.FilterSettings
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import org.junit.Assert.assertEquals
+import org.junit.Test
+import org.junit.runner.RunWith
+import org.robolectric.RobolectricTestRunner
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+import org.robolectric.annotation.Config
+
+/** The settings repository's background writes: what stays stored is the last change. */
+@RunWith(RobolectricTestRunner::class)
+@Config(sdk = [34])
+class SettingsRepositoryTest {
+    private val store = SettingsStore(RuntimeEnvironment.getApplication())
+
+    @Test
+    fun `the stored settings are the last change whatever order the background writes run in`() {
+        val held = HeldDispatcher()
+        val repository = SettingsRepository(store, held, CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate))
+        held.runNewestFirst() // the first read
+        shadowOf(Looper.getMainLooper()).idle()
+        val first = LiveSettings(filter = FilterSettings(beta = 0.1))
+        val last = LiveSettings(filter = FilterSettings(beta = 0.3))
+        repository.update(first)
+        repository.update(last)
+        held.runNewestFirst()
+        assertEquals(last, offMainThread { store.load() })
+        assertEquals(last, repository.settings.value)
+    }
+}
