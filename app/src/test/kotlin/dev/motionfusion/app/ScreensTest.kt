@@ -195,6 +195,11 @@ class ScreensTest {
                 assertTrue("$n: ${a.resources.getResourceEntryName(id)} below the fold at ${at[1]}", at[1] + v.height / 2 < screenH)
                 assertTrue("$n: ${a.resources.getResourceEntryName(id)} ${v.width}×${v.height}", v.width >= 100 && v.height >= 100)
             }
+            if (shape == Shape.TABLET || shape == Shape.TABLET_LANDSCAPE) {
+                // A tablet's model card is not a tall empty frame around a model drawn to the column's width.
+                val model = a.findViewById<View>(R.id.phone_model)
+                assertTrue("$n: model ${model.width}×${model.height}", model.height <= 1.2 * model.width)
+            }
         }
     }
 

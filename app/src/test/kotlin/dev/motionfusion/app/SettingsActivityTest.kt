@@ -95,6 +95,11 @@ class SettingsActivityTest {
         }
         assertEquals(shown.size + Setting.APP.size, Setting.ALL.size)
         assertEquals("0.02 rad/s (1.1°/s)", a.text("beta", R.id.setting_value))
+        // The saturation's default is the phone's own range (FusionPipeline), the table's value only without one.
+        assertEquals(
+            "Default: 97 % of this phone's gyroscope range (34 rad/s (1948.1°/s) without one; 0 turns it off)",
+            a.text("gyro_saturation_rad_s", R.id.setting_help),
+        )
     }
 
     @Test

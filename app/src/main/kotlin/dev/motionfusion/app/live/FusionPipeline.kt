@@ -7,6 +7,7 @@ import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationArrays
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.sensormanager.SensorManagerMath
 import java.util.EnumMap
@@ -27,7 +28,10 @@ import kotlin.math.sqrt
 class FusionPipeline(
     private val available: Set<SensorKind>,
     settings: LiveSettings,
-    /** The gyroscope's saturation threshold from its range (sensor/GyroSaturation), rad/s; null keeps the filter's default. */
+    /**
+     * The gyroscope's saturation threshold from its range (sensor/GyroSaturation), rad/s, used
+     * while the setting is at its default; null keeps the setting.
+     */
     private val gyroSaturationRadS: Double? = null,
 ) {
     var settings: LiveSettings = settings
@@ -186,7 +190,10 @@ class FusionPipeline(
     }
 
     private fun newFilter(): MadgwickFilter {
-        val fs = settings.filter.let { if (gyroSaturationRadS != null) it.copy(gyroSaturation = gyroSaturationRadS) else it }
+        // The gyroscope's range stands in for the setting while it is at its default; a value the user chose (or off) stays.
+        val fs = settings.filter.let {
+            if (gyroSaturationRadS != null && it.gyroSaturation == DEFAULT_GYRO_SATURATION) it.copy(gyroSaturation = gyroSaturationRadS) else it
+        }
         // 9D requested without a magnetometer: the filter runs 6D.
         return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
     }
@@ -267,5 +274,7 @@ class FusionPipeline(
     private companion object {
         /** Below this the accelerometer measures no usable gravity (10 % of g, as getRotationMatrix). */
         const val FREE_FALL_MS2 = 0.981
+
+        val DEFAULT_GYRO_SATURATION = FilterSettings().gyroSaturation
     }
 }

@@ -13,6 +13,8 @@ import com.google.android.material.R as MaterialR
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
 import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.sensor.GyroSaturation
+import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.filter.SettingKind
 import java.math.BigDecimal
 import java.math.RoundingMode
@@ -67,7 +69,13 @@ internal class SettingRow(
                 s.setLabelFormatter { withUnit(it.toDouble()) }
                 s.addOnChangeListener { _, v, _ -> if (!showing) onChange(setting, round(v.toDouble())) }
                 val d = setting.default as Double
-                help.text = context.getString(if (setting.zeroDisables) R.string.settings_default_off else R.string.settings_default, if (setting.zeroDisables && d == 0.0) context.getString(R.string.settings_off) else withUnit(d))
+                val helpText = when {
+                    setting.key == GYRO_SATURATION_KEY -> R.string.settings_default_gyro_range // FusionPipeline: the range stands in for the default
+                    setting.zeroDisables -> R.string.settings_default_off
+                    else -> R.string.settings_default
+                }
+                val shownDefault = if (setting.zeroDisables && d == 0.0) context.getString(R.string.settings_off) else withUnit(d)
+                help.text = context.getString(helpText, shownDefault, Math.round(GyroSaturation.MARGIN * 100).toInt())
                 reset!!.setOnClickListener { onChange(setting, setting.default) }
                 reset.contentDescription = context.getString(R.string.settings_reset_one) + " " + setting.title
                 if (setting.zeroDisables) {
@@ -155,3 +163,6 @@ internal class SettingRow(
         return String.format(Locale.ROOT, "%s (%.1f°%s)", plain, Math.toDegrees(v), unit.removePrefix("rad"))
     }
 }
+
+/** The gyroscope saturation setting's key: its default is replaced by the phone's range. */
+private val GYRO_SATURATION_KEY = FilterSettingDescriptors.named("gyroSaturation")!!.jsonKey
