@@ -72,11 +72,9 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
         private set
     override val values: DoubleArray = DoubleArray(map.stream.valueCount)
     override val accuracy: Int = SensorEvents.NO_ACCURACY
-    private val fieldCount: Int
-
     init {
         try {
-            fieldCount = csv.header(null).fieldCount
+            csv.header(null)
         } catch (e: Throwable) {
             csv.close()
             throw e
@@ -84,8 +82,7 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
     }
 
     override fun next(): Boolean {
-        if (!csv.nextLine()) return false
-        csv.requireFieldCount(fieldCount)
+        if (!csv.nextRecord()) return false
         var field = map.timeIndex
         try {
             if (map.timeIsNs) {
@@ -95,8 +92,7 @@ internal class ExportCsvCursor(private val map: ColumnMap, private val csv: Byte
                     throw FieldError("${e.reason}: the time column holds integer nanoseconds (a re-saved file that wrote them as decimals loses their precision)")
                 }
             } else {
-                val t = csv.parseDouble(field)
-                if (!(kotlin.math.abs(t) < ImuTableReader.MAX_TIME_S)) throw FieldError("time '${csv.excerpt(field)}' is not a finite time")
+                val t = csv.parseTimeS(field)
                 if (t > map.endS + END_TOLERANCE_S) {
                     throw FieldError("time $t s is after the end of the experiment (${map.endS} s, meta/time.csv): this file belongs to another recording")
                 }

@@ -86,15 +86,19 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
             ByteCsvReader.END -> return false
             ByteCsvReader.ROW -> {
                 // A plain row, parsed in one pass: the same doubles as the general path below.
-                setTime(parsed[0])
+                timeS = try {
+                    csv.checkedTimeS(parsed[0], index[0])
+                } catch (e: FieldError) {
+                    throw csv.error(index[0], "column t_s: ${e.reason}")
+                }
                 parsed.copyInto(row, 0, 1, COLUMNS.size)
                 return true
             }
         }
-        csv.requireFieldCount(fieldCount)
+        csv.requireFieldCount()
         var c = 0
         try {
-            setTime(csv.parseDouble(index[0]))
+            timeS = csv.parseTimeS(index[0])
             c = 1
             while (c < COLUMNS.size) {
                 val i = index[c]
@@ -107,13 +111,6 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
         return true
     }
 
-    private fun setTime(t: Double) {
-        if (!(kotlin.math.abs(t) < MAX_TIME_S)) {
-            throw csv.error(index[0], "column t_s: time '${csv.excerpt(index[0])}' is not a finite time (or beyond ±292 years)")
-        }
-        timeS = t
-    }
-
     override fun close(): Unit = csv.close()
 
     public companion object {
@@ -121,8 +118,6 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
         internal val COLUMNS: List<String> = listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az", "mx", "my", "mz")
         private const val REQUIRED = 7
 
-        /** Times beyond this (s) do not fit a nanosecond Long. */
-        internal const val MAX_TIME_S = 9.2e9
 
         /** True when [header] (a first line) names the required columns of an IMU table. */
         internal fun recognises(header: String): Boolean {

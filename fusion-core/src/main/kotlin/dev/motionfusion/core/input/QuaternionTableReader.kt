@@ -23,7 +23,6 @@ import java.nio.file.Path
 public class QuaternionTableReader private constructor(private val csv: ByteCsvReader) : Closeable {
     private val cols: IntArray
     private val movement: Int
-    private val fieldCount: Int
     private val names: List<String>
 
     /** True when the table has a movement column. */
@@ -44,7 +43,6 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
         try {
             val header = csv.header("t_s,qw,qx,qy,qz[,movement]")
             names = header.names
-            fieldCount = header.fieldCount
             cols = IntArray(5) { header.require(COLUMNS[it]) }
             movement = names.indexOf("movement")
         } catch (e: Throwable) {
@@ -55,13 +53,10 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
 
     /** Advances to the next row; false at the end. */
     public fun next(): Boolean {
-        if (!csv.nextLine()) return false
-        csv.requireFieldCount(fieldCount)
+        if (!csv.nextRecord()) return false
         var field = cols[0]
         try {
-            val t = csv.parseDouble(field)
-            if (!(kotlin.math.abs(t) < ImuTableReader.MAX_TIME_S)) throw FieldError("time '${csv.excerpt(field)}' is not a finite time")
-            timeS = t
+            timeS = csv.parseTimeS(field)
             for (k in 0 until 4) {
                 field = cols[k + 1]
                 q[k] = csv.parseDouble(field, emptyIsNaN = true)

@@ -64,6 +64,20 @@ internal class ByteCsvReader(
     var endedWithNewline = true
         private set
 
+    /** Fields of the header ([header]), which every data line must have. */
+    private var headerFields = -1
+
+    /**
+     * Advances to the next data line and checks it has the header's field count; false at the
+     * end. [skipCutLastLine]: a last line without its newline (a recording cut short) is the end.
+     */
+    fun nextRecord(skipCutLastLine: Boolean = false): Boolean {
+        if (!nextLine()) return false
+        if (skipCutLastLine && !endedWithNewline) return false
+        requireFieldCount()
+        return true
+    }
+
     private fun readLine(): Boolean {
         var scan = pos
         while (true) {
@@ -318,10 +332,21 @@ internal class ByteCsvReader(
      * Checks that the current line has [expected] fields (the header's count). A comma-separated
      * row with too many fields often holds decimal commas: the message says so.
      */
-    fun requireFieldCount(expected: Int) {
+    fun requireFieldCount() {
+        val expected = headerFields
+        check(expected >= 0) { "no header read" }
         if (count == expected) return
         val hint = if (count > expected && separator == COMMA) " (a decimal comma in a comma-separated file? numbers must use '.')" else ""
         throw error(minOf(count, expected), "row has $count fields, the header has $expected$hint")
+    }
+
+    /** Field [i] as a time in seconds: finite, and within a nanosecond Long's range ([checkedTimeS]). */
+    fun parseTimeS(i: Int): Double = checkedTimeS(parseDouble(i), i)
+
+    /** [t], read from field [i], when it is a time in seconds a nanosecond Long can hold; else a FieldError. */
+    fun checkedTimeS(t: Double, i: Int): Double {
+        if (!(kotlin.math.abs(t) < MAX_TIME_S)) throw FieldError("time '${excerpt(i)}' is not a finite time (or beyond ±292 years)")
+        return t
     }
 
     /** Field [i] as a decimal integer (optional sign, digits only). */
@@ -445,6 +470,7 @@ internal class ByteCsvReader(
      */
     fun header(expected: String?): CsvHeader {
         if (!nextLine()) throw DataFormatException(sourceName, 1, 0, if (expected == null) "empty file" else "empty file: expected a header $expected")
+        headerFields = count
         return CsvHeader(this, names(), expected)
     }
 
@@ -452,6 +478,9 @@ internal class ByteCsvReader(
 
     companion object {
         const val MAX_LINE_BYTES = 1 shl 20
+
+        /** Times beyond this (s) do not fit a nanosecond Long. */
+        const val MAX_TIME_S = 9.2e9
 
         /** [nextRow]: a row of plain numbers was parsed. */
         const val ROW = 0

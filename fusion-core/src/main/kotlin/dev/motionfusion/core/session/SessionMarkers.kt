@@ -79,12 +79,10 @@ internal class MarkerCursor(private val csv: ByteCsvReader, private val skipCutL
 
     private val timeIndex: Int
     private val labelIndex: Int
-    private val fieldCount: Int
 
     init {
         try {
             val header = csv.header(SessionMarkers.HEADER)
-            fieldCount = header.fieldCount
             timeIndex = header.require(SessionStream.TIMESTAMP_COLUMN)
             labelIndex = header.require("label")
         } catch (e: Throwable) {
@@ -95,9 +93,7 @@ internal class MarkerCursor(private val csv: ByteCsvReader, private val skipCutL
 
     /** The next marker; false at the end. @throws DataFormatException at the malformed field's line and column. */
     fun next(): Boolean {
-        if (!csv.nextLine()) return false
-        if (skipCutLastLine && !csv.endedWithNewline) return false
-        csv.requireFieldCount(fieldCount)
+        if (!csv.nextRecord(skipCutLastLine)) return false
         var field = timeIndex
         try {
             timestampNs = csv.parseLong(field)

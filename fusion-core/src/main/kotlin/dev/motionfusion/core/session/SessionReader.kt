@@ -137,12 +137,10 @@ internal class SessionCsvCursor(
     private val timeIndex: Int
     private val valueIndex = IntArray(stream.valueCount)
     private val accuracyIndex: Int
-    private val fieldCount: Int
 
     init {
         try {
             val header = csv.header(stream.header)
-            fieldCount = header.fieldCount
             timeIndex = header.require(SessionStream.TIMESTAMP_COLUMN)
             for (k in valueIndex.indices) valueIndex[k] = header.require(stream.valueColumns[k])
             accuracyIndex = if (stream.hasAccuracy) header.require(SessionStream.ACCURACY_COLUMN) else -1
@@ -153,9 +151,7 @@ internal class SessionCsvCursor(
     }
 
     override fun next(): Boolean {
-        if (!csv.nextLine()) return false
-        if (skipCutLastLine && !csv.endedWithNewline) return false
-        csv.requireFieldCount(fieldCount)
+        if (!csv.nextRecord(skipCutLastLine)) return false
         var field = timeIndex
         try {
             timestampNs = csv.parseLong(field)

@@ -94,6 +94,21 @@ class ImuTableReaderTest {
     }
 
     @Test
+    fun `a time that is not finite is the same error in an IMU table, on either row path, and in an orientation table`() {
+        val plain = error("t_s,gx,gy,gz,ax,ay,az\n1e300,0,0,0,0,0,9.8\n") // a plain row: the one-pass parser
+        val quoted = error("t_s,gx,gy,gz,ax,ay,az\n1e300,\"0\",0,0,0,0,9.8\n") // a quoted field: the general path
+        val dir = kotlin.io.path.createTempDirectory("qtable")
+        val table = dir.resolve("q.csv").also { it.toFile().writeText("t_s,qw,qx,qy,qz\n1e300,1,0,0,0\n") }
+        val orientation = assertThrows<DataFormatException> { QuaternionTableReader.open(table).use { it.next() } }
+        dir.toFile().deleteRecursively()
+        assertEquals("column t_s: time '1e300' is not a finite time (or beyond ±292 years)", plain.reason)
+        assertEquals(plain.reason, quoted.reason)
+        assertEquals(plain.reason, orientation.reason)
+        assertEquals(2L, orientation.line)
+        assertEquals(1, orientation.column)
+    }
+
+    @Test
     fun `a long field is quoted as a short escaped excerpt`() {
         val e = error("t_s,gx,gy,gz,ax,ay,az\n1,0,0,0,0,0,${"x\u0001".repeat(5000)}\n")
         assertTrue(e.message!!.length < 200, e.message)
