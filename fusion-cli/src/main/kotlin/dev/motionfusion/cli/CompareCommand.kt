@@ -48,7 +48,12 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
         InputOptions.open(input, o, err, name).use { rec ->
             val settings = FilterOptions.settings(o, rec, err, name)
             if (refStream !in rec.streams) {
-                throw DataFormatException(input, 0, 0, "no ${refStream.fileName} in this ${rec.format.description}: nothing to compare with")
+                val where = if (refStream == SessionStream.ROTATION_VECTOR) {
+                    "the phone's own orientation (${refStream.fileName} in a session, Orientation.csv in a Sensor Logger export; phyphox exports have none)"
+                } else {
+                    "the phone's game rotation vector (${refStream.fileName} in a session; other apps' exports have none)"
+                }
+                throw DataFormatException(input, 0, 0, "no $where in this ${rec.format.description}: nothing to compare with")
             }
             if (live && SessionStream.ORIENTATION !in rec.streams) throw DataFormatException(input, 0, 0, "no orientation.csv (live orientation) in this recording")
             var origin = rec.originNs

@@ -186,6 +186,10 @@ class ReplayCommandsTest {
         // these noise-free data is near zero, so a rounding difference can turn a few steps: 5e-4 per quaternion
         // component, about 0.06°. An export replayed upside down or with swapped axes is off by order 1.
         assertSameReplay(reference, ios.out, 5e-4)
+        // Without Orientation.csv there is nothing to compare with: the message names the export's file.
+        val noOrientation = fusion("compare", p("logger-ios.zip"))
+        assertEquals(ExitCode.DATA_ERROR, noOrientation.code)
+        assertTrue(noOrientation.err.contains("Orientation.csv in a Sensor Logger export"), noOrientation.err)
 
         // Without TotalAcceleration.csv or Gravity.csv the export cannot be replayed, and says why.
         zip(dir.resolve("logger-linear.zip"), mapOf("Accelerometer.csv" to logger { it.acc }, "Gyroscope.csv" to logger { it.gyro }))

@@ -11,6 +11,7 @@ import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.event.StreamCursor
+import dev.motionfusion.core.WorldFrame
 import kotlin.math.roundToLong
 
 /** A CSV dialect: field [separator] and whether numbers may use a decimal comma. */
@@ -139,4 +140,34 @@ internal class SumCursor(private val a: StreamCursor, private val b: StreamCurso
     override fun close() {
         try { a.close() } finally { b.close() }
     }
+}
+
+/**
+ * A rotation-vector stream ([x, y, z, w] first) whose orientations are sensor → [from], turned
+ * into sensor → ENU as every reader delivers them: q_ENU = c ⊗ q with c = [from] → ENU (iOS
+ * CoreMotion's x-north-z-vertical reference is NWU).
+ */
+internal class WorldFrameCursor(private val source: StreamCursor, from: WorldFrame) : StreamCursor {
+    private val c = from.quaternionTo(WorldFrame.ENU)
+    override val stream: SessionStream get() = source.stream
+    override val timestampNs: Long get() = source.timestampNs
+    override val values: DoubleArray = DoubleArray(source.values.size)
+    override val accuracy: Int get() = source.accuracy
+
+    override fun next(): Boolean {
+        if (!source.next()) return false
+        val v = source.values
+        val x = v[0]
+        val y = v[1]
+        val z = v[2]
+        val w = v[3]
+        values[0] = c.w * x + c.x * w + c.y * z - c.z * y
+        values[1] = c.w * y - c.x * z + c.y * w + c.z * x
+        values[2] = c.w * z + c.x * y - c.y * x + c.z * w
+        values[3] = c.w * w - c.x * x - c.y * y - c.z * z
+        for (k in 4 until values.size) values[k] = v[k]
+        return true
+    }
+
+    override fun close(): Unit = source.close()
 }

@@ -11,6 +11,8 @@
  */
 package dev.motionfusion.core.input
 
+import dev.motionfusion.core.WorldFrame
+
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
@@ -165,8 +167,10 @@ internal object SensorLoggerImport {
         for ((file, stream) in listOf("GyroscopeUncalibrated.csv" to SessionStream.GYROSCOPE_UNCALIBRATED, "MagnetometerUncalibrated.csv" to SessionStream.MAGNETOMETER_UNCALIBRATED)) {
             map(file, stream, 1.0, xyz)?.let { u -> sources += StreamSource(stream) { u.open(it) } }
         }
+        // The phone's own orientation: Android's rotation vector is sensor → ENU already; CoreMotion's
+        // attitude is sensor → its x-north-z-vertical reference (NWU, true north), turned here into ENU.
         map("Orientation.csv", SessionStream.ROTATION_VECTOR, 1.0, listOf("qx", "qy", "qz", "qw"))?.let { o ->
-            sources += StreamSource(SessionStream.ROTATION_VECTOR) { o.open(it) }
+            sources += StreamSource(SessionStream.ROTATION_VECTOR) { if (iosRaw) WorldFrameCursor(o.open(it), WorldFrame.NWU) else o.open(it) }
         }
         return ImportPlan(sources, notes)
     }
