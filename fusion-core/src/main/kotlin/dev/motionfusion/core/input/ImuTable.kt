@@ -121,7 +121,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
 
         /** True when [header] (a first line) names the required columns of an IMU table. */
         internal fun recognises(header: String): Boolean {
-            val names = header.split(',').map { it.trim().removeSurrounding("\"").lowercase() }
+            val names = ByteCsvReader.headerNames(header).map { it.lowercase() }
             return COLUMNS.take(REQUIRED).all { it in names }
         }
 

@@ -47,7 +47,7 @@ internal object PhyphoxImport {
     /** The header of a phyphox CSV named [fileName], or null when it is not one. */
     private fun parse(header: String, fileName: String): Header? {
         val dialect = Dialect.detect(header)
-        val names = splitHeader(header, dialect.separator)
+        val names = ByteCsvReader.headerNames(header, dialect.separator)
         val times = names.indices.filter { TIME.matches(names[it]) }
         if (times.size != 1) return null
         val fromFile = quantity(fileName.substringAfterLast('/').substringBeforeLast('.').replace(Regex("""(?i)^raw data_?"""), ""))
@@ -66,21 +66,6 @@ internal object PhyphoxImport {
         }
         if (sets.isEmpty()) return null
         return Header(dialect, names, times[0], sets)
-    }
-
-    private fun splitHeader(header: String, separator: Char): List<String> {
-        val out = ArrayList<String>()
-        val sb = StringBuilder()
-        var inQuotes = false
-        for (c in header) {
-            when {
-                c == '"' -> inQuotes = !inQuotes
-                c == separator && !inQuotes -> { out += sb.toString().trim(); sb.setLength(0) }
-                else -> sb.append(c)
-            }
-        }
-        out += sb.toString().trim()
-        return out
     }
 
     /** True when [header] is a phyphox header of a data set this importer knows. */

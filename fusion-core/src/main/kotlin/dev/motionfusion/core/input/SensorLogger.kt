@@ -14,6 +14,7 @@ package dev.motionfusion.core.input
 import dev.motionfusion.core.WorldFrame
 
 import dev.motionfusion.core.STANDARD_GRAVITY
+import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.event.SessionStream
@@ -31,7 +32,7 @@ internal class StreamSource(val stream: SessionStream, val open: (FileSet) -> de
 internal object SensorLoggerImport {
     /** True when [header] is a Sensor Logger CSV header. */
     fun recognises(header: String): Boolean =
-        header.split(',').map { it.trim().removeSurrounding("\"") }.take(2) == listOf("time", "seconds_elapsed")
+        ByteCsvReader.headerNames(header).take(2) == listOf("time", "seconds_elapsed")
 
     /** What Metadata.csv says: platform, and whether units and frames were standardised (null when not stated). */
     private class Metadata(val platform: Platform?, val standardised: Boolean?, val appVersion: String?)
@@ -61,12 +62,12 @@ internal object SensorLoggerImport {
      */
     private fun inferPlatform(files: FileSet, dir: String): Platform? {
         files.find(dir, "Orientation.csv")?.let { files.firstLine(it) }?.let { h ->
-            val names = h.split(',').map { it.trim() }
+            val names = ByteCsvReader.headerNames(h)
             if (names.getOrNull(2) == "qz") return Platform.ANDROID
             if (names.getOrNull(2) == "yaw") return Platform.IOS
         }
         files.find(dir, "Location.csv")?.let { files.firstLine(it) }?.let { h ->
-            if ("altitudeAboveMeanSeaLevel" in h.split(',')) return Platform.IOS
+            if ("altitudeAboveMeanSeaLevel" in ByteCsvReader.headerNames(h)) return Platform.IOS
         }
         val uncalibrated = files.find(dir, "AccelerometerUncalibrated.csv") ?: return null
         files.csv(uncalibrated).use { csv ->
@@ -122,9 +123,9 @@ internal object SensorLoggerImport {
         fun map(name: String, stream: SessionStream, scale: Double, columns: List<String>): ColumnMap? {
             val path = files.find(dir, name) ?: return null
             val header = files.firstLine(path) ?: return null
-            val names = header.split(',').map { it.trim().removeSurrounding("\"") }
+            val names = ByteCsvReader.headerNames(header)
             fun col(n: String): Int = names.indexOf(n).also {
-                if (it < 0) throw DataFormatException(files.displayName(path), 1, 0, "header lacks column '$n' (got ${dev.motionfusion.core.io.ByteCsvReader.escapedExcerpt(header)})")
+                if (it < 0) throw DataFormatException(files.displayName(path), 1, 0, "header lacks column '$n' (got ${ByteCsvReader.escapedExcerpt(header)})")
             }
             val idx = IntArray(stream.valueCount) { k -> columns.getOrNull(k)?.let { col(it) } ?: -1 }
             return ColumnMap(stream, path, Dialect.COMMA, col("time"), true, idx, DoubleArray(idx.size) { scale })

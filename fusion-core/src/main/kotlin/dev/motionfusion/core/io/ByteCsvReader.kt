@@ -510,6 +510,18 @@ internal class ByteCsvReader(
         private const val SPACE = ' '.code.toByte()
         const val EXCERPT_CHARS = 24
 
+        /**
+         * The header names in [line] (a first line sniffed as text), split by this tokenizer at
+         * [separator] as [names] does (a quote left open runs to the end); empty when it cannot be read.
+         */
+        fun headerNames(line: String, separator: Char = ','): List<String> = try {
+            ByteCsvReader(line.toByteArray(Charsets.UTF_8).inputStream(), "header", separator.code.toByte()).use {
+                if (it.nextLine()) it.names() else emptyList()
+            }
+        } catch (e: DataFormatException) {
+            emptyList()
+        }
+
         /** [text] cut to [EXCERPT_CHARS] characters with control characters, quotes and backslashes escaped. */
         fun escapedExcerpt(text: String): String {
             val cut = text.length > EXCERPT_CHARS

@@ -84,7 +84,6 @@ class InputFuzzTest {
     /** Runs [read] on the mutated input; only DataFormatException may escape. */
     private fun check(format: String, read: () -> Unit) {
         case++
-        val t0 = System.nanoTime()
         val o = outcomes.getOrPut(format) { IntArray(2) }
         try {
             read()
@@ -95,8 +94,6 @@ class InputFuzzTest {
         } catch (e: Throwable) {
             fail<Unit>("$format case $case: ${e::class.java.name}: ${e.message}", e)
         }
-        val ms = (System.nanoTime() - t0) / 1e6
-        assertTrue(ms < 5000, "$format case $case took $ms ms")
     }
 
     private fun drain(p: Path) {

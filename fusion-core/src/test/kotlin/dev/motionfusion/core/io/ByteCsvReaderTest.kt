@@ -9,6 +9,14 @@ import java.io.ByteArrayInputStream
 import java.util.Random
 
 class ByteCsvReaderTest {
+    @Test
+    fun `a sniffed header line is split by the same tokenizer as the rows`() {
+        assertEquals(listOf("time", "a,b", "x"), ByteCsvReader.headerNames("\"time\",\"a,b\",x"))
+        assertEquals(listOf("Time (s)", "X (rad/s)"), ByteCsvReader.headerNames("\"Time (s)\"\t\"X (rad/s)\"", '\t'))
+        assertEquals(listOf("t;s", "gx"), ByteCsvReader.headerNames("\"t;s\";gx", ';'))
+        assertEquals(listOf("open quote,t_s"), ByteCsvReader.headerNames("\"open quote,t_s")) // quoted to the end of the line
+    }
+
     private fun reader(text: String) = ByteCsvReader(ByteArrayInputStream(text.toByteArray()), "t.csv")
 
     @Test
