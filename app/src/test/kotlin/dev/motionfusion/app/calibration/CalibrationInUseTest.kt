@@ -19,6 +19,7 @@ import dev.motionfusion.core.calib.GyroscopeCalibration
 import dev.motionfusion.core.calib.MagnetometerCalibration
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.calib.SensorCorrection
+import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.replay.ReplayListener
@@ -146,10 +147,10 @@ class CalibrationInUseTest {
     }
 
     /** Orientations of `fusion replay`'s engine on [events]. */
-    private fun replay(reader: SessionReader, events: SensorEvents): List<DoubleArray> {
+    private fun replay(reader: SessionReader, events: SensorEvents, settings: FilterSettings = reader.metadata.filterSettings!!): List<DoubleArray> {
         val out = ArrayList<DoubleArray>()
         events.use { e ->
-            Replayer(reader.metadata.filterSettings!!).run(e, null, object : ReplayListener {
+            Replayer(settings).run(e, null, object : ReplayListener {
                 override fun step(step: ReplayStep) {
                     if (step.initialised) out += step.orientation.copyOf()
                 }
@@ -231,7 +232,8 @@ class CalibrationInUseTest {
     @Test
     fun `a recording started before the stores are read waits for them, and meta_json has the stored settings and calibration`() {
         store(calibration, useLive = true)
-        graph.graph.settingsRepository.update(graph.graph.settings.value.copy(filter = FilterSettings(beta = 0.05)))
+        val chosen = FilterSettings(beta = 0.05, mode = FilterMode.IMU, restBiasEstimation = false)
+        graph.graph.settingsRepository.update(graph.graph.settings.value.copy(filter = chosen))
         graph.settle()
         val stored = graph.graph.calibrationStore.calibration.value!!
         // The process starts again and Record is pressed before the disk executor has read the stores.
@@ -243,11 +245,20 @@ class CalibrationInUseTest {
         graph.settle()
         assertTrue(graph.graph.recordings.state.value is RecordingState.Active)
         assertEquals(stored, graph.capture.calibrationInUse())
-        deliverMotion(1.0)
+        deliverMotion(3.0)
         val dir = stop(c)
         SessionReader.open(dir.toPath()).use { r ->
             assertEquals(SessionCalibration(stored, appliedInLiveFilter = true), r.metadata.calibration)
-            assertEquals(0.05, r.metadata.filterSettings!!.beta, 0.0)
+            // The user's settings, not the defaults, ran live and are in meta.json (with the gyroscope's range for the saturation).
+            assertEquals(graph.capture.filterSettingsFor(graph.graph.settings.value), r.metadata.filterSettings)
+            assertEquals(chosen.copy(gyroSaturation = r.metadata.filterSettings!!.gyroSaturation), r.metadata.filterSettings)
+            // Replayed with them, the recording gives the live orientation; with the defaults it does not.
+            val events = { CalibratedEvents(r.events(), stored, r.streams) }
+            val same = worst(live(r), replay(r, events()))
+            val defaults = worst(live(r), replay(r, events(), FilterSettings()))
+            println("user's settings: replay with meta.json's within %.2e° of live, with the defaults %.2f° away".format(same, defaults))
+            assertTrue("replay with meta.json's settings: $same°", same < 1e-4)
+            assertTrue("replay with the defaults: $defaults°", defaults > 1.0)
         }
     }
 
