@@ -198,7 +198,8 @@ class InputFormatsTest {
         fun formats(): List<String> = listOf(
             "session folder", "session zip", "table", "table gz", "trial",
             "phyphox android comma", "phyphox android semicolon", "phyphox android semicolon comma", "phyphox android tab", "phyphox android comma zip",
-            "phyphox ios comma", "phyphox ios semicolon", "phyphox ios semicolon comma zip", "phyphox custom comma",
+            "phyphox ios comma", "phyphox ios semicolon", "phyphox ios semicolon comma", "phyphox ios tab", "phyphox ios semicolon comma zip",
+            "phyphox custom comma", "phyphox custom semicolon comma", "phyphox custom tab",
             "sensor logger android with metadata", "sensor logger android without metadata", "sensor logger android with metadata zip",
             "sensor logger ios with metadata", "sensor logger ios without metadata", "sensor logger ios standardised", "sensor logger ios with metadata zip",
             "sensor logger ios uncalibrated only",
