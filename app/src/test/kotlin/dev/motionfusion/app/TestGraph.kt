@@ -138,6 +138,31 @@ internal class TestGraph(
         shadowOf(Looper.getMainLooper()).idle()
     }
 
+    /**
+     * [settle], the main thread's tasks run one at a time: returns the longest of them on [clock]
+     * (the work they did, as the fakes advance it) and how many ran.
+     */
+    fun settleTimed(): Pair<Long, Int> {
+        val main = shadowOf(Looper.getMainLooper())
+        var longest = 0L
+        var tasks = 0
+        fun runMain() {
+            while (!main.isIdle) {
+                val t0 = clock.elapsedNs
+                main.runOneTask()
+                longest = maxOf(longest, clock.elapsedNs - t0)
+                tasks++
+            }
+        }
+        do {
+            runMain()
+            val n = disk.runAll()
+            capture.pump()
+            runMain()
+        } while (n > 0 || disk.pending > 0)
+        return longest to tasks
+    }
+
     /** Disk tasks and main-thread work until both are quiet. */
     fun settle() {
         do {

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.offMainThread
+
 import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
 import android.app.NotificationManager
@@ -220,30 +222,41 @@ class RecordingServiceTest {
     }
 
     @Test
-    fun `Record after killed recordings, repair runs on the disk executor while the screen shows its progress`() {
+    fun `Record after killed hour-long recordings repairs them on the disk executor, no main-thread task longer than a frame, progress shown`() {
         val root = File(app.filesDir, "sessions")
-        for (k in 1..3) File(root, "session_2026-01-0${k}_00-00-00").apply { mkdirs() }.let { File(it, "rows.txt").writeText("GYROSCOPE,$k,3,0.0,0.") }
+        offMainThread {
+            for (k in 1..3) File(root, "session_2026-01-0${k}_00-00-00").apply { mkdirs() }.let { File(it, "rows.txt").writeText("GYROSCOPE,$k,3,0.0,0.") }
+        }
         val repairThreads = ArrayList<Thread>()
         val slow = object : SessionFormat by format {
             override fun recover(dir: File) {
                 repairThreads += Thread.currentThread()
+                // Each repair takes, on the injected clock, what a killed one-hour recording's does (seconds).
+                graph.clock.elapsedNs += REPAIR_OF_AN_HOUR_NS
                 format.recover(dir)
             }
         }
         graph = graph(slow)
         val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
         val status = main.findViewById<android.widget.TextView>(R.id.record_status)
+        val pressedNs = graph.clock.elapsedNs
         val c = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START))
             .create().startCommand(0, 1)
+        val pressNs = graph.clock.elapsedNs - pressedNs
         // The press returned at once: nothing was repaired on the main thread, the work waits on the disk executor.
         assertTrue(graph.disk.pending > 0)
         assertTrue(repairThreads.isEmpty())
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
         assertEquals(app.getString(R.string.record_preparing), status.text.toString())
         assertTrue(state is RecordingState.Preparing)
-        idle()
+        // Until the recording runs, each main-thread task is measured on the clock the repairs advance.
+        val (longestNs, tasks) = graph.settleTimed()
         assertEquals(3, repairThreads.size)
         assertTrue("repaired off the main thread", repairThreads.none { it === Looper.getMainLooper().thread })
+        assertTrue("main-thread tasks seen: $tasks", tasks > 0)
+        assertTrue("the press blocked the main thread ${pressNs / 1e6} ms", pressNs <= FRAME_NS)
+        assertTrue("a main-thread task took ${longestNs / 1e6} ms", longestNs <= FRAME_NS)
+        assertEquals("the repairs' time passed (off the main thread)", 3 * REPAIR_OF_AN_HOUR_NS, graph.clock.elapsedNs - pressedNs)
         assertTrue(state is RecordingState.Active)
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
         assertEquals(app.getString(R.string.record_stop), main.findViewById<Button>(R.id.record_toggle).text.toString())
@@ -255,5 +268,13 @@ class RecordingServiceTest {
     fun `disk work on the main thread fails`() {
         val e = runCatching { graph.graph.sessions.list() }.exceptionOrNull()
         assertTrue("$e", e is IllegalStateException && e.message == "disk work on the main thread")
+    }
+
+    private companion object {
+        /** A long repair: a killed one-hour recording's stream files are read through to find their last whole rows (seconds). */
+        const val REPAIR_OF_AN_HOUR_NS = 3_000_000_000L
+
+        /** One frame at 60 Hz. */
+        const val FRAME_NS = 16_666_667L
     }
 }
