@@ -46,7 +46,10 @@ class CalibrationStoreTest {
     private val io = Executors.newSingleThreadExecutor().asCoroutineDispatcher()
 
     @After
-    fun stopIo() = io.close()
+    fun stopIo() {
+        runBlocking(io) {} // the writes still queued run before the test ends
+        io.close()
+    }
 
     private fun store(device: DeviceKey = pixel, at: File = dir) =
         CalibrationStore({ at }, device, { prefs }, io, CoroutineScope(SupervisorJob())).also { runBlocking { it.awaitLoaded() } }
@@ -102,7 +105,6 @@ class CalibrationStoreTest {
         val again = store() // persisted, read with the file
         assertTrue(again.useInLiveFilter.value)
         assertEquals(mag, again.active.value!!.magnetometer)
-        s.setUseInLiveFilter(false)
     }
 
     @Test

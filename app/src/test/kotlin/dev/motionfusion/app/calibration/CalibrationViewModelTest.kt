@@ -5,7 +5,10 @@ import dev.motionfusion.core.calib.CalibrationSettings
 import dev.motionfusion.core.calib.DirectionCoverage
 import dev.motionfusion.core.calib.Fit
 import dev.motionfusion.core.event.SessionStream
+import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.asCoroutineDispatcher
 import kotlinx.coroutines.flow.first
 import kotlinx.coroutines.runBlocking
 import kotlinx.coroutines.withTimeout
@@ -13,12 +16,14 @@ import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertNull
 import org.junit.Assert.assertTrue
+import org.junit.After
 import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.annotation.Config
 import java.io.File
+import java.util.concurrent.Executors
 
 /**
  * The guided calibration's state on simulated readings with known errors: what it shows while
@@ -29,13 +34,22 @@ import java.io.File
 @Config(sdk = [34])
 class CalibrationViewModelTest {
     private val app = RuntimeEnvironment.getApplication()
+    /** One background thread, tasks in order, as the app's disk executor; drained when the test ends. */
+    private val io = Executors.newSingleThreadExecutor().asCoroutineDispatcher()
+
+    @After
+    fun stopIo() {
+        runBlocking(io) {}
+        io.close()
+    }
+
     private fun store() = CalibrationStore(
         { File(app.filesDir, "calibration") }, DeviceKey("Google", "Pixel 8", listOf("magnetometer_uncalibrated: AK09918 (AKM)")),
-        { app.getSharedPreferences("calibration-test", Context.MODE_PRIVATE) }, Dispatchers.IO, kotlinx.coroutines.GlobalScope,
-    )
+        { app.getSharedPreferences("calibration-test", Context.MODE_PRIVATE) }, io, CoroutineScope(SupervisorJob()),
+    ).also { runBlocking { it.awaitLoaded() } }
 
     private fun viewModel(source: CalibrationSampleSource, store: CalibrationStore = store()): CalibrationViewModel {
-        return CalibrationViewModel(source, store, CalibrationSettings(maxMagSamples = 20_000), Dispatchers.Main.immediate, Dispatchers.IO, "test")
+        return CalibrationViewModel(source, store, CalibrationSettings(maxMagSamples = 20_000), Dispatchers.Main.immediate, io, "test")
     }
 
     @Test
@@ -109,7 +123,7 @@ class CalibrationViewModelTest {
         val store = store()
         val vm = viewModel(FakeSampleSource(SimulatedReadings.turning(2.5, 90.0)), store)
         vm.start(); vm.finish(); vm.save()
-        runBlocking { withTimeout(10_000) { vm.state.first { it.saved || it.saveError != null } } }
+        runBlocking { withTimeout(120_000) { vm.state.first { it.saved || it.saveError != null } } } // a guard against a hang only
         assertTrue(vm.state.value.saved)
         val stored = store.calibration.value!!
         assertEquals((vm.state.value.magFit as Fit.Done).value, stored.magnetometer)
