@@ -96,10 +96,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
     private val outputChange = WorldFrame.NWU.quaternionTo(settings.outputFrame)
-    private val c1 = outputChange.w
-    private val c2 = outputChange.x
-    private val c3 = outputChange.y
-    private val c4 = outputChange.z
 
     // Estimate q̂ (NWU), the report's SEq_1..4.
     private var q1 = 1.0
@@ -288,10 +284,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             return
         }
         // q_out = c ⊗ q̂ (Hamilton product with the fixed frame change c).
-        out[offset] = c1 * q1 - c2 * q2 - c3 * q3 - c4 * q4
-        out[offset + 1] = c1 * q2 + c2 * q1 + c3 * q4 - c4 * q3
-        out[offset + 2] = c1 * q3 - c2 * q4 + c3 * q1 + c4 * q2
-        out[offset + 3] = c1 * q4 + c2 * q3 - c3 * q2 + c4 * q1
+        outputChange.timesInto(q1, q2, q3, q4, out, offset)
     }
 
     /** A copy of the current flags, bias estimate and counters (allocates; not for every sample). */

@@ -153,18 +153,16 @@ internal class WorldFrameCursor(private val source: StreamCursor, from: WorldFra
     override val timestampNs: Long get() = source.timestampNs
     override val values: DoubleArray = DoubleArray(source.values.size)
     override val accuracy: Int get() = source.accuracy
+    private val q = DoubleArray(4)
 
     override fun next(): Boolean {
         if (!source.next()) return false
         val v = source.values
-        val x = v[0]
-        val y = v[1]
-        val z = v[2]
-        val w = v[3]
-        values[0] = c.w * x + c.x * w + c.y * z - c.z * y
-        values[1] = c.w * y - c.x * z + c.y * w + c.z * x
-        values[2] = c.w * z + c.x * y - c.y * x + c.z * w
-        values[3] = c.w * w - c.x * x - c.y * y - c.z * z
+        c.timesInto(v[3], v[0], v[1], v[2], q, 0)
+        values[0] = q[1]
+        values[1] = q[2]
+        values[2] = q[3]
+        values[3] = q[0]
         for (k in 4 until values.size) values[k] = v[k]
         return true
     }
