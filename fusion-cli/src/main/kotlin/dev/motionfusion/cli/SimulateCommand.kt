@@ -17,6 +17,8 @@ import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
+import dev.motionfusion.core.sim.ViolentMotion
+import dev.motionfusion.core.sim.ViolentMotionKind
 import java.io.BufferedOutputStream
 import java.io.PrintStream
 import java.nio.file.Files
@@ -64,6 +66,17 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         |  --gyro-noise-density N     white gyroscope noise, rad/s/√Hz, added to the 0.002 rad/s
         |  --acc-noise-density N      white accelerometer noise, m/s²/√Hz, added to the 0.03 m/s²
         |  --mag-noise SIGMA          magnetometer noise per sample, µT (default 0.3)
+        |  --hard-iron-window S,E     the hard iron only from S to E s (a magnet or steel passing by)
+        |  --field UT,DIP             the earth's field: strength in µT and dip in degrees (default
+        |                             48,60; a steel hall can be 15,30)
+        |
+        |Violent motion and the sensors' limits (docs/ACCURACY.md, "Recovery after violent motion"):
+        |  --violent KIND@S,...       drop, fall, shake or throw starting at S s (e.g. drop@5,shake@12);
+        |                             the phone then lies still outside these motions, so what
+        |                             follows each one shows how fast a filter comes back
+        |  --acc-range M_S2           accelerometer clipped at ±M_S2 per axis (e.g. 78.5 for ±8 g)
+        |  --gyro-range RAD_S         gyroscope clipped at ±RAD_S per axis (e.g. 34.9 for ±2000°/s)
+        |  --gyro-scale-error R       gyroscope reads (1 + R) times the rate (e.g. 0.03)
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
@@ -124,6 +137,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     private companion object {
         val ERROR_OPTIONS = listOf(
             "--hard-iron", "--soft-iron", "--gyro-bias", "--acc-offset", "--acc-scale", "--gyro-noise-density", "--acc-noise-density", "--mag-noise",
+            "--violent", "--acc-range", "--gyro-range", "--gyro-scale-error", "--field", "--hard-iron-window",
         )
 
         /** The simulated recording's fixed wall-clock start (2025-11-26 12:00 UTC): reproducible output. */
@@ -144,9 +158,39 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         }
         fun density(name: String) = o.double(name)?.also { if (it < 0.0) throw UsageException("$name must be ≥ 0") }
         val hardIron = vector("--hard-iron")
+        val ironWindow = numbers("--hard-iron-window", setOf(2))?.let {
+            if (hardIron == null) throw UsageException("--hard-iron-window needs --hard-iron")
+            if (it[0] < 0.0 || it[1] <= it[0]) throw UsageException("--hard-iron-window expects S,E with 0 ≤ S < E")
+            TimeWindow(it[0], it[1])
+        }
+        val field = numbers("--field", setOf(2))?.also {
+            if (it[0] <= 0.0 || it[0] > 1000.0) throw UsageException("--field strength must be in (0, 1000] µT")
+            if (kotlin.math.abs(it[1]) > 90.0) throw UsageException("--field dip must be in [−90, 90]°")
+        }
+        val violent = o.value("--violent")?.let { text ->
+            text.split(',').map { item ->
+                val at = item.indexOf('@')
+                val kind = if (at > 0) ViolentMotionKind.entries.firstOrNull { it.name.equals(item.substring(0, at).trim(), ignoreCase = true) } else null
+                val start = if (at > 0) item.substring(at + 1).trim().toDoubleOrNull() else null
+                if (kind == null || start == null || !start.isFinite() || start < 0.0 || start + kind.durationS > base.durationS) {
+                    throw UsageException("--violent expects KIND@S with KIND one of drop, fall, shake, throw and the motion inside --duration, got '$item'")
+                }
+                ViolentMotion(kind, start)
+            }
+        }
+        fun nonNegative(name: String, max: Double) = o.double(name)?.also { if (it < 0.0 || it > max) throw UsageException("$name must be in [0, $max]") }
+        val scale = o.double("--gyro-scale-error")?.also { if (kotlin.math.abs(it) >= 0.5) throw UsageException("--gyro-scale-error must be in (−0.5, 0.5)") }
         return base.copy(
+            violentMotions = violent ?: base.violentMotions,
+            // Still outside the violent motions, which replace the rest where they fall.
+            restWindows = if (violent != null) listOf(TimeWindow(0.0, base.durationS + 1.0)) else base.restWindows,
+            accRange = nonNegative("--acc-range", 2000.0) ?: base.accRange,
+            gyroRange = nonNegative("--gyro-range", 200.0) ?: base.gyroRange,
+            gyroScaleError = scale ?: base.gyroScaleError,
+            fieldStrength = field?.get(0) ?: base.fieldStrength,
+            dip = field?.let { Math.toRadians(it[1]) } ?: base.dip,
             hardIron = hardIron ?: base.hardIron,
-            hardIronWindow = if (hardIron != null) TimeWindow(0.0, base.durationS + 1.0) else base.hardIronWindow,
+            hardIronWindow = ironWindow ?: if (hardIron != null) TimeWindow(0.0, base.durationS + 1.0) else base.hardIronWindow,
             magSoftIron = matrix("--soft-iron") ?: base.magSoftIron,
             gyroBias = vector("--gyro-bias") ?: base.gyroBias,
             accOffset = vector("--acc-offset") ?: base.accOffset,

@@ -75,4 +75,27 @@ class SimulateErrorsTest {
             assertTrue(!Files.exists(dir.resolve("x.zip")), "$args wrote a file")
         }
     }
+
+    @Test
+    fun `violent motions, sensor limits and a weak field are simulated and bad ones refused`() {
+        val table = dir.resolve("violent.csv")
+        val s = fusion(
+            "simulate", "-o", table.toString(), "--duration", "20", "--rate", "200", "--violent", "shake@4,drop@10,throw@15",
+            "--acc-range", "78.5", "--gyro-scale-error", "0.03", "--field", "15,30",
+        )
+        assertEquals(ExitCode.OK, s.code, s.err)
+        assertTrue("--violent shake@4,drop@10,throw@15" in s.out, s.out)
+        val rows = Files.readAllLines(table).drop(1).map { l -> l.split(',').map { it.toDouble() } }
+        // Clipped at ±78.5 m/s², still (no rotation) outside the motions, 15 µT field.
+        assertTrue(rows.all { r -> (4..6).all { kotlin.math.abs(r[it]) <= 78.5 + 0.2 } }, "accelerometer beyond its range")
+        assertTrue(rows.any { r -> (4..6).any { kotlin.math.abs(r[it]) > 78.0 } }, "the drop's impact should clip")
+        val still = rows.filter { it[0] in 8.0..9.0 }
+        assertTrue(still.all { r -> kotlin.math.sqrt(r[1] * r[1] + r[2] * r[2] + r[3] * r[3]) < 0.1 }, "rotating between motions")
+        assertTrue(still.all { r -> kotlin.math.abs(kotlin.math.sqrt(r[7] * r[7] + r[8] * r[8] + r[9] * r[9]) - 15.0) < 3.0 }, "field strength")
+        for (bad in listOf("jump@3", "drop", "drop@19.9", "shake@-1")) {
+            val r = fusion("simulate", "-o", dir.resolve("bad.csv").toString(), "--violent", bad)
+            assertEquals(ExitCode.USAGE, r.code, "$bad: ${r.err}")
+            assertTrue("--violent expects KIND@S" in r.err, r.err)
+        }
+    }
 }

@@ -102,6 +102,14 @@ public enum class Initialisation {
  *   accelerometer (low-passed with accLowPassTime) is within 1° of the estimated up, for at most 10 s;
  *   then β again. 0 disables it. ≥ 0. Default 0.5 (up to 57°/s).
  * @property accTrustTime see inclinationRecoveryBeta, s. Default 0.5 s.
+ * @property recoveryAngle inclination recovery after any large error (with inclinationRecoveryBeta > 0):
+ *   once the phone has been near-still for recoveryStillTime (the bias-corrected gyroscope below
+ *   recoveryGyroThreshold, the accelerometer's magnitude within restAccThreshold of standard gravity), an
+ *   estimated up further than this from the accelerometer arms the recovery at once (the low-passed
+ *   accelerometer starts again from the still readings), whatever put the estimate off: an impact, a
+ *   shake, a fall, a throw. rad; 0 disables it. Default 3°.
+ * @property recoveryGyroThreshold see recoveryAngle, rad/s. Default 0.3 rad/s (17°/s).
+ * @property recoveryStillTime see recoveryAngle, s. Default 0.2 s.
  * @property accLowPassTime inclination from the accelerometer low-passed in a quasi-inertial frame, s:
  *   the readings, turned with the gyroscope into a frame fixed in space, are low-passed with this time
  *   constant and the correction steps use the result instead of the raw reading. Gravity is fixed in that
@@ -138,6 +146,9 @@ public data class FilterSettings(
     val accMaxRejectionTime: Double = 5.0,
     val inclinationRecoveryBeta: Double = 0.5,
     val accTrustTime: Double = 0.5,
+    val recoveryAngle: Double = 1.0 * DEG,
+    val recoveryGyroThreshold: Double = 0.1,
+    val recoveryStillTime: Double = 0.2,
     val accLowPassTime: Double = 5.0,
     val gyroSaturation: Double = 34.0,
     val headingGain: Double = 0.05,
@@ -169,6 +180,9 @@ public data class FilterSettings(
         requireFinite("magNewFieldTime", magNewFieldTime, min = 0.0)
         requireFinite("inclinationRecoveryBeta", inclinationRecoveryBeta, min = 0.0)
         requirePositive("accTrustTime", accTrustTime)
+        require(recoveryAngle.isFinite() && recoveryAngle >= 0.0 && recoveryAngle < PI) { "recoveryAngle must be in [0, π) rad: $recoveryAngle" }
+        requirePositive("recoveryGyroThreshold", recoveryGyroThreshold)
+        requireFinite("recoveryStillTime", recoveryStillTime, min = 0.0)
         requireFinite("accLowPassTime", accLowPassTime, min = 0.0)
         requireFinite("gyroSaturation", gyroSaturation, min = 0.0)
         requirePositive("motionBiasLimit", motionBiasLimit)
@@ -195,6 +209,7 @@ public data class FilterSettings(
             headingRecoveryTime = 0.0,
             magNewFieldTime = 0.0,
             inclinationRecoveryBeta = 0.0,
+            recoveryAngle = 0.0,
             accLowPassTime = 0.0,
             gyroSaturation = 0.0,
         )

@@ -64,6 +64,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val accNormTolerance = settings.accNormTolerance
     private val accLowPassTime = settings.accLowPassTime
     private val gyroSaturation = settings.gyroSaturation
+    private val cosRecoveryAngle = if (settings.recoveryAngle > 0.0 && recoveryBeta > 0.0) kotlin.math.cos(settings.recoveryAngle) else 2.0
+    private val recoveryGyro2 = settings.recoveryGyroThreshold * settings.recoveryGyroThreshold
+    private val recoveryStillTime = settings.recoveryStillTime
+    private val stillAccThreshold = settings.restAccThreshold
+
+    // How long the phone has been near-still with a trustworthy accelerometer, s (recovery after any large error).
+    private var stillTime = 0.0
 
     // Set at the start and by a saturated gyroscope reading, cleared once inclination has re-converged.
     private var inclinationOff = false
@@ -139,6 +146,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var accRejections = 0L
     private var magRejections = 0L
     private var saturations = 0L
+    private var stillRecoveries = 0L
 
     /** True once the filter has an orientation. Before that, [orientation] is the identity (of the output frame). */
     public val isInitialised: Boolean get() = initialised
@@ -217,6 +225,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         var cx = ax
         var cy = ay
         var cz = az
+        if (cosRecoveryAngle <= 1.0 && !inclinationOff) checkStillError(dt, x - wbx, y - wby, z - wbz, accOk)
         if (accLowPassTime != 0.0) {
             lowPassAcc(dt, x - wbx, y - wby, z - wbz, accOk)
             cx = lpx; cy = lpy; cz = lpz
@@ -309,7 +318,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
         val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0, lpx, lpy, lpz, if (lpFresh) 1.0 else 0.0, if (inclinationOff) 1.0 else 0.0, lpTime)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0, lpx, lpy, lpz, if (lpFresh) 1.0 else 0.0, if (inclinationOff) 1.0 else 0.0, lpTime, stillTime)
         own.copyInto(d)
         var at = DOUBLES
         at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
@@ -317,7 +326,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accRejection?.writeState(d, at)
         val l = longArrayOf(
             accT, magT, lastT, firstAccT, flags(),
-            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations,
+            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations, stillRecoveries,
         )
         return FilterSnapshot(settings, d, l)
     }
@@ -333,7 +342,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         wbx = d[6]; wby = d[7]; wbz = d[8]
         ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
         headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]; headingOff = d[18] != 0.0
-        lpx = d[19]; lpy = d[20]; lpz = d[21]; lpFresh = d[22] != 0.0; inclinationOff = d[23] != 0.0; lpTime = d[24]
+        lpx = d[19]; lpy = d[20]; lpz = d[21]; lpFresh = d[22] != 0.0; inclinationOff = d[23] != 0.0; lpTime = d[24]; stillTime = d[25]
         var at = DOUBLES
         at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
         at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
@@ -343,7 +352,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val f = l[4]
         hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L
         steps = l[5]; skippedBeforeInit = l[6]; skippedNonFinite = l[7]; skippedZero = l[8]; skippedTimestamp = l[9]
-        skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]; saturations = l[14]
+        skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]; saturations = l[14]; stillRecoveries = l[15]
     }
 
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
@@ -492,6 +501,36 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accTrusted = 0.0
         headingClock = 0.0
         headingOff = true
+    }
+
+    /**
+     * Recovery after any large error (recoveryAngle > 0): while the phone is near-still (bias-corrected
+     * rate [wx], [wy], [wz] below recoveryGyroThreshold) and the accelerometer's magnitude is within
+     * restAccThreshold of standard gravity, the reading is gravity within a fraction of a degree. Once
+     * that has held for recoveryStillTime, an estimated up further than recoveryAngle from the reading
+     * means the estimate was put off (an impact, a shake, a fall: motions that need not reach the
+     * gyroscope's range): the low-passed accelerometer, which went through the same motion, starts
+     * again from the still readings and the inclination recovery acts at once. Costs a few
+     * multiplications and one square root per step; nothing while a recovery runs.
+     */
+    private fun checkStillError(dt: Double, wx: Double, wy: Double, wz: Double, accOk: Boolean) {
+        if (!accOk || wx * wx + wy * wy + wz * wz >= recoveryGyro2) {
+            stillTime = 0.0
+            return
+        }
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        if (abs(n - STANDARD_GRAVITY) >= stillAccThreshold) {
+            stillTime = 0.0
+            return
+        }
+        stillTime += dt
+        if (stillTime >= recoveryStillTime && ax * upX() + ay * upY() + az * upZ() < cosRecoveryAngle * n) {
+            stillRecoveries++
+            inclinationOff = true
+            lpFresh = true
+            accTrusted = accTrustTime
+            stillTime = 0.0
+        }
     }
 
     /**
@@ -660,7 +699,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
 
     private companion object {
-        const val DOUBLES = 25
+        const val DOUBLES = 26
 
         /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
         val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)

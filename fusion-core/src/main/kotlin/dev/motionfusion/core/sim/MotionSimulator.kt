@@ -11,7 +11,10 @@
  * the end of the interval reports that rate: integrating the gyroscope over the timestamps
  * reproduces the truth exactly (apart from noise, bias and dropped samples).
  *
- * Sensor errors (SimulationSettings): gyroscope = rate + bias + noise; accelerometer =
+ * Violent motions (ViolentMotion: drops, falls, shakes, throws) replace the smooth motion inside their
+ * windows; the gyroscope and accelerometer are then clipped at their ranges where these are set.
+ *
+ * Sensor errors (SimulationSettings): gyroscope = (1 + scale error) · rate + bias + noise; accelerometer =
  * M · specific force + offset + noise; magnetometer = K · field + hard iron + noise. The errors
  * added for calibration draw from a second random sequence, only when set.
  */
@@ -43,6 +46,7 @@ public class MotionSimulator(public val settings: SimulationSettings) {
 
     /** The device-frame angular velocity at time [t] s, rad/s. */
     public fun angularVelocity(t: Double): Vector3 {
+        violentAt(t)?.let { return it.rate(t) }
         if (settings.restWindows.any { t in it }) return Vector3.ZERO
         val a = settings.angularRate / 3.0
         fun axis(k: Int) = a * (sin(freq[3 * k] * t + phase[3 * k]) + sin(freq[3 * k + 1] * t + phase[3 * k + 1]) + sin(freq[3 * k + 2] * t + phase[3 * k + 2]))
@@ -51,10 +55,17 @@ public class MotionSimulator(public val settings: SimulationSettings) {
 
     /** The world-frame (ENU) linear acceleration at time [t] s, m/s². */
     public fun linearAcceleration(t: Double): Vector3 {
+        violentAt(t)?.let { return it.acceleration(t, settings.gravity) }
         val w = settings.linearAccelerationWindow
         if (w == null || t !in w || settings.restWindows.any { t in it }) return Vector3.ZERO
         val a = settings.linearAcceleration
         return Vector3(a * sin(2.0 * PI * 1.3 * t), a * cos(2.0 * PI * 0.7 * t), a * sin(2.0 * PI * 0.9 * t))
+    }
+
+    private fun violentAt(t: Double): ViolentMotion? {
+        val v = settings.violentMotions
+        for (i in v.indices) if (t in v[i].window) return v[i]
+        return null
     }
 
     /** Runs the whole simulation into a list (for short runs; [forEach] streams). */
@@ -89,7 +100,7 @@ public class MotionSimulator(public val settings: SimulationSettings) {
             }
             tPrev = t
             val hardIron = if (s.hardIronWindow != null && t in s.hardIronWindow) s.hardIron else Vector3.ZERO
-            var gyro = rate + bias + gaussianVector(s.gyroNoise)
+            var gyro = (if (s.gyroScaleError != 0.0) rate * (1.0 + s.gyroScaleError) else rate) + bias + gaussianVector(s.gyroNoise)
             var acc = q.inverseRotate(up + linearAcceleration(t))
             if (s.accMisalignment != Matrix3.IDENTITY) acc = s.accMisalignment * acc
             acc += gaussianVector(s.accNoise)
@@ -99,10 +110,14 @@ public class MotionSimulator(public val settings: SimulationSettings) {
             if (gyroDensitySigma > 0.0) gyro += gaussianVector(errors, gyroDensitySigma)
             if (accOffset != Vector3.ZERO) acc += accOffset
             if (accDensitySigma > 0.0) acc += gaussianVector(errors, accDensitySigma)
+            if (s.gyroRange > 0.0) gyro = clip(gyro, s.gyroRange)
+            if (s.accRange > 0.0) acc = clip(acc, s.accRange)
             val dropped = s.dropProbability > 0.0 && random.nextDouble() < s.dropProbability
             if (!dropped || k == 0L) action(SimulatedSample((t * 1e9).roundToLong(), gyro, acc, mag, q))
         }
     }
+
+    private fun clip(v: Vector3, r: Double) = Vector3(v.x.coerceIn(-r, r), v.y.coerceIn(-r, r), v.z.coerceIn(-r, r))
 
     private fun gaussianVector(sigma: Double): Vector3 = gaussianVector(random, sigma)
 

@@ -50,6 +50,13 @@ public data class TimeWindow(val startS: Double, val endS: Double) {
  * @property accBiasDrift random-walk intensity of the accelerometer offset, m/s² per √s (m/s³/√Hz).
  * @property gyroNoiseDensity white gyroscope noise density, rad/s/√Hz (σ per sample = density · √[rateHz]), added to [gyroNoise].
  * @property accNoiseDensity white accelerometer noise density, m/s²/√Hz, added to [accNoise].
+ *
+ * Violent motion and the limits of real sensors (defaults: none, so the streams stay as before):
+ * @property violentMotions drops, falls, shakes and throws ([ViolentMotion]); inside their windows they
+ *   replace the smooth motion and the rest windows.
+ * @property accRange each accelerometer axis is clipped at ±this, m/s² (phones: 2, 4, 8 or 16 g); 0: no clipping.
+ * @property gyroRange each gyroscope axis is clipped at ±this, rad/s (±2000°/s: 34.9 rad/s); 0: no clipping.
+ * @property gyroScaleError relative scale error of the gyroscope (0.01: it reads 1 % more than the rate).
  */
 public data class SimulationSettings(
     val seed: Long = 1L,
@@ -78,6 +85,10 @@ public data class SimulationSettings(
     val accBiasDrift: Double = 0.0,
     val gyroNoiseDensity: Double = 0.0,
     val accNoiseDensity: Double = 0.0,
+    val violentMotions: List<ViolentMotion> = emptyList(),
+    val accRange: Double = 0.0,
+    val gyroRange: Double = 0.0,
+    val gyroScaleError: Double = 0.0,
 ) {
     init {
         require(rateHz.isFinite() && rateHz > 0.0) { "rateHz must be > 0: $rateHz" }
@@ -88,12 +99,14 @@ public data class SimulationSettings(
             "gyroBiasDrift" to gyroBiasDrift, "fieldStrength" to fieldStrength, "gravity" to gravity,
             "linearAcceleration" to linearAcceleration, "timestampJitter" to timestampJitter,
             "accBiasDrift" to accBiasDrift, "gyroNoiseDensity" to gyroNoiseDensity, "accNoiseDensity" to accNoiseDensity,
+            "accRange" to accRange, "gyroRange" to gyroRange,
         )) require(v.isFinite() && v >= 0.0) { "$name must be finite and ≥ 0: $v" }
         require(dip.isFinite() && kotlin.math.abs(dip) <= PI / 2) { "dip must be in [−π/2, π/2]: $dip" }
         require(gyroBias.isFinite() && hardIron.isFinite() && accOffset.isFinite()) { "vectors must be finite" }
         require(magSoftIron.isFinite() && magSoftIron.determinant() > 0.0) { "magSoftIron must be finite with a positive determinant" }
         require(accMisalignment.isFinite() && accMisalignment.determinant() > 0.0) { "accMisalignment must be finite with a positive determinant" }
         require(timestampJitter < 0.25 / rateHz) { "timestampJitter must be below a quarter sample period" }
+        require(gyroScaleError.isFinite() && kotlin.math.abs(gyroScaleError) < 0.5) { "gyroScaleError must be in (−0.5, 0.5): $gyroScaleError" }
         require(dropProbability in 0.0..0.5) { "dropProbability must be in [0, 0.5]: $dropProbability" }
     }
 }
