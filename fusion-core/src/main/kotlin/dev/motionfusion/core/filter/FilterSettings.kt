@@ -107,8 +107,8 @@ public enum class Initialisation {
  *   recoveryGyroThreshold, the accelerometer's magnitude within restAccThreshold of standard gravity), an
  *   estimated up further than this from the accelerometer arms the recovery at once (the low-passed
  *   accelerometer starts again from the still readings), whatever put the estimate off: an impact, a
- *   shake, a fall, a throw. rad; 0 disables it. Default 3°.
- * @property recoveryGyroThreshold see recoveryAngle, rad/s. Default 0.3 rad/s (17°/s).
+ *   shake, a fall, a throw. rad; 0 disables it. Default 1°.
+ * @property recoveryGyroThreshold see recoveryAngle, rad/s. Default 0.1 rad/s (5.7°/s).
  * @property recoveryStillTime see recoveryAngle, s. Default 0.2 s.
  * @property accLowPassTime inclination from the accelerometer low-passed in a quasi-inertial frame, s:
  *   the readings, turned with the gyroscope into a frame fixed in space, are low-passed with this time
