@@ -10,6 +10,7 @@ import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
 import dev.motionfusion.core.sim.ViolentMotion
 import dev.motionfusion.core.sim.ViolentMotionKind
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.DynamicTest
 import org.junit.jupiter.api.TestFactory
@@ -46,6 +47,23 @@ class ViolentMotionRecoveryTest {
             println("$kind: with recovery $on°, without $off°")
             assertTrue(on < 1.0, "$kind: inclination $on° off 1.5–6 s after rest with the recovery")
             assertTrue(off > 1.0, "$kind: without the recovery it should stay off (got $off°): the test would not show the mechanism")
+        }
+    }
+
+    @TestFactory
+    fun `a run stopped and restored while still or recovering continues bit for bit`() = listOf(0.1, 0.25, 0.6, 1.0).map { after ->
+        DynamicTest.dynamicTest("${after} s after the shake") {
+            val d = data(ViolentMotionKind.SHAKE)
+            val whole = MadgwickFilter(FilterSettings())
+            d.forEach { whole.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+            val split = index(d, 6.0 + ViolentMotionKind.SHAKE.durationS + after)
+            val first = MadgwickFilter(FilterSettings())
+            d.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+            val second = MadgwickFilter(FilterSettings())
+            second.restore(first.snapshot())
+            d.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+            assertEquals(whole.snapshot(), second.snapshot())
+            assertEquals(whole.orientation(), second.orientation())
         }
     }
 }
