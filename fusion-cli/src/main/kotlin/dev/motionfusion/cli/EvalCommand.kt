@@ -4,11 +4,13 @@ import dev.motionfusion.core.eval.BroadMetric
 import dev.motionfusion.core.eval.ErrorRmse
 import dev.motionfusion.core.eval.Evaluation
 import dev.motionfusion.core.eval.PhoneComparison
+import dev.motionfusion.core.eval.StillTilt
 import dev.motionfusion.core.eval.Trial
 import dev.motionfusion.core.eval.TrialResult
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.input.ImuTableReader
 import dev.motionfusion.core.input.QuaternionTableReader
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
@@ -28,6 +30,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
     override val help = """
         |Usage: fusion eval [filter settings] TRIAL_DIR|DATASET_DIR|SESSION ...
         |       fusion eval [--6d] --truth TRUTH.csv[.gz] ORIENTATION.csv[.gz]
+        |       fusion eval --rows ROWS.csv[.gz] [--after FROM:TO] ORIENTATION.csv[.gz]
         |
         |BROAD's metric (Laidig et al. 2021): error e = q_est ⊗ q_truth*; total 2·acos|e_w|,
         |heading 2·atan|e_z/e_w|, inclination 2·acos √(e_w² + e_z²); RMSE in degrees over the
@@ -49,6 +52,14 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |  --truth FILE         the truth table
         |  --6d                 remove one constant heading offset before scoring
         |
+        |Third form, without ground truth: the tilt check of docs/ACCURACY.md ("Peer figures"):
+        |the angle between ORIENTATION's up and the accelerometer of ROWS (an IMU table, e.g.
+        |fusion replay --rows), median over the still samples, and with --after also over the
+        |samples from FROM to TO s whose |a| is within 0.3 m/s² of g. Rows are matched by t_s
+        |(to 1 µs); a row without an orientation is not scored.
+        |  --rows FILE          the rows the orientation was computed from
+        |  --after FROM:TO      the window after violent motion, s
+        |
         |All inputs are streamed: memory does not grow with their length. Scoring a 6D filter
         |reads each input twice (the first pass finds the heading offset).
         |
@@ -56,8 +67,22 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("--truth") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("--truth", "--rows", "--after") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
+        val rowsFile = o.value("--rows")
+        if (rowsFile != null) {
+            val est = o.positional.singleOrNull() ?: throw UsageException("with --rows give exactly one ORIENTATION file")
+            val window = o.value("--after")?.let { w ->
+                w.split(':').mapNotNull { it.toDoubleOrNull() }.takeIf { it.size == 2 && w.count { c -> c == ':' } == 1 }
+                    ?: throw UsageException("--after takes FROM:TO in seconds, not '$w'")
+            }
+            val tilt = stillTilt(InputOptions.path(rowsFile), InputOptions.path(est), window, o)
+            out.println("| still samples | still tilt, median (°) | after-motion samples | after-motion tilt, median (°) |")
+            out.println("|---|---|---|---|")
+            fun f(v: Double) = if (v.isNaN()) "—" else String.format(java.util.Locale.ROOT, "%.2f", v)
+            out.println("| ${tilt.still.count} | ${f(tilt.still.percentile(0.5))} | ${if (window == null) "—" else tilt.afterMotion.count} | ${f(tilt.afterMotion.percentile(0.5))} |")
+            return ExitCode.OK
+        }
         val truthFile = o.value("--truth")
         if (truthFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --truth give exactly one ORIENTATION file")
@@ -135,6 +160,32 @@ internal class EvalCommand(private val err: PrintStream) : Command {
             if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
             return TrialResult(rec.name, e)
         }
+    }
+
+    /** [StillTilt] of the orientation table [estimate] on the IMU table [rows], matched by t_s (to 1 µs). */
+    private fun stillTilt(rows: Path, estimate: Path, window: List<Double>?, o: Options): StillTilt {
+        val limits = InputOptions.limits(o)
+        val tilt = if (window == null) StillTilt() else StillTilt(window[0], window[1])
+        val none = DoubleArray(4) { Double.NaN }
+        ImuTableReader.open(rows, limits).use { imu ->
+            QuaternionTableReader.open(estimate, limits).use { est ->
+                var more = est.next()
+                var matched = 0L
+                val g = DoubleArray(3)
+                val a = DoubleArray(3)
+                while (imu.next()) {
+                    val t = imu.timeS
+                    while (more && est.timeS < t - 1e-6) more = est.next()
+                    val hit = more && abs(est.timeS - t) <= 1e-6
+                    if (hit) matched++
+                    imu.row.copyInto(g, 0, 0, 3)
+                    imu.row.copyInto(a, 0, 3, 6)
+                    tilt.add(t, g, a, if (hit) est.q else none)
+                }
+                if (matched == 0L) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${rows.fileName}")
+            }
+        }
+        return tilt
     }
 
     /** Scores the orientation table [estimate] against [truthPath], both streamed and matched by t_s (to 1 µs). */

@@ -1,6 +1,9 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.replay.ReplayCsvWriter
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
 import java.io.BufferedOutputStream
 import java.io.PrintStream
@@ -35,6 +38,11 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |
         |Options:
         |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
+        |  --rows FILE          also write the rows the filter stepped on, one per output row, as
+        |                       an IMU table t_s,gx,gy,gz,ax,ay,az[,mx,my,mz] (gzip if it ends in
+        |                       .gz): each gyroscope sample with the accelerometer and magnetometer
+        |                       readings held at that instant (NaN before the first), so another
+        |                       filter can be run on exactly the same samples (docs/ACCURACY.md)
         |  --quiet              no summary on standard error
         |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
         |  --calibration recorded   apply the calibration in the session's meta.json, whether
@@ -52,7 +60,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--calibration") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         FilterOptions.settings(o) // usage errors before the input is opened
         val output = o.value("-o") ?: o.value("--output")
@@ -78,7 +86,21 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             // With a second core the rows are formatted while the next ones are read (the same bytes).
             val writer = ReplayCsvWriter(stream, closeStream = output != null, parallel = Runtime.getRuntime().availableProcessors() > 1)
             val replayer = Replayer(settings)
-            val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
+            val rowsFile = o.value("--rows")
+            val rows = rowsFile?.let { ImuTableWriter(outputs.file(it, listOf(input)), it.endsWith(".gz"), SessionStream.MAGNETOMETER in rec.streams) }
+            val counts = rows.use { r ->
+                writer.use { w ->
+                    val listener = if (r == null) w else object : ReplayListener {
+                        override fun step(step: ReplayStep) {
+                            w.step(step)
+                            r.row(step.timeS, step.angularVelocity, step.specificForce, step.magneticField)
+                        }
+
+                        override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
+                    }
+                    CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, listener, progress::update) }
+                }
+            }
             progress.finish()
             if (!o.has("--quiet")) {
                 val d = replayer.filter.diagnostics()

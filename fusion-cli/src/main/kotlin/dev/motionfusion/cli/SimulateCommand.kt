@@ -216,22 +216,10 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     private var written = 0L
 
     private fun writeTable(file: java.io.OutputStream, samples: ((SimulatedSample) -> Unit) -> Unit, gzip: Boolean) {
-        val raw = BufferedOutputStream(file, 1 shl 16)
-        val stream = if (gzip) GZIPOutputStream(raw, 1 shl 16) else raw
-        stream.use { s ->
-            s.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n".toByteArray())
-            val buf = ByteArray(512)
+        ImuTableWriter(file, gzip, magnetometer = true).use { w ->
             samples { x ->
                 written++
-                var p = AsciiNumbers.fixed(buf, 0, x.timestampNs * 1e-9, 9)
-                for (v in listOf(x.gyro, x.acc, x.mag)) {
-                    for (k in 0 until 3) {
-                        buf[p++] = ','.code.toByte()
-                        p = AsciiNumbers.float(buf, p, v[k].toFloat())
-                    }
-                }
-                buf[p++] = '\n'.code.toByte()
-                s.write(buf, 0, p)
+                w.row(x.timestampNs * 1e-9, x.gyro, x.acc, x.mag)
             }
         }
     }

@@ -32,6 +32,12 @@ public class ReplayStep internal constructor() {
 
     /** The latest accelerometer reading (specific force, m/s², device frame); NaN before the first. */
     public val specificForce: DoubleArray = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
+
+    /** This step's gyroscope reading (rad/s, device frame). */
+    public val angularVelocity: DoubleArray = DoubleArray(3)
+
+    /** The latest magnetometer reading (µT, device frame); NaN before the first and without one. */
+    public val magneticField: DoubleArray = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
 }
 
 /** Receives replay results. */
@@ -81,6 +87,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                 SessionStream.GYROSCOPE -> {
                     gyro++
                     f.updateGyroscope(t, v[0], v[1], v[2])
+                    step.angularVelocity[0] = v[0]; step.angularVelocity[1] = v[1]; step.angularVelocity[2] = v[2]
                     gyroscopeStep(step, t, origin, listener)
                 }
                 SessionStream.ACCELEROMETER -> {
@@ -91,6 +98,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                 SessionStream.MAGNETOMETER -> {
                     mag++
                     f.updateMagnetometer(t, v[0], v[1], v[2])
+                    step.magneticField[0] = v[0]; step.magneticField[1] = v[1]; step.magneticField[2] = v[2]
                 }
                 SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR, SessionStream.TRUTH, SessionStream.ORIENTATION ->
                     listener.reference(events.stream, t, v)
@@ -123,8 +131,12 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
             f.updateAccelerometer(t, r[3], r[4], r[5])
             step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
-            if (mag) f.updateMagnetometer(t, r[6], r[7], r[8])
+            if (mag) {
+                f.updateMagnetometer(t, r[6], r[7], r[8])
+                step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
+            }
             f.updateGyroscope(t, r[0], r[1], r[2])
+            step.angularVelocity[0] = r[0]; step.angularVelocity[1] = r[1]; step.angularVelocity[2] = r[2]
             gyroscopeStep(step, t, origin, listener)
         }
         return ReplayCounts(rows * perRow, rows, rows, if (mag) rows else 0L, first, last)
