@@ -1,9 +1,10 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.session.SessionRecovery
 import java.io.PrintStream
 import java.nio.file.Files
-import java.nio.file.NoSuchFileException
+import java.nio.file.attribute.BasicFileAttributes
 import java.nio.file.Path
 
 /** `fusion recover [--dry-run] DIR`: repairs a session whose recording was interrupted. */
@@ -35,8 +36,8 @@ internal class RecoverCommand : Command {
         val o = Options(args, emptySet(), setOf("--dry-run"))
         val dir = o.positional.singleOrNull() ?: throw UsageException("recover needs one SESSION_DIR")
         val path = Path.of(dir)
-        if (!Files.exists(path)) throw NoSuchFileException(dir)
-        if (!Files.isDirectory(path)) throw UsageException("$dir is not a folder (unzip a session before recovering it)")
+        val kind = AtomicFiles.named(path) { Files.readAttributes(path, BasicFileAttributes::class.java) }
+        if (!kind.isDirectory) throw UsageException("$dir is not a folder (unzip a session before recovering it)")
         val dryRun = o.has("--dry-run")
         val report = SessionRecovery().recover(path, dryRun)
         if (report.wasComplete) {
