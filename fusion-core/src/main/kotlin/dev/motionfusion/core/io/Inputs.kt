@@ -32,7 +32,18 @@ internal object Inputs {
             override fun close() {}
         }
         if (Files.isDirectory(path)) throw FileSystemException(path.toString(), null, "is a folder; a file is expected here")
-        return AtomicFiles.named(path) { Files.newInputStream(path) }
+        val input = AtomicFiles.named(path) { Files.newInputStream(path) }
+        if (Files.isRegularFile(path)) return input
+        // A pipe or device: its channel cannot tell a position, so available() and skip() would
+        // fail with "Illegal seek"; they are answered without it.
+        return object : java.io.FilterInputStream(input) {
+            override fun available(): Int = 0
+            override fun skip(n: Long): Long {
+                var left = n
+                while (left > 0 && read() >= 0) left--
+                return n - left
+            }
+        }
     }
 
     /** [input] decompressed through [guard] when it starts with the gzip magic bytes; [name] names it in errors. */
