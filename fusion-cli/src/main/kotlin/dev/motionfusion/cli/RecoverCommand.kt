@@ -19,7 +19,7 @@ internal class RecoverCommand : Command {
         |(docs/SESSION_FORMAT.md, Recovery). A session that was closed normally is left alone.
         |
         |It cannot do harm: it acts only on a folder whose meta.json says
-        |"format": "motion-fusion-session" (or, when meta.json is missing or unreadable, on a
+        |"format": "motion-fusion-session" (or, when meta.json is missing or cut short, on a
         |folder holding nothing but session files: meta.json is rebuilt from the streams and the
         |unreadable one kept as meta.json.unreadable); it reads and checks every stream before it
         |changes any; it never follows a symbolic link nor touches another file; it keeps every

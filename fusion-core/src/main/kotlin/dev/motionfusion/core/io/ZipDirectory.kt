@@ -184,7 +184,7 @@ internal object ZipDirectory {
             if (r < 0) throw EOFException("zip ends early")
             pos += r
         }
-        b.flip()
+        (b as java.nio.Buffer).flip() // Buffer.flip: ByteBuffer.flip does not exist before Java 9 (Android)
         return b
     }
 }
