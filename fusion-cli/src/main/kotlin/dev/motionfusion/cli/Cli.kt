@@ -5,6 +5,7 @@ import dev.motionfusion.core.io.DataFormatException
 import java.io.IOException
 import java.io.PrintStream
 import java.nio.file.FileSystemException
+import java.nio.file.InvalidPathException
 import java.util.Properties
 
 /**
@@ -71,9 +72,13 @@ internal class Cli(
     } catch (e: StdoutException) {
         fail(ExitCode.IO_ERROR, stdoutMessage())
     } catch (e: FileSystemException) {
-        fail(ExitCode.IO_ERROR, "${e.file}${e.otherFile?.let { " → $it" } ?: ""}: ${AtomicFiles.reason(e)}")
+        fail(ExitCode.IO_ERROR, "${shown(e.file)}${e.otherFile?.let { " → ${shown(it)}" } ?: ""}: ${AtomicFiles.reason(e)}")
     } catch (e: IOException) {
         fail(ExitCode.IO_ERROR, e.message ?: e.toString())
+    } catch (e: InvalidPathException) {
+        // e.g. a name with letters outside ASCII while LANG=C: Java cannot turn it into a path.
+        fail(ExitCode.USAGE, "'${e.input}': this file name cannot be represented in the system's file name encoding " +
+            "(${System.getProperty("sun.jnu.encoding") ?: "unknown"}); run fusion in a UTF-8 locale, e.g. LC_ALL=C.UTF-8")
     } catch (e: RuntimeException) {
         fail(ExitCode.INTERNAL_ERROR, "internal error, a bug of fusion (please report it with the command line): $e")
     } catch (e: OutOfMemoryError) {
@@ -81,6 +86,12 @@ internal class Cli(
         fail(ExitCode.IO_ERROR, "out of memory: '${command.name}' needs more than the $maxMiB MiB this Java may use; nothing was written. Give it more, e.g. FUSION_JAVA_OPTS=-Xmx4g")
     } finally {
         outputs.abort()
+    }
+
+    /** [file] as the user typed it (an output's real path maps back to its name), a very long one shortened. */
+    private fun shown(file: String?): String {
+        val f = file?.let { outputs.typed(it) } ?: return "?"
+        return if (f.length <= MAX_SHOWN) f else "${f.take(MAX_SHOWN / 2)}…(${f.length} characters)…${f.takeLast(MAX_SHOWN / 4)}"
     }
 
     private fun stdoutMessage(): String =
@@ -112,6 +123,8 @@ internal class Cli(
     }
 
     companion object {
+        private const val MAX_SHOWN = 160
+
         val VERSION: String by lazy {
             Cli::class.java.getResourceAsStream("version.properties")?.use { s ->
                 Properties().apply { load(s) }.getProperty("version")

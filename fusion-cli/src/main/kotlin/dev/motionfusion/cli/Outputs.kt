@@ -26,6 +26,11 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
     private val pending = ArrayList<AtomicFiles.PendingFile>()
     private val folders = ArrayList<Pair<Path, Path>>()
     private val direct = ArrayList<OutputStream>()
+    /** The real path of each output and the name the user gave it, so that messages use the latter. */
+    private val names = HashMap<String, String>()
+
+    /** The output name the user gave for the real path [file], else [file]. */
+    fun typed(file: String): String = names[file] ?: names[Path.of(file).toAbsolutePath().toString()] ?: file
 
     /**
      * A new file [output] for this run's result, checked against [inputs] (paths as given on the
@@ -33,6 +38,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
      */
     fun file(output: String, inputs: List<String>): OutputStream {
         val target = check(output, inputs)
+        if (Files.isDirectory(target)) throw FileSystemException(output, null, "is a folder; give the name of a file to write")
         if (isDevice(target)) {
             val stream = AtomicFiles.named(target) { Files.newOutputStream(target, StandardOpenOption.WRITE) }
             return NamedStream(target, stream).also { direct += it }
@@ -87,6 +93,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
      */
     fun check(output: String, inputs: List<String>): Path {
         val target = destination(Path.of(output))
+        names[target.toString()] = output
         for (i in inputs) {
             val input = try {
                 Path.of(i).toRealPath()
@@ -104,13 +111,26 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
 
     private fun destination(p: Path): Path {
         var x = p.toAbsolutePath()
+        var link: Path? = null
         repeat(MAX_LINKS) {
             if (isDevice(x)) return x // e.g. /dev/stdout → /proc/self/fd/1 → pipe:[…]: written as named
             if (!Files.isSymbolicLink(x)) {
-                val parent = AtomicFiles.named(x) { x.parent.toRealPath() }
+                val parent = try {
+                    x.parent.toRealPath()
+                } catch (e: IOException) {
+                    // Named as given; a dangling link also says where it points.
+                    val missing = e is java.nio.file.NoSuchFileException
+                    val why = when {
+                        link == null -> AtomicFiles.reason(e)
+                        missing -> "a link to $link, whose folder does not exist"
+                        else -> "a link to $link: ${AtomicFiles.reason(e)}"
+                    }
+                    throw FileSystemException(p.toString(), null, why).apply { initCause(e) }
+                }
                 return parent.resolve(x.fileName)
             }
-            x = x.parent.resolve(Files.readSymbolicLink(x))
+            link = Files.readSymbolicLink(x)
+            x = x.parent.resolve(link)
         }
         throw FileSystemException(p.toString(), null, "too many levels of symbolic links")
     }

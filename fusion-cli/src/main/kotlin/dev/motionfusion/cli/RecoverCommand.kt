@@ -1,9 +1,10 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.session.SessionRecovery
 import java.io.PrintStream
 import java.nio.file.Files
-import java.nio.file.NoSuchFileException
+import java.nio.file.attribute.BasicFileAttributes
 import java.nio.file.Path
 
 /** `fusion recover [--dry-run] DIR`: repairs a session whose recording was interrupted. */
@@ -18,7 +19,7 @@ internal class RecoverCommand : Command {
         |(docs/SESSION_FORMAT.md, Recovery). A session that was closed normally is left alone.
         |
         |It cannot do harm: it acts only on a folder whose meta.json says
-        |"format": "motion-fusion-session" (or, when meta.json is missing or unreadable, on a
+        |"format": "motion-fusion-session" (or, when meta.json is missing or cut short, on a
         |folder holding nothing but session files: meta.json is rebuilt from the streams and the
         |unreadable one kept as meta.json.unreadable); it reads and checks every stream before it
         |changes any; it never follows a symbolic link nor touches another file; it keeps every
@@ -35,8 +36,8 @@ internal class RecoverCommand : Command {
         val o = Options(args, emptySet(), setOf("--dry-run"))
         val dir = o.positional.singleOrNull() ?: throw UsageException("recover needs one SESSION_DIR")
         val path = Path.of(dir)
-        if (!Files.exists(path)) throw NoSuchFileException(dir)
-        if (!Files.isDirectory(path)) throw UsageException("$dir is not a folder (unzip a session before recovering it)")
+        val kind = AtomicFiles.named(path) { Files.readAttributes(path, BasicFileAttributes::class.java) }
+        if (!kind.isDirectory) throw UsageException("$dir is not a folder (unzip a session before recovering it)")
         val dryRun = o.has("--dry-run")
         val report = SessionRecovery().recover(path, dryRun)
         if (report.wasComplete) {

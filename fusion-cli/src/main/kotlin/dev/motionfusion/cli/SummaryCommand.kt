@@ -10,7 +10,7 @@ internal class SummaryCommand : Command {
     override val help = """
         |Usage: fusion summary FILE
         |
-        |Reads a plain IMU table (CSV, optionally gzip-compressed) with the header
+        |Reads a plain IMU table (CSV, optionally gzip-compressed; - for standard input) with the header
         |  t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]
         |(s, rad/s, m/s², µT; device frame) and prints the number of samples, the
         |duration, the sample rate, timestamp problems and the mean of every axis.
@@ -21,7 +21,7 @@ internal class SummaryCommand : Command {
         val file = args.singleOrNull() ?: throw UsageException(
             if (args.isEmpty()) "summary needs a FILE" else "summary takes one FILE, got ${args.size} arguments",
         )
-        if (file.startsWith("-")) throw UsageException("unknown option '$file'")
+        if (file.startsWith("-") && file != "-") throw UsageException("unknown option '$file'")
         val stats = ImuTableReader.open(InputOptions.path(file)).use { reader ->
             TableStats(reader.hasMagnetometer).also { s -> while (reader.next()) s.add(reader.timeS, reader.row) }
         }

@@ -20,6 +20,9 @@ import java.nio.file.LinkOption
 import java.nio.file.Path
 import java.nio.file.StandardCopyOption
 import java.security.MessageDigest
+import java.util.zip.CRC32
+import java.util.zip.ZipEntry
+import java.util.zip.ZipOutputStream
 
 /**
  * The careless or unlucky user's runs of `fusion` (issue: nothing written is lost, half-written
@@ -49,6 +52,9 @@ class HostileCasesTest {
         val changes: Set<String> = emptySet(),
         val stdout: Stdout = Stdout.CAPTURED,
         val storage: Storage = Storage.REAL,
+        /** What the command reads as standard input (a FIFO case: what a writer puts into the FIFO). */
+        val stdin: ByteArray = ByteArray(0),
+        val fifo: Boolean = false,
     )
 
     private var casesRun = 0
@@ -91,6 +97,97 @@ class HostileCasesTest {
         Files.createDirectories(template.resolve("outside"))
         Files.writeString(template.resolve("outside/precious.csv"), "timestamp_ns,x_rad_s,y_rad_s,z_rad_s,accuracy\n1,0,0,0,3\n2,0,")
         copyTree(int, template.resolve("s-link"))
+        filesAndArchives()
+    }
+
+    /** Zips, gzip files and sessions that parse but would read differently in different tools, or lie about being complete. */
+    private fun filesAndArchives() {
+        val s = template.resolve("s")
+        val names = Files.list(s).use { l -> l.map { it.fileName.toString() }.sorted().toList() }
+        val gyro = "s/gyroscope.csv".toByteArray()
+        fun zipOf(stored: Boolean, extra: List<Pair<String, ByteArray>> = emptyList()): ByteArray = ByteArrayOutputStream().also { o ->
+            ZipOutputStream(o).use { z ->
+                for ((n, c) in names.map { "s/$it" to Files.readAllBytes(s.resolve(it)) } + extra) {
+                    val e = ZipEntry(n)
+                    if (stored) {
+                        e.method = ZipEntry.STORED
+                        e.size = c.size.toLong()
+                        e.crc = CRC32().also { it.update(c) }.value
+                    }
+                    z.putNextEntry(e)
+                    z.write(c)
+                    z.closeEntry()
+                }
+            }
+        }.toByteArray()
+        fun write(name: String, bytes: ByteArray) = Files.write(template.resolve(name), bytes)
+        // Two entries named s/gyroscope.csv: the second (a few rows) under another name first, then renamed in both headers.
+        val twin = zipOf(false, listOf("s/gyroscopX.csv" to Files.readAllBytes(s.resolve("gyroscope.csv")).copyOf(300)))
+        write("dup.zip", replaceAll(twin, "s/gyroscopX.csv".toByteArray(), gyro))
+        // The local header of s/gyroscope.csv says otherwise than the central directory.
+        val stored = zipOf(true)
+        val loc = indexOf(stored, gyro, 0) - 30
+        write("loc-name.zip", stored.copyOf().also { it[loc + 30 + 2] = 'G'.code.toByte() })
+        write("loc-method.zip", stored.copyOf().also { it[loc + 8] = 8 })
+        write("loc-crc.zip", stored.copyOf().also { it[loc + 14] = (it[loc + 14] + 1).toByte() })
+        write("loc-size.zip", stored.copyOf().also { it[loc + 22] = (it[loc + 22] - 1).toByte() })
+        // A copy of that local entry between the last entry and the central directory: a streaming reader sees it, ZipFile does not.
+        val size = Files.size(s.resolve("gyroscope.csv")).toInt()
+        val hiddenEntry = stored.copyOfRange(loc, loc + 30 + gyro.size + size)
+        val eocd = lastIndexOf(stored, byteArrayOf(0x50, 0x4b, 5, 6))
+        val cdOffset = int32(stored, eocd + 16)
+        val hidden = stored.copyOfRange(0, cdOffset) + hiddenEntry + stored.copyOfRange(cdOffset, stored.size)
+        putInt32(hidden, hidden.size - stored.size + eocd + 16, cdOffset + hiddenEntry.size)
+        write("hidden.zip", hidden)
+        // The central directory's CRC-32 of a deflated entry (its local header has none: a data descriptor follows the data).
+        val deflated = zipOf(false)
+        val cen = indexOf(deflated, gyro, indexOf(deflated, gyro, 0) + 1) - 46
+        write("cd-crc.zip", deflated.copyOf().also { it[cen + 16] = (it[cen + 16] + 1).toByte() })
+        // gzip files of two members (cat a.gz b.gz): whole, a damaged second header, damaged second data, garbage after the first.
+        val rows = Files.readAllBytes(template.resolve("table.csv"))
+        val half = indexOf(rows, byteArrayOf('\n'.code.toByte()), rows.size / 2) + 1
+        val first = gzip(rows.copyOfRange(0, half))
+        val second = gzip(rows.copyOfRange(half, rows.size))
+        write("two.csv.gz", first + second)
+        write("bad-header.csv.gz", first + second.copyOf().also { it[1] = 0 })
+        write("bad-data.csv.gz", first + second.copyOf().also { it[12] = (it[12].toInt() xor 0x5a).toByte(); it[13] = (it[13].toInt() xor 0x5a).toByte() })
+        write("garbage.csv.gz", first + "not gzip\n".toByteArray())
+        write("padded.csv.gz", first + second + ByteArray(64))
+        // Complete sessions whose meta.json starts with a UTF-8 BOM, or holds a member nested deeper than the JSON reader's limit.
+        val meta = Files.readAllBytes(s.resolve("meta.json"))
+        write("bom.csv", byteArrayOf(0xef.toByte(), 0xbb.toByte(), 0xbf.toByte()) + rows)
+        Files.write(copyTree(s, template.resolve("s-bom")).resolve("meta.json"), byteArrayOf(0xef.toByte(), 0xbb.toByte(), 0xbf.toByte()) + meta)
+        val deep = String(meta).replaceFirst("{", "{\n  \"theirs\": " + "[".repeat(100) + "1" + "]".repeat(100) + ",")
+        Files.writeString(copyTree(s, template.resolve("s-deep")).resolve("meta.json"), deep)
+        // An interrupted session with a BOM, and one whose cut stream is hard-linked from outside (the link is made per case).
+        val int = template.resolve("s-int")
+        Files.write(copyTree(int, template.resolve("s-int-bom")).resolve("meta.json"), byteArrayOf(0xef.toByte(), 0xbb.toByte(), 0xbf.toByte()) + Files.readAllBytes(int.resolve("meta.json")))
+        copyTree(int, template.resolve("s-hard"))
+        Files.createDirectories(template.resolve("elsewhere"))
+    }
+
+    private fun gzip(b: ByteArray) = ByteArrayOutputStream().also { o -> java.util.zip.GZIPOutputStream(o).use { it.write(b) } }.toByteArray()
+
+    private fun indexOf(b: ByteArray, what: ByteArray, from: Int): Int =
+        (from..b.size - what.size).first { i -> what.indices.all { b[i + it] == what[it] } }
+
+    private fun lastIndexOf(b: ByteArray, what: ByteArray): Int =
+        (b.size - what.size downTo 0).first { i -> what.indices.all { b[i + it] == what[it] } }
+
+    private fun replaceAll(b: ByteArray, what: ByteArray, with: ByteArray): ByteArray {
+        val out = b.copyOf()
+        var i = 0
+        while (i <= out.size - what.size) {
+            if (what.indices.all { out[i + it] == what[it] }) with.copyInto(out, i)
+            i++
+        }
+        return out
+    }
+
+    private fun int32(b: ByteArray, at: Int) = (0 until 4).sumOf { (b[at + it].toInt() and 0xff) shl (8 * it) }
+
+    private fun putInt32(b: ByteArray, at: Int, v: Int) {
+        for (k in 0 until 4) b[at + k] = (v ushr (8 * k)).toByte()
     }
 
     private fun copyTree(from: Path, to: Path): Path {
@@ -111,6 +208,9 @@ class HostileCasesTest {
         Files.createSymbolicLink(root.resolve("dangling.csv"), root.resolve("s/new.csv"))
         Files.delete(root.resolve("s-link/gyroscope.csv"))
         Files.createSymbolicLink(root.resolve("s-link/gyroscope.csv"), root.resolve("outside/precious.csv"))
+        Files.createSymbolicLink(root.resolve("dangling-out.csv"), Path.of("no-folder/out.csv"))
+        Files.createLink(root.resolve("elsewhere/gyroscope.csv"), root.resolve("s-hard/gyroscope.csv"))
+        Files.createLink(root.resolve("elsewhere/accelerometer.csv"), root.resolve("s/accelerometer.csv"))
         return root
     }
 
@@ -121,7 +221,7 @@ class HostileCasesTest {
                 val rel = root.relativize(p).toString()
                 val content = when {
                     Files.isDirectory(p) -> "folder"
-                    Files.exists(p) -> md.digest(Files.readAllBytes(p)).joinToString("") { "%02x".format(it) }
+                    Files.exists(p) -> md.digest(Files.readAllBytes(p)).joinToString("") { "%02x".format(it) } + " modified " + Files.getLastModifiedTime(p, LinkOption.NOFOLLOW_LINKS)
                     else -> "dangling"
                 }
                 rel to (if (Files.isSymbolicLink(p)) "link → ${Files.readSymbolicLink(p)}: " else "") + content
@@ -197,6 +297,58 @@ class HostileCasesTest {
         c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
         c += Case("replay of corrupt gzip data", listOf("replay", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt compressed data""")
         c += Case("replay of cut gzip data", listOf("replay", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
+        c += filesAndArchivesCases()
+        return c
+    }
+
+    /** Archives that lie, inputs that are not plain files, recovery of sessions that are complete or linked (docs/IMPORT.md, "Files and archives"). */
+    private fun filesAndArchivesCases(): List<Case> {
+        val c = ArrayList<Case>()
+        val differ = "its local header and the zip's central directory disagree"
+        c += Case("replay of a zip with two entries of one name", listOf("replay", "dup.zip"), 1, """dup\.zip!/s/gyroscope\.csv: the zip holds two entries of this name""")
+        c += Case("replay of a zip whose local header names another file", listOf("replay", "loc-name.zip"), 1, """loc-name\.zip!/s/gyroscope\.csv: $differ \(name 's/Gyroscope\.csv'\)""")
+        c += Case("replay of a zip whose local header has another method", listOf("replay", "loc-method.zip"), 1, """loc-method\.zip!/s/gyroscope\.csv: $differ \(compression method""")
+        c += Case("replay of a zip whose local header has another CRC-32", listOf("replay", "loc-crc.zip"), 1, """loc-crc\.zip!/s/gyroscope\.csv: $differ \(CRC-32""")
+        c += Case("replay of a zip whose local header has another size", listOf("replay", "loc-size.zip"), 1, """loc-size\.zip!/s/gyroscope\.csv: $differ \(size \d+ or \d+ bytes""")
+        c += Case("replay of a zip with an entry the central directory leaves out", listOf("replay", "hidden.zip"), 1, """hidden\.zip: bytes \d+ to \d+ lie in no entry of the central directory""")
+        c += Case("replay of a zip whose central directory has another CRC-32", listOf("replay", "cd-crc.zip"), 1, """cd-crc\.zip!/s/gyroscope\.csv: corrupt compressed data: CRC-32 \w+ of the data differs""")
+        c += Case("replay of a gzip file of two members", listOf("replay", "two.csv.gz", "-o", "prev.csv"), 0, "", setOf("prev.csv"))
+        c += Case("summary of a gzip file of two members", listOf("summary", "two.csv.gz"), 0, "")
+        c += Case("replay of a gzip file with zero padding", listOf("replay", "padded.csv.gz"), 0, "")
+        c += Case("replay of a gzip file whose second header is damaged", listOf("replay", "bad-header.csv.gz"), 1, """bad-header\.csv\.gz: corrupt compressed data: member 2 \(at byte \d+\): not a gzip header""")
+        c += Case("replay of a gzip file whose second member's data is damaged", listOf("replay", "bad-data.csv.gz"), 1, """bad-data\.csv\.gz: corrupt compressed data: member 2""")
+        c += Case("summary of a gzip file with garbage after its member", listOf("summary", "garbage.csv.gz"), 1, """garbage\.csv\.gz: corrupt compressed data: member 2 \(at byte \d+\): not a gzip header""")
+        // Standard input, FIFOs, devices.
+        val table = Files.readAllBytes(template.resolve("table.csv"))
+        c += Case("summary of standard input", listOf("summary", "-"), 0, "", stdin = table)
+        c += Case("replay of standard input", listOf("replay", "-", "-o", "prev.csv"), 0, "", setOf("prev.csv"), stdin = table)
+        c += Case("replay of gzip data on standard input", listOf("replay", "-"), 0, "", stdin = gzip(table))
+        c += Case("replay of a session zip on standard input", listOf("replay", "-"), 0, "", stdin = Files.readAllBytes(template.resolve("s.zip")))
+        c += Case("replay of a malformed table on standard input", listOf("replay", "-"), 1, """standard input:4:\d+: column gz""", stdin = Files.readAllBytes(template.resolve("bad.csv")))
+        c += Case("replay of an empty standard input", listOf("replay", "-"), 1, """standard input: empty: nothing was read from it""")
+        c += Case("replay of /dev/null", listOf("replay", "/dev/null"), 1, """/dev/null: empty: nothing was read from it""")
+        c += Case("summary of /dev/null", listOf("summary", "/dev/null"), 1, """/dev/null:1: empty file""")
+        c += Case("replay of a FIFO", listOf("replay", "FIFO"), 0, "", stdin = table, fifo = true)
+        c += Case("summary of a FIFO", listOf("summary", "FIFO"), 0, "", stdin = table, fifo = true)
+        c += Case("replay of a session zip through a FIFO", listOf("replay", "FIFO"), 0, "", stdin = Files.readAllBytes(template.resolve("s.zip")), fifo = true)
+        // Folders where a file is expected; links and paths named as given.
+        c += Case("summary of a folder", listOf("summary", "s"), 3, """/s: is a folder; a file is expected here""")
+        c += Case("eval with a folder as truth", listOf("eval", "--truth", "s", "truth.csv"), 3, """/s: is a folder; a file is expected here""")
+        c += Case("replay to a folder", listOf("replay", "table.csv", "-o", "outside"), 3, """/outside: is a folder; give the name of a file to write""")
+        c += Case("replay onto a dangling link", listOf("replay", "table.csv", "-o", "dangling-out.csv"), 3, """/dangling-out\.csv: a link to no-folder/out\.csv, whose folder does not exist""")
+        val long = "./".repeat(2100)
+        c += Case("replay of a path over the system's limit", listOf("replay", long + "table.csv"), 3, """…\(\d+ characters\)….*/table\.csv: path too long""")
+        c += Case("summary of a name over the system's limit", listOf("summary", "t".repeat(300) + ".csv"), 3, """t{20}.*: path too long""")
+        c += Case("recover a path over the system's limit", listOf("recover", long + "s-int"), 3, """path too long""")
+        c += Case("replay to a path over the system's limit", listOf("replay", "table.csv", "-o", long + "prev.csv"), 0, "", setOf("prev.csv"))
+        // Recovery never rewrites a complete session nor changes a hard-linked stream in place.
+        c += Case("recover a complete session whose meta.json has a BOM", listOf("recover", "s-bom"), 0, "")
+        c += Case("replay a session whose meta.json has a BOM", listOf("replay", "s-bom", "-o", "prev.csv"), 0, "", setOf("prev.csv"))
+        c += Case("summary of a table with a BOM", listOf("summary", "bom.csv"), 0, "")
+        c += Case("recover a complete session whose meta.json is nested deeply", listOf("recover", "s-deep"), 1, """s-deep/meta\.json:2:\d+: nested deeper than 64 levels: not a meta\.json cut short, so not rebuilt; left untouched""")
+        c += Case("recover an interrupted session whose meta.json has a BOM", listOf("recover", "s-int-bom"), 0, "", setOf("s-int-bom/meta.json", "s-int-bom/gyroscope.csv"))
+        c += Case("recover a session with a hard-linked cut stream", listOf("recover", "s-hard"), 0, "", setOf("s-hard/meta.json", "s-hard/gyroscope.csv"))
+        c += Case("recover a complete session with a hard-linked stream", listOf("recover", "s"), 0, "")
         return c
     }
 
@@ -207,7 +359,10 @@ class HostileCasesTest {
         val root = caseFolder(case.name.replace(Regex("[^A-Za-z0-9]+"), "-"))
         if (case.name == "replay through a link to an earlier output") Files.createSymbolicLink(root.resolve("out-link.csv"), root.resolve("prev.csv"))
         val before = hashes(root)
-        val args = case.args.mapIndexed { i, a -> if (isPath(case.args, i)) root.resolve(a).toString() else a }
+        // A FIFO lies outside the case folder (hashing it would wait for a writer); a thread writes into it.
+        val fifo = if (case.fifo) tmp.resolve("fifo-" + root.fileName).also { check(ProcessBuilder("mkfifo", it.toString()).start().waitFor() == 0) } else null
+        val writer = fifo?.let { f -> Thread { runCatching { Files.write(f, case.stdin) } }.apply { isDaemon = true; start() } }
+        val args = case.args.mapIndexed { i, a -> if (a == "FIFO" && fifo != null) fifo.toString() else if (isPath(case.args, i)) root.resolve(a).toString() else a }
         val err = ByteArrayOutputStream()
         val captured = ByteArrayOutputStream()
         val raw: OutputStream = when (case.stdout) {
@@ -218,9 +373,16 @@ class HostileCasesTest {
             Stdout.DEV_FULL -> FileOutputStream("/dev/full")
         }
         val recording = RecordingOutput(raw)
-        val code = raw.use {
-            Cli(PrintStream(recording, false, "UTF-8"), PrintStream(err, true, "UTF-8"), Outputs(storage(case.storage)), { recording.failure }).run(args)
+        val stdin = System.`in`
+        System.setIn(java.io.ByteArrayInputStream(if (case.fifo) ByteArray(0) else case.stdin))
+        val code = try {
+            raw.use {
+                Cli(PrintStream(recording, false, "UTF-8"), PrintStream(err, true, "UTF-8"), Outputs(storage(case.storage)), { recording.failure }).run(args)
+            }
+        } finally {
+            System.setIn(stdin)
         }
+        writer?.join()
         val message = err.toString("UTF-8")
         casesRun++
         if (message.contains("\tat ") || message.contains("Exception")) stackTraces++

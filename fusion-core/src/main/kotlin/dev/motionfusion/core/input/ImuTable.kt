@@ -25,7 +25,6 @@ import dev.motionfusion.core.event.SessionStream
 import java.io.Closeable
 import java.io.InputStream
 import java.util.concurrent.ArrayBlockingQueue
-import java.nio.file.Files
 import java.nio.file.Path
 import kotlin.math.roundToLong
 
@@ -129,7 +128,7 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
         @JvmStatic
         @JvmOverloads
         public fun open(path: Path, limits: InputLimits = InputLimits()): ImuTableReader =
-            open(Files.newInputStream(path), path.toString(), limits)
+            open(Inputs.openFile(path), Inputs.shown(path), limits)
 
         /** Reads from [input] (plain or gzip); [sourceName] names it in errors. */
         @JvmStatic

@@ -13,7 +13,6 @@ import dev.motionfusion.core.io.FieldError
 import dev.motionfusion.core.io.InputLimits
 import dev.motionfusion.core.io.Inputs
 import java.io.Closeable
-import java.nio.file.Files
 import java.nio.file.Path
 
 /**
@@ -81,8 +80,8 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
         @JvmStatic
         @JvmOverloads
         public fun open(path: Path, limits: InputLimits = InputLimits()): QuaternionTableReader {
-            val name = path.toString()
-            return QuaternionTableReader(ByteCsvReader(Inputs.maybeGunzip(Files.newInputStream(path), name, CompressionGuard(limits)), name))
+            val name = Inputs.shown(path)
+            return QuaternionTableReader(ByteCsvReader(Inputs.maybeGunzip(Inputs.openFile(path), name, CompressionGuard(limits)), name))
         }
     }
 }

@@ -10,6 +10,7 @@ import dev.motionfusion.core.io.ByteCsvReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.io.InputLimits
+import dev.motionfusion.core.io.Inputs
 import dev.motionfusion.core.event.MergedEvents
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.session.Marker
@@ -17,7 +18,6 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.event.SessionStream
 import java.io.Closeable
-import java.nio.file.Files
 import java.nio.file.NoSuchFileException
 import java.nio.file.Path
 
@@ -80,7 +80,6 @@ public class Recording private constructor(
         @JvmStatic
         @JvmOverloads
         public fun open(path: Path, options: ImportOptions = ImportOptions()): Recording {
-            if (!Files.exists(path)) throw NoSuchFileException(path.toString())
             val files = FileSet.open(path, options.limits)
             try {
                 return open(files, path, options)
@@ -92,7 +91,7 @@ public class Recording private constructor(
 
         private fun open(files: FileSet, path: Path, options: ImportOptions): Recording {
             val (dir, kind) = locate(files)
-            val name = if (dir.isEmpty()) (path.fileName ?: path).toString() else dir.removeSuffix("/").substringAfterLast('/')
+            val name = if (dir.isEmpty()) (if (Inputs.isStandardInput(path)) files.name else (path.fileName ?: path).toString()) else dir.removeSuffix("/").substringAfterLast('/')
             return when (kind) {
                 RecordingFormat.SESSION -> {
                     val r = SessionReader.open(files, dir)

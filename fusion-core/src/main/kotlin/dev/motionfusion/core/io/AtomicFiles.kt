@@ -195,9 +195,13 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
             is FileAlreadyExistsException -> "already exists"
             is java.nio.file.DirectoryNotEmptyException -> "folder not empty"
             is java.nio.file.NotDirectoryException -> "not a folder"
-            is FileSystemException -> e.reason ?: e.javaClass.simpleName
-            else -> e.message ?: e.javaClass.simpleName
+            is FileSystemException -> plain(e.reason) ?: e.javaClass.simpleName
+            else -> plain(e.message) ?: e.javaClass.simpleName
         }
+
+        /** The system's reason, with ENAMETOOLONG ("File name too long") said in full. */
+        private fun plain(reason: String?): String? =
+            if (reason == "File name too long") "path too long: a name in it, or the whole path, is longer than the file system allows (on Linux 255 bytes a name, 4096 a path)" else reason
 
         /** Runs [block]; an IOException is re-thrown as a [FileSystemException] naming [file] and the reason. */
         public inline fun <T> named(file: Path, block: () -> T): T = try {

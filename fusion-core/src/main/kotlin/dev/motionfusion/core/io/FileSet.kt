@@ -98,45 +98,89 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         override fun close() {}
     }
 
-    private class Zip(private val file: Path, guard: CompressionGuard) : FileSet(guard) {
+    /**
+     * A zip file (named [shown]); its central directory is checked against its local headers
+     * first ([ZipDirectory]), and each entry read to its end against its CRC-32 and size.
+     */
+    private class Zip(private val file: Path, guard: CompressionGuard, private val shown: String, private val spool: Path?) : FileSet(guard) {
         private val zip = try {
+            ZipDirectory.verify(file, shown)
             ZipFile(file.toFile())
         } catch (e: ZipException) {
-            throw DataFormatException(file.toString(), 0, 0, "not a readable zip file: ${e.message}", e)
+            throw DataFormatException(shown, 0, 0, "not a readable zip file: ${e.message}", e)
         } catch (e: IOException) {
-            if (Files.isRegularFile(file)) throw DataFormatException(file.toString(), 0, 0, "not a readable zip file: ${e.message}", e)
+            if (Files.isRegularFile(file)) throw DataFormatException(shown, 0, 0, "not a readable zip file: ${e.message}", e)
             throw e
         }
-        override val name: String = file.toString()
+        override val name: String = shown
         override val paths: List<String> = try {
             zip.entries().asSequence().filter { !it.isDirectory }.map { it.name }
                 .filter { n -> n.split('/').none { it.startsWith(".") || it == "__MACOSX" || it == ".." } }
                 .take(MAX_FILES + 1).toList().also {
-                    if (it.size > MAX_FILES) throw DataFormatException(file.toString(), 0, 0, "more than $MAX_FILES files in the zip")
+                    if (it.size > MAX_FILES) throw DataFormatException(shown, 0, 0, "more than $MAX_FILES files in the zip")
                 }
                 .sortedWith(compareBy<String>({ it.count { c -> c == '/' } }, { it }))
         } catch (e: Throwable) {
             zip.close()
-            if (e is IllegalArgumentException) throw DataFormatException(file.toString(), 0, 0, "not a readable zip file: ${e.message}", e)
+            if (e is IllegalArgumentException) throw DataFormatException(shown, 0, 0, "not a readable zip file: ${e.message}", e)
             throw e
         }
 
         override fun openRaw(path: String): InputStream {
             val entry = zip.getEntry(path) ?: throw NoSuchFileException(displayName(path))
-            return guard.wrap({ zip.getInputStream(entry) }, displayName(path))
+            return guard.wrap({ CheckedEntry(zip.getInputStream(entry), entry.crc, entry.size) }, displayName(path))
         }
 
-        override fun displayName(path: String) = "$file!/$path"
-        override fun close() = zip.close()
+        override fun displayName(path: String) = "$shown!/$path"
+        override fun close() {
+            zip.close()
+            spool?.let { Files.deleteIfExists(it) }
+        }
     }
 
-    /** One file seen as a set of one. */
-    private class Single(private val file: Path, guard: CompressionGuard) : FileSet(guard) {
-        override val name: String = file.toString()
-        override val paths: List<String> = listOf(file.fileName.toString())
+    /** A zip entry's data, checked at its end against the [crc] and [size] of the central directory. */
+    private class CheckedEntry(inner: InputStream, private val crc: Long, private val size: Long) : java.io.FilterInputStream(inner) {
+        private val sum = java.util.zip.CRC32()
+        private var count = 0L
+
+        override fun read(): Int {
+            val b = super.read()
+            if (b < 0) atEnd() else { sum.update(b); count++ }
+            return b
+        }
+
+        override fun read(b: ByteArray, off: Int, len: Int): Int {
+            val n = super.read(b, off, len)
+            if (n < 0) atEnd() else if (n > 0) { sum.update(b, off, n); count += n }
+            return n
+        }
+
+        override fun skip(n: Long): Long {
+            val buf = ByteArray(8192)
+            var left = n
+            while (left > 0) {
+                val r = read(buf, 0, minOf(left, buf.size.toLong()).toInt())
+                if (r < 0) break
+                left -= r
+            }
+            return n - left
+        }
+
+        private fun atEnd() {
+            if (size >= 0 && count != size) throw ZipException("holds $count bytes, the zip's central directory says $size")
+            if (crc >= 0 && sum.value != crc) throw ZipException("CRC-32 %08x of the data differs from the %08x of the zip's central directory".format(sum.value, crc))
+        }
+    }
+
+    /** One file seen as a set of one, named [shown]; [spool] is deleted on close. */
+    private class Single(private val file: Path, guard: CompressionGuard, private val shown: String, private val spool: Path?) : FileSet(guard) {
+        override val name: String = shown
+        override val paths: List<String> = listOf(if (spool != null) shown else file.fileName.toString())
         override fun openRaw(path: String): InputStream = Files.newInputStream(file)
-        override fun displayName(path: String) = file.toString()
-        override fun close() {}
+        override fun displayName(path: String) = shown
+        override fun close() {
+            spool?.let { Files.deleteIfExists(it) }
+        }
     }
 
     companion object {
@@ -145,14 +189,58 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         const val MAX_FILES = 10_000
         const val SNIFF_BYTES = 1 shl 16
 
-        /** A folder, a zip, or any other file as a set of one. */
+        /**
+         * A folder, a zip, or any other file as a set of one. Standard input ("-"), a pipe, a
+         * FIFO or a device is read once into a temporary file (deleted on close; at most the
+         * total limit of [limits]) and then read as the file it holds (zip, gzip or plain).
+         * @throws NoSuchFileException when [path] does not exist; a FileSystemException naming it when it cannot be read.
+         * @throws DataFormatException when such a stream is empty (e.g. /dev/null).
+         */
         fun open(path: Path, limits: InputLimits = InputLimits()): FileSet {
             val guard = CompressionGuard(limits)
+            val shown = Inputs.shown(path)
+            if (Inputs.isStandardInput(path)) return spooled(System.`in`, shown, guard)
+            // Read once, links followed: missing, too long a path, no permission are named here.
+            val kind = try {
+                Files.readAttributes(path, java.nio.file.attribute.BasicFileAttributes::class.java)
+            } catch (e: NoSuchFileException) {
+                throw NoSuchFileException(shown)
+            } catch (e: IOException) {
+                throw java.nio.file.FileSystemException(shown, null, AtomicFiles.reason(e)).apply { initCause(e) }
+            }
             return when {
-                Files.isDirectory(path) -> Folder(path, guard)
-                !Files.isRegularFile(path) -> throw NoSuchFileException(path.toString())
-                isZip(path) -> Zip(path, guard)
-                else -> Single(path, guard)
+                kind.isDirectory -> Folder(path, guard)
+                kind.isRegularFile -> if (isZip(path)) Zip(path, guard, shown, null) else Single(path, guard, shown, null)
+                else -> AtomicFiles.named(path) { Files.newInputStream(path) }.use { spooled(it, shown, guard) }
+            }
+        }
+
+        private fun spooled(input: InputStream, shown: String, guard: CompressionGuard): FileSet {
+            val spool = Files.createTempFile("fusion-input", ".tmp")
+            try {
+                val size = Files.newOutputStream(spool).use { out ->
+                    val buf = ByteArray(Inputs.BUFFER_BYTES)
+                    var total = 0L
+                    while (true) {
+                        val n = try {
+                            input.read(buf)
+                        } catch (e: IOException) {
+                            throw java.nio.file.FileSystemException(shown, null, AtomicFiles.reason(e)).apply { initCause(e) }
+                        }
+                        if (n < 0) break
+                        total += n
+                        if (total > guard.limits.maxTotalBytes) {
+                            throw DataFormatException(shown, 0, 0, "more than ${guard.limits.maxTotalBytes} bytes (raise the limit with --max-uncompressed)")
+                        }
+                        out.write(buf, 0, n)
+                    }
+                    total
+                }
+                if (size == 0L) throw DataFormatException(shown, 0, 0, "empty: nothing was read from it (an empty input holds no recording)")
+                return if (isZip(spool)) Zip(spool, guard, shown, spool) else Single(spool, guard, shown, spool)
+            } catch (e: Throwable) {
+                Files.deleteIfExists(spool)
+                throw e
             }
         }
 

@@ -19,12 +19,33 @@ internal object Json {
     /** Parses [text] keeping the positions of its members and elements. */
     fun document(text: String, sourceName: String): JsonDocument {
         val p = Parser(text, sourceName)
+        if (text.startsWith(BOM)) p.i = 1 // a UTF-8 byte order mark, as some editors save
         p.skipSpace()
         val v = p.value(0)
         p.skipSpace()
         if (p.i != text.length) throw p.error("unexpected '${text[p.i]}' after the JSON value")
         return JsonDocument(v, text, sourceName, p.memberStarts, p.elementStarts, p.containerStarts)
     }
+
+    /**
+     * True when [text] is not JSON only because it ends too early (a file cut short by a full
+     * disk or a lost write, possibly followed by zero bytes): its parse fails at its end. False
+     * for valid JSON and for any other fault (a wrong character, nesting deeper than the limit).
+     */
+    fun endsEarly(text: String): Boolean {
+        val cut = text.trimEnd('\u0000', ' ', '\n', '\r', '\t')
+        val p = Parser(cut, "")
+        if (cut.startsWith(BOM)) p.i = 1
+        return try {
+            p.skipSpace()
+            p.value(0)
+            false
+        } catch (e: DataFormatException) {
+            p.i >= cut.length && !p.tooDeep
+        }
+    }
+
+    private const val BOM = "\uFEFF"
 
     fun write(value: Any?, indent: String = "  "): String = StringBuilder().also { write(it, value, indent, "") }.append('\n').toString()
 
@@ -107,6 +128,7 @@ internal object Json {
         val memberStarts = IdentityHashMap<Map<*, *>, HashMap<String, Int>>()
         val elementStarts = IdentityHashMap<List<*>, IntArray>()
         val containerStarts = IdentityHashMap<Any, Int>()
+        var tooDeep = false
 
         fun error(reason: String): DataFormatException = errorAt(s, i, source, reason)
 
@@ -115,7 +137,10 @@ internal object Json {
         }
 
         fun value(depth: Int): Any? {
-            if (depth > MAX_DEPTH) throw error("nested deeper than $MAX_DEPTH levels")
+            if (depth > MAX_DEPTH) {
+                tooDeep = true
+                throw error("nested deeper than $MAX_DEPTH levels")
+            }
             if (i >= s.length) throw error("unexpected end of file, expected a value")
             return when (val c = s[i]) {
                 '{' -> obj(depth)
@@ -129,7 +154,10 @@ internal object Json {
         }
 
         private fun literal(word: String, v: Any?): Any? {
-            if (!s.startsWith(word, i)) throw error("expected '$word'")
+            if (!s.startsWith(word, i)) {
+                if (word.startsWith(s.substring(i))) i = s.length // cut inside the word
+                throw error("expected '$word'")
+            }
             i += word.length
             return v
         }
@@ -198,7 +226,10 @@ internal object Json {
                             'b' -> sb.append('\b'); 'f' -> sb.append('\u000c'); 'n' -> sb.append('\n')
                             'r' -> sb.append('\r'); 't' -> sb.append('\t')
                             'u' -> {
-                                if (i + 4 > s.length) throw error("short \\u escape")
+                                if (i + 4 > s.length) {
+                                    i = s.length
+                                    throw error("short \\u escape")
+                                }
                                 val h = s.substring(i, i + 4).toIntOrNull(16) ?: throw error("bad \\u escape")
                                 sb.append(h.toChar())
                                 i += 4

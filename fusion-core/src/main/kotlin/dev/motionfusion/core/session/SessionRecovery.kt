@@ -116,11 +116,12 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         )
         val allPlans = plans + listOfNotNull(markerPlan)
         val actions = ArrayList<String>()
-        val stale = entries.keys.filter { AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) && entries.getValue(it).isRegularFile }.sorted()
-        for (name in stale) actions += "$name: remove (left by an interrupted metadata write)"
+        val stale = entries.keys.filter { isTemporary(it) && entries.getValue(it).isRegularFile }.sorted()
+        for (name in stale) actions += "$name: remove (left by an interrupted write)"
         for (p in allPlans) {
             when {
                 p.restoreHeader -> actions += "${p.fileName}: cut inside its header; write the header again"
+                p.cut > 0 && p.linked -> actions += "${p.fileName}: cut ${p.cut} bytes of a partial last row (in a copy: the file has other hard links, which keep it as it was)"
                 p.cut > 0 -> actions += "${p.fileName}: cut ${p.cut} bytes of a partial last row"
             }
         }
@@ -144,6 +145,9 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
             val f = root.resolve(p.fileName)
             when {
                 p.restoreHeader -> atomic.write(f, (p.header + "\n").toByteArray(StandardCharsets.US_ASCII))
+                // A file with other hard links is replaced by a cut copy, never cut in place:
+                // the other names keep what they held.
+                p.cut > 0 && p.linked -> atomic.write(f) { out -> copyPrefix(f, p.keep, out) }
                 p.cut > 0 -> AtomicFiles.named(f) { files.truncate(f, p.keep) }
             }
         }
@@ -157,6 +161,8 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
     private class Plan(
         val fileName: String, val header: String, val stream: SessionStream?,
         val keep: Long, val cut: Long, val restoreHeader: Boolean, val stats: StreamStats,
+        /** The file has other hard links (it is then never changed in place). */
+        val linked: Boolean = false,
     )
 
     /** Reads the file of stream [s] (or markers.csv) once to its end: every complete row must parse; the cut goes after the last '\n'. */
@@ -181,7 +187,30 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         } else {
             MarkerCursor(csv, skipCutLastLine = true).use { c -> while (c.next()) acc.add(c.timestampNs) }
         }
-        return Plan(fileName, header, s, keep, length - keep, restoreHeader = false, acc.result())
+        return Plan(fileName, header, s, keep, length - keep, restoreHeader = false, acc.result(), linked = linkCount(f) > 1)
+    }
+
+    /** The number of names (hard links) of [f]; 1 where the file system does not say. */
+    private fun linkCount(f: Path): Int = try {
+        (Files.getAttribute(f, "unix:nlink", LinkOption.NOFOLLOW_LINKS) as Number).toInt()
+    } catch (e: UnsupportedOperationException) {
+        1
+    } catch (e: IllegalArgumentException) {
+        1
+    }
+
+    /** Copies the first [bytes] bytes of [f] to [out]. */
+    private fun copyPrefix(f: Path, bytes: Long, out: java.io.OutputStream) {
+        Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS).use { input ->
+            val buf = ByteArray(1 shl 16)
+            var left = bytes
+            while (left > 0) {
+                val n = input.read(buf, 0, minOf(left, buf.size.toLong()).toInt())
+                if (n < 0) throw IOException("$f: shorter than when it was read")
+                out.write(buf, 0, n)
+                left -= n
+            }
+        }
     }
 
     /** Byte offset just after the last '\n' of the file (0 when it has none). */
@@ -210,7 +239,11 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         val json = try {
             Json.parse(text, metaFile.toString())
         } catch (e: DataFormatException) {
-            return null // e.g. cut by a full disk (an old in-place write) or by the storage
+            // Rebuilt only when cut short (a full disk during an old in-place write, a lost
+            // write): any other fault, such as nesting deeper than the reader's limit, may be a
+            // complete session that another program changed, and is left as it is.
+            if (Json.endsEarly(text)) return null
+            throw DataFormatException(e.source, e.line, e.column, "${e.reason}: not a meta.json cut short, so not rebuilt; left untouched", e)
         }
         val root = json as? Map<*, *>
         if (root == null || root["format"] != MetadataJson.FORMAT_MARKER) {
@@ -227,7 +260,7 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
      * holds session files and nothing else, each stream file starting with its exact header.
      */
     private fun checkLooksLikeSession(root: Path, entries: Map<String, BasicFileAttributes>) {
-        val foreign = entries.keys.filter { it !in SESSION_FILES && it != UNREADABLE_META && !AtomicFiles.isTemporaryOf(it, SessionMetadata.FILE_NAME) }
+        val foreign = entries.keys.filter { it !in SESSION_FILES && it != UNREADABLE_META && !isTemporary(it) }
         val streams = SessionStream.entries.filter { entries.containsKey(it.fileName) }
         if (streams.isEmpty() || foreign.isNotEmpty()) {
             val what = if (streams.isEmpty()) "no stream file" else "other files (${foreign.sorted().take(3).joinToString()})"
@@ -283,6 +316,9 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         /** [SessionRecovery.recover] on the real file system, changing the folder. */
         @JvmStatic
         public fun recover(dir: Path): RecoveryReport = SessionRecovery().recover(dir, dryRun = false)
+
+        /** A temporary file of an interrupted write aside of a session file (meta.json, or a cut copy of a stream). */
+        private fun isTemporary(name: String) = SESSION_FILES.any { AtomicFiles.isTemporaryOf(name, it) }
 
         private fun refused(root: Path, name: String, reason: String) = DataFormatException(root.resolve(name).toString(), 0, 0, "$reason; nothing changed")
 

@@ -113,6 +113,22 @@ class InputFuzzTest {
         repeat(rounds) {
             check("table") { drain(write("t.csv", mutate(table))) }
             check("table.gz") { drain(write("t.csv.gz", if (random.nextBoolean()) mutate(gzip(table)) else gzip(mutate(table)))) }
+            check("table.gz of members") {
+                // cat a.gz b.gz [c.gz]: one member of the concatenation mutated, or the whole.
+                val cuts = (1..1 + random.nextInt(2)).map { random.nextInt(table.size) }.sorted()
+                val parts = (listOf(0) + cuts).zip(cuts + table.size).map { (a, b) -> gzip(table.copyOfRange(a, b)) }
+                val victim = random.nextInt(parts.size + 1)
+                val bytes = parts.mapIndexed { i, g -> if (i == victim) mutate(g) else g }.reduce { a, b -> a + b }
+                drain(write("members.csv.gz", if (victim == parts.size) mutate(bytes) else bytes))
+            }
+            check("session zip directory") {
+                // A byte of the central directory or of a local header changed: the two must agree.
+                val z = zip(session.mapKeys { "s/${it.key}" })
+                val cd = ((z.size - 22) downTo 0).first { z[it] == 0x50.toByte() && z[it + 1] == 0x4b.toByte() && z[it + 2] == 5.toByte() && z[it + 3] == 6.toByte() }
+                    .let { e -> (0 until 4).sumOf { (z[e + 16 + it].toInt() and 0xff) shl (8 * it) } }
+                val at = if (random.nextBoolean()) cd + random.nextInt(z.size - cd) else random.nextInt(30)
+                drain(write("directory.zip", z.copyOf().also { it[at] = (it[at].toInt() xor (1 shl random.nextInt(8))).toByte() }))
+            }
             check("truth") { QuaternionTableReader.open(write("truth.csv", mutate(truth))).use { r -> while (r.next()) r.q } }
             check("phyphox csv") { drain(write("Raw Data.csv", mutate(phyphoxCombined))) }
             check("phyphox zip") {
@@ -198,6 +214,21 @@ class InputFuzzTest {
             val dir = Files.createDirectories(tmp.resolve("two"))
             for (n in listOf("a", "b")) Files.write(Files.createDirectories(dir.resolve(n)).resolve("t.csv"), table)
             drain(dir)
+        }
+        // Archives that lie: two entries of one name, a damaged second gzip member, trailing garbage.
+        rejects("two entries of this name") {
+            val twin = zip(mapOf("Gyroscope.csv" to logger("z,y,x"), "Gyroscopf.csv" to logger("z,y,x").copyOf(60), "TotalAcceleration.csv" to logger("z,y,x")))
+            val name = "Gyroscopf.csv".toByteArray()
+            for (i in 0..twin.size - name.size) if (name.indices.all { twin[i + it] == name[it] }) twin[i + name.size - 5] = 'e'.code.toByte()
+            drain(write("twin.zip", twin))
+        }
+        val half = table.size / 2
+        val second = gzip(table.copyOfRange(half, table.size))
+        rejects("member 2 (at byte") { drain(write("bad2.csv.gz", gzip(table.copyOfRange(0, half)) + second.copyOf().also { it[0] = 0x1e })) }
+        rejects("member 2") { drain(write("bad2data.csv.gz", gzip(table.copyOfRange(0, half)) + second.copyOf().also { it[11] = (it[11].toInt() xor 0xff).toByte(); it[12] = (it[12].toInt() xor 0xff).toByte() })) }
+        rejects("not a gzip header") { drain(write("tail.csv.gz", gzip(table) + "trailing".toByteArray())) }
+        Recording.open(write("two.csv.gz", gzip(table.copyOfRange(0, half)) + second)).use { r ->
+            r.events().use { e -> var n = 0; while (e.next()) n++; assertTrue(n == 40 * 3, "both members read: $n events") }
         }
         println("hostile: $case cases, each a DataFormatException with the expected reason")
     }
