@@ -78,14 +78,15 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             // With a second core the rows are formatted while the next ones are read (the same bytes).
             val writer = ReplayCsvWriter(stream, closeStream = output != null, parallel = Runtime.getRuntime().availableProcessors() > 1)
             val replayer = Replayer(settings)
-            val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update) } }
+            val counts = writer.use { w -> CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, w, progress::update, rec.name) } }
             progress.finish()
             if (!o.has("--quiet")) {
                 val d = replayer.filter.diagnostics()
                 err.println(
                     "fusion replay: ${rec.format.description} ${rec.name}: ${counts.events} events, ${writer.rows} rows " +
                         "(${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer); " +
-                        "skipped: ${d.skippedBeforeInit} before start, ${d.skippedTimestamp} bad timestamps, ${d.skippedGap} after gaps",
+                        "skipped: ${d.skippedBeforeInit} before start, ${d.skippedTimestamp} bad timestamps, ${d.skippedGap} after gaps, " +
+                        "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero",
                 )
             }
             if (counts.gyroscope == 0L) {
