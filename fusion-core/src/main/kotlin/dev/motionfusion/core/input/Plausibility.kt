@@ -84,7 +84,7 @@ internal object Plausibility {
         if (m.isNaN()) return
         val message = when (s) {
             SessionStream.ACCELEROMETER -> when {
-                m >= 0.5 && m <= 2.0 -> "looks like g, not m/s² (median |a| ${fmt(m)}; in m/s² a phone reads about ${fmt(STANDARD_GRAVITY)}): multiply the accelerometer by ${fmt(STANDARD_GRAVITY)}"
+                m >= 0.5 && m <= 2.0 -> "looks like g, not m/s² (median |a| ${fmt(m)}; in m/s² a phone reads about ${fmt(STANDARD_GRAVITY)}): multiply the accelerometer by $STANDARD_GRAVITY"
                 m < SensorRanges.MIN_MEDIAN_ACCELEROMETER_M_S2 -> "median |a| ${fmt(m)} m/s² is no accelerometer's (gravity alone is ${fmt(STANDARD_GRAVITY)}): a column of another quantity or unit (linear acceleration?)"
                 m > SensorRanges.MAX_MEDIAN_ACCELEROMETER_M_S2 -> "median |a| ${fmt(m)} m/s² is over 3 g throughout: a column of another unit (cm/s² or mg?)"
                 else -> null

@@ -72,29 +72,31 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         val d = filter.diagnostics()
         fun fail(reason: String): Nothing = throw DataFormatException(source, 0, 0, reason)
         if (largestStepBackNs > SensorRanges.MAX_STEP_BACK_S * 1e9) {
-            fail("gyroscope timestamps step back by ${"%.3f".format(java.util.Locale.ROOT, largestStepBackNs * 1e-9)} s at t = " +
-                "${"%.3f".format(java.util.Locale.ROOT, secondsBetween(counts.firstTimestampNs, stepBackAtNs))} s: the recording is out of order (pieces joined?); sort it by time")
+            fun s(ns: Long) = "%.3f".format(java.util.Locale.ROOT, secondsBetween(counts.firstTimestampNs, ns))
+            fail("gyroscope timestamps step back by ${"%.3f".format(java.util.Locale.ROOT, largestStepBackNs * 1e-9)} s (from t = ${s(stepBackFromNs)} s to ${s(stepBackFromNs - largestStepBackNs)} s, " +
+                "times from the first sample): the recording is out of order (pieces joined?); sort it by time")
         }
         if (counts.gyroscope > 0 && d.skippedTimestamp * 2 > counts.gyroscope) {
             fail("${d.skippedTimestamp} of ${counts.gyroscope} gyroscope timestamps do not advance: fewer than half the samples are usable; sort the rows by time")
         }
         val skipped = d.skippedOutOfRange + d.skippedNonFinite
-        if (counts.events > 0 && skipped * 2 > counts.gyroscope + counts.accelerometer + counts.magnetometer) {
-            fail("$skipped of ${counts.gyroscope + counts.accelerometer + counts.magnetometer} readings are beyond any phone's range (${d.skippedOutOfRange}) or not finite (${d.skippedNonFinite}): " +
-                "fewer than half the samples are usable; check the columns' units")
+        val perStream = maxOf(counts.gyroscope, counts.accelerometer, counts.magnetometer)
+        if (perStream > 0 && skipped * 2 > perStream) {
+            fail("$skipped readings are beyond any phone's range (${d.skippedOutOfRange}) or not finite (${d.skippedNonFinite}), over half of a stream's $perStream samples: " +
+                "fewer than half the samples are usable; check the columns and their units")
         }
         return counts
     }
 
     /** The largest step back of the gyroscope's timestamps, ns, and where it was. */
     private var largestStepBackNs = 0L
-    private var stepBackAtNs = 0L
+    private var stepBackFromNs = 0L
     private var lastGyroNs = Long.MIN_VALUE
 
     private fun gyroscopeTime(t: Long) {
         if (lastGyroNs != Long.MIN_VALUE && t < lastGyroNs) {
             val back = secondsBetween(t, lastGyroNs) * 1e9
-            if (back > largestStepBackNs) { largestStepBackNs = back.toLong(); stepBackAtNs = t }
+            if (back > largestStepBackNs) { largestStepBackNs = back.toLong(); stepBackFromNs = lastGyroNs }
         }
         lastGyroNs = t
     }
