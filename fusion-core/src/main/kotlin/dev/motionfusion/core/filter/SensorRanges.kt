@@ -30,8 +30,8 @@ internal object SensorRanges {
     /** Median |a| above this: no phone held by a person (3 g throughout). */
     const val MAX_MEDIAN_ACCELEROMETER_M_S2 = 30.0
 
-    /** Median |ω| above this, rad/s, is a gyroscope in °/s (a sustained 570 °/s). */
-    const val MAX_MEDIAN_GYROSCOPE_RAD_S = 10.0
+    /** Median |ω| above this, rad/s, is a gyroscope in °/s (a sustained 290 °/s; in °/s a slowly turned phone reads more). */
+    const val MAX_MEDIAN_GYROSCOPE_RAD_S = 5.0
 
     /** Median |B| below this, µT, is no magnetometer in µT (the earth's field is 25–65 µT): gauss or zero. */
     const val MIN_MEDIAN_MAGNETOMETER_UT = 5.0

@@ -123,6 +123,6 @@ internal object Plausibility {
     private fun fmt(v: Double): String = when {
         v == 0.0 -> "0"
         v >= 1e6 || v < 1e-3 -> String.format(Locale.ROOT, "%.3g", v)
-        else -> String.format(Locale.ROOT, "%.4g", v).let { if ('.' in it && 'e' !in it) it.trimEnd('0').trimEnd('.') else it }
+        else -> java.math.BigDecimal(v).round(java.math.MathContext(3)).stripTrailingZeros().toPlainString()
     }
 }
