@@ -164,10 +164,20 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         if ((result.gyroscope?.tau?.size ?: 0) < 3 && (result.accelerometer?.tau?.size ?: 0) < 3) {
             throw DataFormatException(input, 0, 0, "too short for an Allan deviation: needs a gyroscope or accelerometer stream of at least a few hundred samples")
         }
+        val seconds = listOfNotNull(result.gyroscope, result.accelerometer).maxOfOrNull { it.samples / it.rateHz } ?: 0.0
+        if (!(seconds >= MIN_ALLAN_S)) {
+            throw DataFormatException(input, 0, 0, "${"%.1f".format(java.util.Locale.ROOT, seconds)} s of samples is too short for noise figures: " +
+                "the noise density needs at least ${MIN_ALLAN_S.toInt()} s of still recording (the random walk and bias instability hours)")
+        }
         if (!o.has("--quiet")) err.print(AllanPlot.table(result))
         val yaml = result.kalibrYaml("fusion allan ${Cli.VERSION} from $name")
         if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
         if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
         return ExitCode.OK
+    }
+
+    private companion object {
+        /** Shortest recording, s, whose Allan deviation gives a noise density (clusters of 1 s, enough of them). */
+        const val MIN_ALLAN_S = 60.0
     }
 }

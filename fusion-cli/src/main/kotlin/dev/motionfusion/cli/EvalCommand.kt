@@ -155,7 +155,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                         lastTruthT = timestampNs
                     }
                 }
-                rec.events().use { Replayer(settings).run(it, rec.originNs, listener) }
+                rec.events().use { Replayer(settings).run(it, rec.originNs, listener, null, rec.name) }
             }
             if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
             return TrialResult(rec.name, e)

@@ -65,9 +65,9 @@ internal object FilterOptions {
                     else -> throw UsageException("--mode expects 6d or 9d, got '$it'")
                 })
             }
-            o.double("--beta")?.let { s = s.copy(beta = it) }
-            o.double("--zeta")?.let { s = s.copy(zeta = it) }
-            o.double("--max-gap")?.let { s = s.copy(maxGap = it) }
+            o.double("--beta")?.let { s = number(s, "--beta", "beta", it) }
+            o.double("--zeta")?.let { s = number(s, "--zeta", "zeta", it) }
+            o.double("--max-gap")?.let { s = number(s, "--max-gap", "maxGap", it) }
             o.value("--init")?.let {
                 s = s.copy(initialisation = when (it.lowercase()) {
                     "identity" -> Initialisation.IDENTITY
@@ -86,6 +86,13 @@ internal object FilterOptions {
             throw UsageException(e.message ?: "invalid filter setting")
         }
         return s
+    }
+
+    /** [s] with the number setting [name] (option [option]) set through its descriptor, so its limits apply. */
+    private fun number(s: FilterSettings, option: String, name: String, v: Double): FilterSettings = try {
+        FilterSettingDescriptors.named(name)!!.with(s, v)
+    } catch (e: IllegalArgumentException) {
+        throw UsageException("$option: ${e.message}")
     }
 
     /** One --set NAME=VALUE, with its errors in this tool's words. */

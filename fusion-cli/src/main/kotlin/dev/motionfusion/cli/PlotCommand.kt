@@ -102,7 +102,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 }
             }
             val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
-            truthTable.use { rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update) } }
+            truthTable.use { rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) } }
             progress.finish()
             if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
             val tMax = angles.maxOf { it.lastT }

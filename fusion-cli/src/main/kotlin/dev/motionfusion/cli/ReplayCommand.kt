@@ -98,7 +98,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
 
                         override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
                     }
-                    CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, listener, progress::update) }
+                    CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, listener, progress::update, rec.name) }
                 }
             }
             progress.finish()
@@ -107,7 +107,8 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
                 err.println(
                     "fusion replay: ${rec.format.description} ${rec.name}: ${counts.events} events, ${writer.rows} rows " +
                         "(${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer); " +
-                        "skipped: ${d.skippedBeforeInit} before start, ${d.skippedTimestamp} bad timestamps, ${d.skippedGap} after gaps",
+                        "skipped: ${d.skippedBeforeInit} before start, ${d.skippedTimestamp} bad timestamps, ${d.skippedGap} after gaps, " +
+                        "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero",
                 )
             }
             if (counts.gyroscope == 0L) {

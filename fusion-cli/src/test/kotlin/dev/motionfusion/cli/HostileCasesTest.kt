@@ -77,6 +77,27 @@ class HostileCasesTest {
             java.util.zip.GZIPOutputStream(b).use { it.write((table + "0,0,0,0,0,0,9.8\n".repeat(200)).toByteArray()) }
         }.toByteArray().let { it.copyOf(it.size / 2) })
         Files.writeString(template.resolve("truth.csv"), "t_s,qw,qx,qy,qz\n0,1,0,0,0\n1,1,0,0,0\n")
+        // Tables that parse but cannot be right (docs/IMPORT.md, "Plausibility"), made from table.csv.
+        val rows = Files.readAllLines(template.resolve("table.csv")).filter { it.isNotBlank() }
+        fun variant(name: String, change: (List<MutableList<String>>) -> List<List<String>>) =
+            Files.write(template.resolve(name), listOf(rows[0]) + change(rows.drop(1).map { it.split(',').toMutableList() }).map { it.joinToString(",") })
+        fun List<MutableList<String>>.time(f: (Double) -> Double) = onEach { it[0] = f(it[0].toDouble()).toString() }
+        variant("t-ms.csv") { r -> r.time { it * 1000 } }
+        variant("t-reversed.csv") { it.reversed() }
+        variant("t-zero.csv") { r -> r.time { 0.0 } }
+        variant("t-1hz.csv") { r -> r.time { it * 50 } }
+        variant("t-back.csv") { r -> r.onEachIndexed { i, it -> if (i >= r.size / 2) it[0] = (it[0].toDouble() - 3.0).toString() } }
+        variant("acc-1e308.csv") { r -> r.also { it[100][6] = "1e308" } }
+        variant("gyro-1e30.csv") { r -> r.also { it[100][2] = "1e30" } }
+        variant("mag-1e308.csv") { r -> r.also { it[100][7] = "1e308" } }
+        variant("mag-zero.csv") { r -> r.onEach { for (k in 7..9) it[k] = "0" } }
+        variant("acc-g.csv") { r -> r.onEach { for (k in 4..6) it[k] = (it[k].toDouble() / 9.80665).toString() } }
+        check(fusion("simulate", "-o", t("still20"), "--duration", "20", "--rate", "50").code == 0)
+        // A session with one accelerometer reading at the largest float.
+        val s38 = copyTree(template.resolve("s"), template.resolve("s-3e38"))
+        val acc = Files.readAllLines(s38.resolve("accelerometer.csv")).toMutableList()
+        acc[60] = acc[60].split(',').toMutableList().also { it[3] = "3.4028235e38" }.joinToString(",")
+        Files.write(s38.resolve("accelerometer.csv"), acc)
         // An interrupted session: "complete": false and a partial last row.
         val int = copyTree(template.resolve("s"), template.resolve("s-int"))
         val meta = int.resolve("meta.json")
@@ -297,6 +318,22 @@ class HostileCasesTest {
         c += Case("summary of cut gzip data", listOf("summary", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
         c += Case("replay of corrupt gzip data", listOf("replay", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt compressed data""")
         c += Case("replay of cut gzip data", listOf("replay", "cut.csv.gz"), 1, """cut\.csv\.gz: compressed data ends early""")
+        // Inputs that parse but cannot be right: a clear error, or the result without the impossible reading (counted).
+        c += Case("replay of a table timed in ms", listOf("replay", "t-ms.csv", "-o", "prev.csv"), 1, """t-ms\.csv: accelerometer: the timestamps imply 0\.05 Hz: the times look like ms, not s""")
+        c += Case("replay of a table in reverse order", listOf("replay", "t-reversed.csv", "-o", "prev.csv"), 1, """timestamp steps step back \(rows in reverse order\?\)""")
+        c += Case("replay of a table with all times zero", listOf("replay", "t-zero.csv", "-o", "prev.csv"), 1, """timestamp steps are all the same \(0 s\)""")
+        c += Case("replay of a 1 Hz table", listOf("replay", "t-1hz.csv", "-o", "prev.csv"), 1, """the timestamps imply 1 Hz""")
+        c += Case("replay of a table whose times go back midway", listOf("replay", "t-back.csv", "-o", "prev.csv"), 1, """gyroscope timestamps step back by 2\.980 s .*: the recording is out of order""")
+        c += Case("replay of an accelerometer reading of 1e308", listOf("replay", "acc-1e308.csv", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
+        c += Case("replay of a gyroscope reading of 1e30", listOf("replay", "gyro-1e30.csv", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
+        c += Case("replay of a magnetometer reading of 1e308", listOf("replay", "mag-1e308.csv", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
+        c += Case("replay of a session with an accelerometer reading of 3e38", listOf("replay", "s-3e38", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
+        c += Case("replay of an all-zero magnetometer", listOf("replay", "mag-zero.csv", "-o", "prev.csv"), 1, """magnetometer: is zero throughout: no field was recorded; replay as IMU \(--mode IMU\)""")
+        c += Case("replay of an accelerometer in g", listOf("replay", "acc-g.csv", "-o", "prev.csv"), 1, """accelerometer: looks like g, not m/s²""")
+        c += Case("--beta 1e308", listOf("replay", "table.csv", "--beta", "1e308"), 2, """--beta: beta must be within 0–50 rad/s: 1\.0E308""")
+        c += Case("--max-gap 1e9", listOf("replay", "table.csv", "--max-gap", "1e9"), 2, """--max-gap: maxGap must be within 0–200 s""")
+        c += Case("--set of a setting far out of range", listOf("replay", "table.csv", "--set", "magNormTolerance=1e6"), 2, """--set magNormTolerance: magNormTolerance must be within 0–50""")
+        c += Case("allan on 20 s", listOf("allan", "still20", "-o", "prev.csv"), 1, """still20: 20\.0 s of samples is too short for noise figures: the noise density needs at least 60 s""")
         c += filesAndArchivesCases()
         return c
     }
@@ -427,7 +464,7 @@ class HostileCasesTest {
     }
 
     private companion object {
-        val VALUE_OPTIONS = setOf("--duration", "--rate", "--seed", "--set", "--angles")
+        val VALUE_OPTIONS = setOf("--duration", "--rate", "--seed", "--set", "--angles", "--beta", "--max-gap")
     }
 }
 

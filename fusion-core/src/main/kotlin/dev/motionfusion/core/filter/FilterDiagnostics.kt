@@ -19,6 +19,8 @@ import dev.motionfusion.core.Vector3
  * @property skippedBeforeInit gyroscope samples dropped while waiting for initialisation.
  * @property skippedNonFinite samples (any sensor) with a NaN or infinite value, dropped, and steps
  *   whose result was not finite (absurd readings), not applied.
+ * @property skippedOutOfRange samples (any sensor) with an axis beyond any phone's range
+ *   (SensorRanges: 100 rad/s, 50 g, 5000 µT), dropped.
  * @property skippedZero accelerometer or magnetometer samples of zero length, dropped.
  * @property skippedTimestamp gyroscope samples whose timestamp did not advance, dropped.
  * @property skippedGap gyroscope samples after a gap longer than maxGap, not integrated.
@@ -45,4 +47,5 @@ public data class FilterDiagnostics(
     val accelerometerRejections: Long,
     val magneticRejections: Long,
     val gyroscopeSaturations: Long = 0,
+    val skippedOutOfRange: Long = 0,
 )

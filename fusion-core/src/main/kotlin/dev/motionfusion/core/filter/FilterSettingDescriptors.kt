@@ -48,6 +48,8 @@ public enum class SettingGroup {
  * @property group the section it belongs to.
  * @property range a number's useful span to set by hand, in [unit] (a slider's ends; FilterSettings
  *   itself accepts more); null for a flag or a choice.
+ * @property limits the values a number may take at all, in [unit]: from 0 to [LIMIT_FACTOR] times the
+ *   end of [range]; beyond it no filter behaves meaningfully, and [with] refuses it, naming the limits.
  * @property zeroDisables true when 0 turns the mechanism off (a screen shows a switch beside the value).
  */
 public class FilterSettingDescriptor internal constructor(
@@ -64,6 +66,8 @@ public class FilterSettingDescriptor internal constructor(
     public val range: ClosedFloatingPointRange<Double>?,
     public val zeroDisables: Boolean,
 ) {
+    public val limits: ClosedFloatingPointRange<Double>? = range?.let { 0.0..(it.endInclusive * LIMIT_FACTOR) }
+
     /** The value in [s]: a Double, a Boolean, or the name of a choice. */
     public fun value(s: FilterSettings): Any = read(s)
 
@@ -76,7 +80,10 @@ public class FilterSettingDescriptor internal constructor(
      */
     public fun with(s: FilterSettings, value: Any): FilterSettings {
         val v: Any = when (kind) {
-            SettingKind.NUMBER -> (value as? Number)?.toDouble() ?: throw IllegalArgumentException("$name expects a number, got $value")
+            SettingKind.NUMBER -> ((value as? Number)?.toDouble() ?: throw IllegalArgumentException("$name expects a number, got $value")).also { d ->
+                val l = limits
+                if (l != null && d.isFinite() && d !in l) throw IllegalArgumentException("$name must be within ${num(l.start)}–${num(l.endInclusive)}${if (unit.isEmpty()) "" else " $unit"}: $value")
+            }
             SettingKind.BOOLEAN -> value as? Boolean ?: throw IllegalArgumentException("$name expects true or false, got $value")
             SettingKind.CHOICE -> (value as? String)?.takeIf { it in choices } ?: throw IllegalArgumentException("$name expects one of ${choices.joinToString()}, got $value")
         }
@@ -105,8 +112,13 @@ public class FilterSettingDescriptor internal constructor(
 
     override fun toString(): String = name
 
-    private companion object {
-        val DEFAULTS = FilterSettings()
+    public companion object {
+        private val DEFAULTS = FilterSettings()
+
+        /** How far beyond a slider's end a setting may still be set ([limits]). */
+        public const val LIMIT_FACTOR: Double = 100.0
+
+        private fun num(v: Double): String = if (v == Math.rint(v) && kotlin.math.abs(v) < 1e15) v.toLong().toString() else v.toString()
     }
 }
 

@@ -139,6 +139,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var steps = 0L
     private var skippedBeforeInit = 0L
     private var skippedNonFinite = 0L
+    private var skippedOutOfRange = 0L
     private var skippedZero = 0L
     private var skippedTimestamp = 0L
     private var skippedGap = 0L
@@ -153,14 +154,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** Holds an accelerometer sample (m/s², device frame) for the next gyroscope steps. */
     public fun updateAccelerometer(timestampNs: Long, x: Double, y: Double, z: Double) {
-        hasAcc = validVector(x, y, z)
+        hasAcc = validVector(x, y, z, SensorRanges.ACCELEROMETER_M_S2)
         ax = x; ay = y; az = z; accT = timestampNs
     }
 
     /** Holds a magnetometer sample (µT, device frame) for the next gyroscope steps; ignored in IMU mode. */
     public fun updateMagnetometer(timestampNs: Long, x: Double, y: Double, z: Double) {
         if (!marg) return
-        hasMag = validVector(x, y, z)
+        hasMag = validVector(x, y, z, SensorRanges.MAGNETOMETER_UT)
         mx = x; my = y; mz = z; magT = timestampNs
     }
 
@@ -173,6 +174,10 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     public fun updateGyroscope(timestampNs: Long, x: Double, y: Double, z: Double) {
         if (!(x.isFinite() && y.isFinite() && z.isFinite())) {
             skippedNonFinite++
+            return
+        }
+        if (abs(x) > SensorRanges.GYROSCOPE_RAD_S || abs(y) > SensorRanges.GYROSCOPE_RAD_S || abs(z) > SensorRanges.GYROSCOPE_RAD_S) {
+            skippedOutOfRange++
             return
         }
         val accOk = hasAcc && fresh(timestampNs, accT)
@@ -306,6 +311,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         gyroscopeSteps = steps,
         skippedBeforeInit = skippedBeforeInit,
         skippedNonFinite = skippedNonFinite,
+        skippedOutOfRange = skippedOutOfRange,
         skippedZero = skippedZero,
         skippedTimestamp = skippedTimestamp,
         skippedGap = skippedGap,
@@ -326,7 +332,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accRejection?.writeState(d, at)
         val l = longArrayOf(
             accT, magT, lastT, firstAccT, flags(),
-            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations, stillRecoveries,
+            steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations, stillRecoveries, skippedOutOfRange,
         )
         return FilterSnapshot(settings, d, l)
     }
@@ -353,6 +359,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L
         steps = l[5]; skippedBeforeInit = l[6]; skippedNonFinite = l[7]; skippedZero = l[8]; skippedTimestamp = l[9]
         skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]; saturations = l[14]; stillRecoveries = l[15]
+        skippedOutOfRange = l[16]
     }
 
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
@@ -365,9 +372,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     private fun fresh(t: Long, sampleT: Long): Boolean = t - sampleT <= maxGapNs
 
-    private fun validVector(x: Double, y: Double, z: Double): Boolean {
+    private fun validVector(x: Double, y: Double, z: Double, limit: Double): Boolean {
         if (!(x.isFinite() && y.isFinite() && z.isFinite())) {
             skippedNonFinite++
+            return false
+        }
+        if (abs(x) > limit || abs(y) > limit || abs(z) > limit) {
+            skippedOutOfRange++
             return false
         }
         if (x == 0.0 && y == 0.0 && z == 0.0) {

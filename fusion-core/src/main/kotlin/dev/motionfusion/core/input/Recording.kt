@@ -56,11 +56,19 @@ public class Recording private constructor(
     private val closer: Closeable,
     private val readMarkers: () -> List<Marker> = { emptyList() },
 ) : Closeable {
+    /** The plausibility probe has passed (it runs once, before the first events). */
+    private var probed = false
+
     /** The markers set while recording (a session's markers.csv); empty for other formats. */
     public fun markers(): List<Marker> = readMarkers()
 
     /** The events of [which] streams (default all), merged by timestamp. */
     public fun events(which: Set<SessionStream> = streams): SensorEvents {
+        if (!probed) {
+            files.guard.reset()
+            Plausibility.check(name, format, streams, open())
+            probed = true
+        }
         files.guard.reset()
         val all = open()
         return if (which.containsAll(streams)) all else FilteredEvents(all, which)

@@ -8,6 +8,8 @@ package dev.motionfusion.core.replay
 
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
@@ -64,8 +66,48 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
      * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.
      * [progress], if given, is called with the number of events read, about every 65,536 events.
      */
-    public fun run(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null): ReplayCounts {
-        if (events is RowEvents) return runRows(events, originNs, listener, progress)
+    @JvmOverloads
+    public fun run(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null, source: String = "input"): ReplayCounts =
+        usable(source, if (events is RowEvents) runRows(events, originNs, listener, progress) else runEvents(events, originNs, listener, progress))
+
+    /**
+     * [counts] when most of the input was usable; a gyroscope stepping back by more than
+     * SensorRanges.MAX_STEP_BACK_S, or fewer than half the samples usable, is an error naming [source].
+     */
+    private fun usable(source: String, counts: ReplayCounts): ReplayCounts {
+        val d = filter.diagnostics()
+        fun fail(reason: String): Nothing = throw DataFormatException(source, 0, 0, reason)
+        if (largestStepBackNs > SensorRanges.MAX_STEP_BACK_S * 1e9) {
+            fun s(ns: Long) = "%.3f".format(java.util.Locale.ROOT, secondsBetween(counts.firstTimestampNs, ns))
+            fail("gyroscope timestamps step back by ${"%.3f".format(java.util.Locale.ROOT, largestStepBackNs * 1e-9)} s (from t = ${s(stepBackFromNs)} s to ${s(stepBackFromNs - largestStepBackNs)} s, " +
+                "times from the first sample): the recording is out of order (pieces joined?); sort it by time")
+        }
+        if (counts.gyroscope > 0 && d.skippedTimestamp * 2 > counts.gyroscope) {
+            fail("${d.skippedTimestamp} of ${counts.gyroscope} gyroscope timestamps do not advance: fewer than half the samples are usable; sort the rows by time")
+        }
+        val skipped = d.skippedOutOfRange + d.skippedNonFinite
+        val perStream = maxOf(counts.gyroscope, counts.accelerometer, counts.magnetometer)
+        if (perStream > 0 && skipped * 2 > perStream) {
+            fail("$skipped readings are beyond any phone's range (${d.skippedOutOfRange}) or not finite (${d.skippedNonFinite}), over half of a stream's $perStream samples: " +
+                "fewer than half the samples are usable; check the columns and their units")
+        }
+        return counts
+    }
+
+    /** The largest step back of the gyroscope's timestamps, ns, and where it was. */
+    private var largestStepBackNs = 0L
+    private var stepBackFromNs = 0L
+    private var lastGyroNs = Long.MIN_VALUE
+
+    private fun gyroscopeTime(t: Long) {
+        if (lastGyroNs != Long.MIN_VALUE && t < lastGyroNs) {
+            val back = secondsBetween(t, lastGyroNs) * 1e9
+            if (back > largestStepBackNs) { largestStepBackNs = back.toLong(); stepBackFromNs = lastGyroNs }
+        }
+        lastGyroNs = t
+    }
+
+    private fun runEvents(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)?): ReplayCounts {
         val step = ReplayStep()
         var origin = originNs
         var n = 0L
@@ -86,6 +128,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             when (events.stream) {
                 SessionStream.GYROSCOPE -> {
                     gyro++
+                    gyroscopeTime(t)
                     f.updateGyroscope(t, v[0], v[1], v[2])
                     step.angularVelocity[0] = v[0]; step.angularVelocity[1] = v[1]; step.angularVelocity[2] = v[2]
                     gyroscopeStep(step, t, origin, listener)
@@ -135,6 +178,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                 f.updateMagnetometer(t, r[6], r[7], r[8])
                 step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
             }
+            gyroscopeTime(t)
             f.updateGyroscope(t, r[0], r[1], r[2])
             step.angularVelocity[0] = r[0]; step.angularVelocity[1] = r[1]; step.angularVelocity[2] = r[2]
             gyroscopeStep(step, t, origin, listener)
