@@ -83,9 +83,10 @@ class FilterApiTest {
         f.update(t + 3, 0.0, 0.0, 0.0, 0.0, 0.0, g, 20.0, 0.0, -30.0) // same timestamp
         f.update(t - 5, 0.0, 0.0, 0.0, 0.0, 0.0, g, 20.0, 0.0, -30.0) // backwards
         f.update(t + 2_000_000_000L, 0.0, 0.0, 0.0, 0.0, 0.0, g, 20.0, 0.0, -30.0) // 2 s gap
-        f.update(t + 2_010_000_000L, 1e300, 1e300, 1e300, 0.0, 0.0, g, 20.0, 0.0, -30.0) // finite but absurd
+        f.update(t + 2_010_000_000L, 1e300, 1e300, 1e300, 0.0, 0.0, g, 20.0, 0.0, -30.0) // finite but beyond any phone's range
         val d = f.diagnostics()
-        assertEquals(2L, d.skippedNonFinite - 1L, "NaN gyro, infinite acc (+1 for the absurd step): $d")
+        assertEquals(2L, d.skippedNonFinite, "NaN gyro, infinite acc: $d")
+        assertEquals(1L, d.skippedOutOfRange, "the absurd gyroscope reading: $d")
         assertEquals(2L, d.skippedZero, "zero acc, zero mag: $d")
         assertEquals(2L, d.skippedTimestamp, "duplicate and backward timestamps: $d")
         assertEquals(1L, d.skippedGap)

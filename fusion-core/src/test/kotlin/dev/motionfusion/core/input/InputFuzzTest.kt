@@ -57,7 +57,7 @@ class InputFuzzTest {
     private fun row3(t: Int) = "${0.01 * t},${0.1 * (t % 7)},${-0.2},${9.8 - 0.01 * t}"
 
     private val table = ("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},0.01,-0.02,0.03,0.1,0.2,9.8,20,0,-40\n" }).toByteArray()
-    private val phyphoxGyro = ("\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" + (0 until 40).joinToString("") { row3(it) + "\n" }).toByteArray()
+    private val phyphoxGyro = ("\"Time (s)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" + (0 until 40).joinToString("") { "${0.01 * it},${0.01 * (it % 7)},-0.02,0.3\n" }).toByteArray()
     private val phyphoxCombined = ("\"Time (s)\",\"Acceleration x (m/s^2)\",\"Acceleration y (m/s^2)\",\"Acceleration z (m/s^2)\",\"Gyroscope x (rad/s)\",\"Gyroscope y (rad/s)\",\"Gyroscope z (rad/s)\"\n" +
         (0 until 40).joinToString("") { row3(it) + ",0.01,0.02,-0.03\n" }).toByteArray()
     private val phyphoxAcc = ("\"Time (s)\";\"Acceleration x (m/s^2)\";\"Acceleration y (m/s^2)\";\"Acceleration z (m/s^2)\"\n" +
@@ -170,6 +170,60 @@ class InputFuzzTest {
         for ((f, o) in outcomes) assertTrue(o[0] > 0 && o[1] > 0, "$f: ${o.toList()}")
     }
 
+    /**
+     * Plausibility (docs/IMPORT.md): seeded faults of the values rather than the bytes (a column in
+     * another unit, times scaled, reversed, stalled or going back, single readings beyond any
+     * phone's range). Each replay either fails with a DataFormatException or gives finite
+     * orientations only, with every impossible reading counted as skipped.
+     */
+    @Test
+    fun `implausible values are an error or skipped, never a silent NaN`() {
+        val base = (0 until 400).map { i -> doubleArrayOf(i * 0.01, 0.01, -0.02, 0.3, 0.1, 0.2, 9.8, 20.0, 0.0, -40.0) }
+        val scales = listOf(1e-3, 1e-2, 1e-1, 1.0 / 9.80665, 180 / Math.PI, 100.0, 1000.0, 1e6, 1e9)
+        val huge = listOf(1e308, -1e308, 3.4028235e38, 1e30, 1e6, 200.0, -600.0, 6000.0)
+        val outcome = IntArray(2)
+        repeat(300) {
+            val rows = base.map { it.copyOf() }.toMutableList()
+            var impossible = 0
+            when (random.nextInt(6)) {
+                0 -> { val s = scales[random.nextInt(scales.size)]; rows.forEach { it[0] *= s } }
+                1 -> rows.reverse()
+                2 -> { val from = random.nextInt(rows.size); rows.drop(from).forEach { it[0] = rows[from][0] } }
+                3 -> { val from = 1 + random.nextInt(rows.size - 1); val back = random.nextDouble() * 10; rows.drop(from).forEach { it[0] -= back } }
+                4 -> { val col = 1 + 3 * random.nextInt(3); val s = scales[random.nextInt(scales.size)]; rows.forEach { for (k in col until col + 3) it[k] *= s } }
+                else -> repeat(1 + random.nextInt(3)) {
+                    val col = 1 + random.nextInt(9)
+                    val v = huge[random.nextInt(huge.size)]
+                    val limit = if (col <= 3) 100.0 else if (col <= 6) 490.3325 else 5000.0
+                    val r = rows[random.nextInt(rows.size)]
+                    if (Math.abs(r[col]) <= limit && Math.abs(v) > limit) impossible++
+                    r[col] = v
+                }
+            }
+            val text = rows.joinToString("", "t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n") { r -> r.joinToString(",", postfix = "\n") }
+            case++
+            try {
+                Recording.open(write("p.csv", text.toByteArray())).use { rec ->
+                    var nan = 0
+                    val replayer = dev.motionfusion.core.replay.Replayer()
+                    rec.events().use { e ->
+                        replayer.run(e, rec.originNs, object : dev.motionfusion.core.replay.ReplayListener {
+                            override fun step(step: dev.motionfusion.core.replay.ReplayStep) { if (step.initialised && step.orientation.any { !it.isFinite() }) nan++ }
+                        }, source = rec.name)
+                    }
+                    assertTrue(nan == 0, "case $case: $nan non-finite orientations")
+                    assertTrue(replayer.filter.diagnostics().skippedOutOfRange >= impossible, "case $case: $impossible impossible readings, ${replayer.filter.diagnostics().skippedOutOfRange} skipped")
+                }
+                outcome[0]++
+            } catch (e: DataFormatException) {
+                outcome[1]++
+                assertTrue(e.source.isNotEmpty() && e.reason.isNotEmpty(), "case $case: ${e.message}")
+            }
+        }
+        println("plausibility fuzz: 300 cases; [replayed, DataFormatException]: ${outcome.toList()}")
+        assertTrue(outcome[0] > 0 && outcome[1] > 0, outcome.toList().toString())
+    }
+
     /** [read] must fail with a DataFormatException whose message contains [fragment] and stays short. */
     private fun rejects(fragment: String, read: () -> Unit) {
         case++
@@ -189,7 +243,7 @@ class InputFuzzTest {
         rejects("longer than") { drain(write("long.csv", header + ByteArray(3 shl 20) { 'x'.code.toByte() })) }
         rejects("longer than") { drain(write("bomb.csv.gz", gzip(header + zeros))) }
         rejects("longer than") { drain(write("bomb.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x") + zeros, "TotalAcceleration.csv" to logger("z,y,x"))))) }
-        val big = ByteArrayOutputStream().also { o -> o.write(header); repeat(100_000) { o.write("0.01,0,0,0,0,0,9.8\n".toByteArray()) } }.toByteArray()
+        val big = ByteArrayOutputStream().also { o -> o.write(header); repeat(100_000) { i -> o.write("${0.01 * i},0,0,0,0,0,9.8\n".toByteArray()) } }.toByteArray()
         val small = ImportOptions(dev.motionfusion.core.io.InputLimits.perFile(1 shl 20))
         rejects("limit for one file") { Recording.open(write("big.csv.gz", gzip(big)), small).use { r -> r.events().use { e -> while (e.next()) Unit } } }
         rejects("in total") {
