@@ -62,7 +62,7 @@ class InputFuzzTest {
         (0 until 40).joinToString("") { row3(it) + ",0.01,0.02,-0.03\n" }).toByteArray()
     private val phyphoxAcc = ("\"Time (s)\";\"Acceleration x (m/s^2)\";\"Acceleration y (m/s^2)\";\"Acceleration z (m/s^2)\"\n" +
         (0 until 40).joinToString("") { row3(it).replace(',', ';').replace('.', ',') + "\n" }).toByteArray()
-    private fun logger(order: String) = ("time,seconds_elapsed,$order\n" + (0 until 40).joinToString("") { t -> "${1_700_000_000_000_000_000L + t * 10_000_000L},${0.01 * t},0.1,-0.2,9.8\n" }).toByteArray()
+    private fun logger(order: String, values: String = "0.1,-0.2,9.8") = ("time,seconds_elapsed,$order\n" + (0 until 40).joinToString("") { t -> "${1_700_000_000_000_000_000L + t * 10_000_000L},${0.01 * t},$values\n" }).toByteArray()
     private val truth = ("t_s,qw,qx,qy,qz,movement\n" + (0 until 40).joinToString("") { t -> "${0.01 * t},1,0,0,0,${t % 2}\n" }).toByteArray()
 
     private fun sessionFiles(): Map<String, ByteArray> {
@@ -138,8 +138,9 @@ class InputFuzzTest {
             }
             check("sensor logger zip") {
                 val acc = if (random.nextBoolean()) mapOf("TotalAcceleration.csv" to logger("z,y,x"))
-                else mapOf("Accelerometer.csv" to logger("z,y,x"), "Gravity.csv" to logger("z,y,x"))
-                val files = acc + mapOf("Gyroscope.csv" to logger("z,y,x"),
+                else mapOf("Accelerometer.csv" to logger("z,y,x", "0.05,-0.1,0.2"), "Gravity.csv" to logger("z,y,x"))
+                // Plausible rates (rad/s): a gyroscope reading |ω| ≈ 9.8 would be taken for °/s.
+                val files = acc + mapOf("Gyroscope.csv" to logger("z,y,x", "0.01,-0.02,0.03"),
                     "Orientation.csv" to String(logger("qz,qy,qx")).replace("\n", ",1\n").replaceFirst("qx,1", "qx,qw").toByteArray())
                 val victim = files.keys.toList()[random.nextInt(files.size)]
                 val entries = files.mapValues { (n, c) -> if (n == victim) mutate(c) else c }
