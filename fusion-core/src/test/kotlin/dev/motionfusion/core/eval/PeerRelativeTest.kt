@@ -1,6 +1,7 @@
 package dev.motionfusion.core.eval
 
 import dev.motionfusion.core.input.Recording
+import dev.motionfusion.core.input.RealExportsTest
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
@@ -22,24 +23,13 @@ import java.util.Locale
  */
 class PeerRelativeTest {
     /** The real exports that replay with enough samples (RealExportsTest's cases that replay), and their windows after violent motion (s). */
-    private val inputs: Map<String, Pair<Double, Double>?> = linkedMapOf(
-        "pp-android-soerenarlt" to null,
-        "pp-android-wld16/studies/data_science/res/phybox_data" to null,
-        "pp-android-wld16/studies/data_science/res/phybox_data_2" to null,
-        "pp-degs-adtngrha" to null,
-        "pp-ios-foger3" to (74.0 to 84.0), // drops and shaking from 30 s to 74 s, then on the table
-        "pp-ios-slmaking" to null,
-        "sl-android-anurag" to (5.0 to 10.0), // shaken in the first 5 s, then walking
-        "sl-android-igor/1" to null,
-        "sl-android-igor/bom" to null,
-        "sl-android-santollan" to null,
-        "sl-ios-lynch/data/2022-09-16_11-15-46" to null,
-        "sl-ios-lynch/data/2022-09-16_11-15-46.zip" to null,
-        "sl-ios-lynch/data/2022-09-26_15-32-56.zip" to null,
-        "sl-ios-siberiawolf" to null,
-        "sl-ios-simorxb" to null,
-        "sl-unknown-shuhrat" to null,
-    )
+    private val inputs: Map<String, Pair<Double, Double>?> = RealExportsTest.CASES.filter { it.second == null }.associate { (input, _) ->
+        input to when (input) {
+            "pp-ios-foger3" -> 74.0 to 84.0 // drops and shaking from 30 s to 74 s, then on the table
+            "sl-android-anurag" -> 5.0 to 10.0 // shaken in the first 5 s, then walking
+            else -> null
+        }
+    }
 
     /** The project's [StillTilt] with the default settings, on the rows its filter steps on. */
     private fun tilt(input: String, window: Pair<Double, Double>?): StillTilt {

@@ -36,41 +36,7 @@ class RealExportsTest {
      * but is sampled too slowly (5–10 Hz) for the gyroscope to follow its motion, so its tilt is
      * reported and not asserted; else a fragment of the error.
      */
-    private val cases: List<Pair<String, String?>> = listOf(
-        "pp-accmag-bb301974" to "without gyroscope data",
-        "pp-android-albabernal" to "without accelerometer data",
-        "pp-android-azzipp" to "without accelerometer data",
-        "pp-android-montpelllier" to LOW_RATE, // decimated to 10 Hz by its author, on a bicycle
-        "pp-android-soerenarlt" to null,
-        "pp-android-wld16" to "holds 2 recordings",
-        "pp-android-wld16/studies/data_science/res/phybox_data" to null,
-        "pp-android-wld16/studies/data_science/res/phybox_data_2" to null,
-        "pp-degs-adtngrha" to null,
-        "pp-ios-foger3" to null,
-        "pp-ios-kartof0nix" to "belongs to another recording",
-        "pp-ios-slmaking" to null,
-        "pp-nounits-shantanu" to "holds 2 recordings",
-        "pp-nounits-shantanu/Data/bus_to_home" to LOW_RATE, // a 5 Hz custom experiment
-        "pp-nounits-shantanu/Data/bus_to_home.zip" to LOW_RATE,
-        "pp-tab-ganesh" to "without accelerometer data",
-        "pp-tab-ganesh/Gyroscope.csv" to "without accelerometer data",
-        "sl-android-anurag" to null,
-        "sl-android-igor" to "holds 2 recordings",
-        "sl-android-igor/1" to null,
-        "sl-android-igor/bom" to null,
-        "sl-android-malimszen/2023-11-24_07-25-54.zip" to "without Gyroscope.csv",
-        "sl-android-santollan" to null,
-        "sl-ios-bennyjhui" to "WITHOUT gravity",
-        "sl-ios-lynch" to "holds 5 recordings",
-        "sl-ios-lynch/data/2022-09-09_13-14-55" to "without Gyroscope.csv",
-        "sl-ios-lynch/data/2022-09-09_13-14-55.zip" to "without Gyroscope.csv",
-        "sl-ios-lynch/data/2022-09-16_11-15-46" to null,
-        "sl-ios-lynch/data/2022-09-16_11-15-46.zip" to null,
-        "sl-ios-lynch/data/2022-09-26_15-32-56.zip" to null,
-        "sl-ios-siberiawolf" to null,
-        "sl-ios-simorxb" to null,
-        "sl-unknown-shuhrat" to null,
-    )
+    private val cases = CASES
 
     private class Outcome(val stillSamples: Int, val tilt: ErrorStatistics, val windows: ErrorStatistics, val vsPhone: ErrorStatistics?, val headingVsPhone: ErrorStatistics?, val rows: Long)
 
@@ -154,7 +120,43 @@ class RealExportsTest {
         assertEquals(cases.size, table.lines().count { it.startsWith("| ") } - 1)
     }
 
-    private companion object {
+    internal companion object {
+        internal val CASES: List<Pair<String, String?>> = listOf(
+            "pp-accmag-bb301974" to "without gyroscope data",
+            "pp-android-albabernal" to "without accelerometer data",
+            "pp-android-azzipp" to "without accelerometer data",
+            "pp-android-montpelllier" to LOW_RATE, // decimated to 10 Hz by its author, on a bicycle
+            "pp-android-soerenarlt" to null,
+            "pp-android-wld16" to "holds 2 recordings",
+            "pp-android-wld16/studies/data_science/res/phybox_data" to null,
+            "pp-android-wld16/studies/data_science/res/phybox_data_2" to null,
+            "pp-degs-adtngrha" to null,
+            "pp-ios-foger3" to null,
+            "pp-ios-kartof0nix" to "belongs to another recording",
+            "pp-ios-slmaking" to null,
+            "pp-nounits-shantanu" to "holds 2 recordings",
+            "pp-nounits-shantanu/Data/bus_to_home" to LOW_RATE, // a 5 Hz custom experiment
+            "pp-nounits-shantanu/Data/bus_to_home.zip" to LOW_RATE,
+            "pp-tab-ganesh" to "without accelerometer data",
+            "pp-tab-ganesh/Gyroscope.csv" to "without accelerometer data",
+            "sl-android-anurag" to null,
+            "sl-android-igor" to "holds 2 recordings",
+            "sl-android-igor/1" to null,
+            "sl-android-igor/bom" to null,
+            "sl-android-malimszen/2023-11-24_07-25-54.zip" to "without Gyroscope.csv",
+            "sl-android-santollan" to null,
+            "sl-ios-bennyjhui" to "WITHOUT gravity",
+            "sl-ios-lynch" to "holds 5 recordings",
+            "sl-ios-lynch/data/2022-09-09_13-14-55" to "without Gyroscope.csv",
+            "sl-ios-lynch/data/2022-09-09_13-14-55.zip" to "without Gyroscope.csv",
+            "sl-ios-lynch/data/2022-09-16_11-15-46" to null,
+            "sl-ios-lynch/data/2022-09-16_11-15-46.zip" to null,
+            "sl-ios-lynch/data/2022-09-26_15-32-56.zip" to null,
+            "sl-ios-siberiawolf" to null,
+            "sl-ios-simorxb" to null,
+            "sl-unknown-shuhrat" to null,
+        )
+
         const val LOW_RATE = "(replays, too slowly sampled to check)"
     }
 
