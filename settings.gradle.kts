@@ -1,13 +1,25 @@
 // Android Studio project (Gradle). The build of record is the Maven reactor (pom.xml); these files
-// describe the same modules, folders, dependencies and versions, and AndroidStudioProjectTest (app)
-// fails when the two differ. They are not run by CI here: no Gradle distribution or Android Gradle
-// Plugin is reachable from the build machines.
+// describe the same modules, folders, dependencies, versions, test properties and JVM flags, and
+// AndroidStudioProjectTest (app) fails when the two differ. The Gradle build runs on a CI with
+// network access (.github/workflows/gradle.yml); the machines of the Maven build reach no Gradle
+// distribution and no Android Gradle Plugin.
 pluginManagement {
     repositories {
-        google()
+        google {
+            content {
+                includeGroupByRegex("com\\.android.*")
+                includeGroupByRegex("com\\.google.*")
+                includeGroupByRegex("androidx.*")
+            }
+        }
         mavenCentral()
         gradlePluginPortal()
     }
+}
+
+plugins {
+    // Downloads the JDK of jvmToolchain(17) where the machine has another one (Android Studio's bundled JDK 21).
+    id("org.gradle.toolchains.foojay-resolver-convention") version "0.9.0"
 }
 
 dependencyResolutionManagement {

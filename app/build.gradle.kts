@@ -1,5 +1,7 @@
 // The Android app (app/pom.xml). Android Studio builds it with the Android Gradle Plugin; the Maven
 // build of record does the same steps with aapt2, D8/R8, zipalign and apksigner (tools/android-build.sh).
+import com.android.build.api.artifact.SingleArtifact
+
 plugins {
     alias(libs.plugins.android.application)
     alias(libs.plugins.kotlin.android)
@@ -25,11 +27,25 @@ android {
         }
         getByName("test") {
             kotlin.srcDirs("src/test/kotlin")
+            // Maven's filtered test_config.properties lives in src/test/maven-resources: AGP writes its own.
             resources.srcDirs("src/test/resources")
         }
     }
 
+    // The committed key the Maven build signs debug APKs with, so either build installs over the other.
+    signingConfigs {
+        getByName("debug") {
+            storeFile = file("debug.keystore")
+            storePassword = "android"
+            keyAlias = "androiddebugkey"
+            keyPassword = "android"
+        }
+    }
+
     buildTypes {
+        getByName("debug") {
+            signingConfig = signingConfigs.getByName("debug")
+        }
         getByName("release") {
             isMinifyEnabled = true
             proguardFiles("proguard-rules.pro")
@@ -43,13 +59,27 @@ android {
     }
 
     testOptions {
+        // AGP then writes com/android/tools/test_config.properties (merged manifest, resources, package) for Robolectric.
         unitTests.isIncludeAndroidResources = true
-        unitTests.all { it.useJUnitPlatform() }
     }
 }
 
 kotlin {
     jvmToolchain(17)
+    compilerOptions {
+        freeCompilerArgs.add("-Xjsr305=strict")
+    }
+}
+
+// The API-level guard's signature file, for ApiLevelGuardTest (Maven: a test dependency of type signature).
+val apiSignature by configurations.creating {
+    isCanBeConsumed = false
+    isTransitive = false
+}
+// Robolectric's runtime framework jar, copied into a folder so the tests run offline (Maven: dependency:copy).
+val robolectricRuntime by configurations.creating {
+    isCanBeConsumed = false
+    isTransitive = false
 }
 
 dependencies {
@@ -64,10 +94,60 @@ dependencies {
 
     testImplementation(libs.androidx.test.core)
     testImplementation(libs.androidx.test.ext.junit)
+    testImplementation(libs.animal.sniffer)
     testImplementation(libs.robolectric)
     testImplementation(libs.junit4)
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.vintage.engine)
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.kotlinx.coroutines.test)
+    testRuntimeOnly(libs.junit.platform.launcher)
+
+    apiSignature(variantOf(libs.gummy.bears.api26) { artifactType("signature") })
+    robolectricRuntime(libs.android.all.instrumented)
+}
+
+val robolectricDeps = tasks.register<Sync>("robolectricDeps") {
+    from(robolectricRuntime)
+    into(layout.buildDirectory.dir("robolectric-deps"))
+}
+
+/** A system property naming a file another task or a configuration makes; the test task depends on it. */
+fun Test.systemPropertyFile(name: String, files: FileCollection) {
+    inputs.files(files).withPropertyName(name).withPathSensitivity(PathSensitivity.RELATIVE)
+    jvmArgumentProviders.add(CommandLineArgumentProvider { listOf("-D$name=${files.singleFile.absolutePath}") })
+}
+
+// As Surefire in app/pom.xml: the same system properties, heap and JVM flags.
+tasks.withType<Test>().configureEach {
+    useJUnitPlatform()
+    maxHeapSize = "3g"
+    // java.io opened for Robolectric's ParcelFileDescriptor (ContentProvider.openFile, ContentResolver streams).
+    jvmArgs("--add-opens", "java.base/java.io=ALL-UNNAMED")
+    systemProperty("robolectric.offline", "true")
+    systemPropertyFile("robolectric.dependency.dir", files(robolectricDeps))
+    systemProperty("robolectric.logging.enabled", "false")
+    systemProperty("screenshots.dir", layout.buildDirectory.dir("screenshots").get().asFile.path)
+    systemProperty("project.root", rootDir.path)
+    systemPropertyFile("android.api.signature", apiSignature)
+    filter {
+        // Tests of the Maven build's own machinery: the AndroidX lists of android-libs read from the local
+        // Maven repository, the AARs android-libs unpacks, this mirror against the poms, and
+        // tools/android-build.sh (which needs Debian's zipalign and apksigner).
+        excludeTestsMatching("dev.motionfusion.app.build.LibraryTreeTest")
+        excludeTestsMatching("dev.motionfusion.app.build.LibraryManifestsTest")
+        excludeTestsMatching("dev.motionfusion.app.build.AndroidStudioProjectTest")
+        excludeTestsMatching("dev.motionfusion.app.build.ReleaseSigningTest")
+    }
+}
+
+// The merged manifest of each variant for its unit tests (Maven: the filtered manifest in target/manifest).
+androidComponents {
+    onVariants { variant ->
+        val manifest = files(variant.artifacts.get(SingleArtifact.MERGED_MANIFEST))
+        val testTask = "test" + variant.name.replaceFirstChar { it.uppercase() } + "UnitTest"
+        tasks.withType<Test>().matching { it.name == testTask }.configureEach {
+            systemPropertyFile("android.manifest", manifest)
+        }
+    }
 }

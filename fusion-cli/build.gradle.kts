@@ -6,6 +6,9 @@ plugins {
 
 kotlin {
     jvmToolchain(17)
+    compilerOptions {
+        freeCompilerArgs.add("-Xjsr305=strict")
+    }
 }
 
 sourceSets {
@@ -22,8 +25,19 @@ dependencies {
     implementation(libs.kotlin.stdlib)
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)
+    testRuntimeOnly(libs.junit.platform.launcher)
+}
+
+// Maven filters src/main/resources: version.properties gets ${project.version} (`fusion --version`).
+tasks.processResources {
+    val version = project.version.toString()
+    inputs.property("version", version)
+    filesMatching("**/version.properties") {
+        expand("project" to mapOf("version" to version))
+    }
 }
 
 tasks.test {
     useJUnitPlatform()
+    maxHeapSize = "2g"
 }

@@ -1,0 +1,644 @@
+package dev.motionfusion.app.build
+
+import dev.motionfusion.app.build.BuildFiles.child
+import dev.motionfusion.app.build.BuildFiles.children
+import dev.motionfusion.app.build.BuildFiles.text
+import dev.motionfusion.app.build.KotlinDsl.Assign
+import dev.motionfusion.app.build.KotlinDsl.Binary
+import dev.motionfusion.app.build.KotlinDsl.Call
+import dev.motionfusion.app.build.KotlinDsl.Member
+import dev.motionfusion.app.build.KotlinDsl.Name
+import dev.motionfusion.app.build.KotlinDsl.Node
+import dev.motionfusion.app.build.KotlinDsl.Str
+import dev.motionfusion.app.build.KotlinDsl.literal
+import dev.motionfusion.app.build.KotlinDsl.path
+import org.w3c.dom.Element
+import java.io.File
+import java.util.Properties
+import java.util.zip.ZipFile
+
+/**
+ * Compares the Android Studio project (settings.gradle.kts, the build.gradle.kts files,
+ * gradle.properties, gradle/libs.versions.toml, the wrapper) with the Maven build of record under
+ * [root] and lists what would make `./gradlew assembleDebug assembleRelease testDebugUnitTest
+ * :fusion-core:test :fusion-cli:test` fail or run differently from `mvn verify`: missing modules,
+ * dependencies or versions; Surefire system properties, JVM flags and filtered resources without a
+ * Gradle counterpart; test sources importing what only Maven puts on the test class path; Kotlin
+ * compiler arguments; the debug key; the R8 that the release build runs against the Kotlin version
+ * (gradle/compatibility.tsv); the AndroidX flag, the daemon's heap, the toolchain resolver, the
+ * JUnit launcher; the wrapper's checksum and launchers. Everything is read from the files, so a
+ * change to a pom (a property, a Surefire flag, an SDK level) is asked of the Gradle files too.
+ *
+ * [localRepository] holds the jars of Maven-only test dependencies, whose packages a test source
+ * must then not import.
+ */
+internal class GradleMirror(
+    private val root: File,
+    private val localRepository: File?,
+    /** Maven modules without a Gradle counterpart, and why. */
+    private val mavenOnlyModules: Map<String, String> = MAVEN_ONLY_MODULES,
+    /** Maven test dependencies Gradle leaves out, and why: no Gradle test source may import them. */
+    private val mavenOnlyDependencies: Map<String, String> = emptyMap(),
+    /** Surefire system properties that exist only in the Maven build, and why: tests reading them are excluded under Gradle. */
+    private val mavenOnlyProperties: Map<String, String> = MAVEN_ONLY_PROPERTIES,
+) {
+    companion object {
+        val MAVEN_ONLY_MODULES = mapOf(
+            "android-libs" to "Maven's way to resolve AARs; Gradle resolves the app's dependencies itself",
+            "android-test-libs" to "as android-libs, for the tests",
+            "fusion-bench" to "JMH over the app module's classes, which Gradle does not offer to a JVM module",
+        )
+        val MAVEN_ONLY_PROPERTIES = mapOf(
+            "android.libraries" to "the AARs android-libs unpacks for the Maven build; the Android Gradle Plugin merges libraries itself",
+            "maven.repo.local" to "the local Maven repository whose POMs the tests of the Maven build read",
+        )
+        val MODULES = listOf("fusion-core", "fusion-cli", "app")
+        private const val LAUNCHER = "org.junit.platform:junit-platform-launcher"
+        private const val FOOJAY = "org.gradle.toolchains.foojay-resolver-convention"
+    }
+
+    private val problems = ArrayList<String>()
+    private fun problem(s: String) { problems += s }
+
+    fun problems(): List<String> {
+        problems.clear()
+        val checks = listOf(
+            ::modules, ::dependencies, ::versionsAndToolchain, ::androidSettings, ::gradleProperties, ::junitLauncher,
+            ::testTasks, ::testSourceImports, ::filteredResources, ::kotlinArguments, ::debugKey, ::r8AndKotlin, ::wrapper,
+            ::workflow,
+        )
+        for (check in checks) {
+            try { check() } catch (e: KotlinDsl.SyntaxError) { problem(e.message!!) } catch (e: MissingFile) { problem(e.message!!) }
+        }
+        return problems.distinct()
+    }
+
+    private class MissingFile(message: String) : RuntimeException(message)
+
+    private fun file(path: String): File = File(root, path).also { if (!it.isFile) throw MissingFile("$path is missing") }
+
+    // --- Maven side ---
+
+    private fun pom(module: String?): Element = BuildFiles.parse(file(if (module == null) "pom.xml" else "$module/pom.xml"))
+
+    private fun Element.properties(): Map<String, String> =
+        child("properties")?.children()?.associate { it.tagName to it.textContent.trim() }.orEmpty()
+
+    private val rootPom by lazy { pom(null) }
+    private val rootProperties by lazy { rootPom.properties() + mapOf("project.version" to rootPom.text("version")!!) }
+
+    private fun props(module: String) = rootProperties + pom(module).properties()
+
+    private fun interpolate(value: String, props: Map<String, String>): String =
+        Regex("""\$\{([^}]+)}""").replace(value) { m -> props[m.groupValues[1]] ?: m.value }
+
+    private val managed by lazy {
+        rootPom.child("dependencyManagement")!!.child("dependencies")!!.children("dependency")
+            .associate { "${it.text("groupId")}:${it.text("artifactId")}" to interpolate(it.text("version")!!, rootProperties) }
+    }
+
+    private fun Element.plugins(): List<Element> = child("build")?.child("plugins")?.children("plugin").orEmpty()
+
+    private fun rootPlugin(artifact: String) =
+        rootPom.child("build")!!.child("pluginManagement")!!.child("plugins")!!.children("plugin").singleOrNull { it.text("artifactId") == artifact }
+
+    private fun modulePlugin(module: String, artifact: String) = pom(module).plugins().singleOrNull { it.text("artifactId") == artifact }
+
+    data class Dep(val configuration: String, val coordinates: String, val version: String) {
+        override fun toString() = "$configuration $coordinates:$version"
+    }
+
+    private fun mavenDependencies(module: String): Set<Dep> {
+        val pom = pom(module)
+        val props = props(module)
+        val out = HashSet<Dep>()
+        for (d in pom.child("dependencies")!!.children("dependency")) {
+            val ga = "${d.text("groupId")}:${d.text("artifactId")}"
+            val scope = d.text("scope") ?: "compile"
+            val version = d.text("version")?.let { interpolate(it, props) }
+                ?: managed[ga]
+                ?: (if (ga.startsWith("org.junit.")) managed["org.junit:junit-bom"] else null)
+                ?: error("$module: no version for $ga")
+            if (ga in mavenOnlyDependencies) continue
+            if (scope == "provided" && ga == "org.robolectric:android-all") continue // the framework compiled against: compileSdk
+            val configuration = when {
+                d.text("type") == "signature" -> "apiSignature"
+                scope == "test" -> "testImplementation"
+                else -> "implementation"
+            }
+            if (ga.startsWith("dev.motionfusion:android-")) {
+                // The AndroidX lists: what the app asks for, at the versions the lists give.
+                val libs = pom(ga.substringAfter(':'))
+                val versions = libs.child("dependencies")!!.children("dependency")
+                    .associate { "${it.text("groupId")}:${it.text("artifactId")}" to it.text("version")!! }
+                for (used in libs.properties().getValue("app.uses").split(',')) out += Dep(configuration, used, versions.getValue(used))
+            } else {
+                out += Dep(configuration, ga, version)
+            }
+        }
+        return out
+    }
+
+    /** Surefire's configuration for [module]: the module's own over the root's pluginManagement. */
+    private fun surefire(module: String): Pair<Map<String, String>, List<String>> {
+        val props = props(module) + mapOf("project.basedir" to "\${project.basedir}")
+        val configs = listOfNotNull(rootPlugin("maven-surefire-plugin"), modulePlugin(module, "maven-surefire-plugin")).mapNotNull { it.child("configuration") }
+        val system = LinkedHashMap<String, String>()
+        var argLine = ""
+        for (c in configs) {
+            c.child("systemPropertyVariables")?.children()?.forEach { system[it.tagName] = it.textContent.trim() }
+            c.text("argLine")?.let { argLine = it }
+        }
+        return system.mapValues { interpolate(it.value, props) } to argLine.split(Regex("\\s+")).filter { it.isNotEmpty() }
+    }
+
+    // --- Gradle side ---
+
+    private val scripts = HashMap<String, List<Node>>()
+
+    private fun script(path: String): List<Node> = scripts.getOrPut(path) { KotlinDsl.parse(file(path).readText(), path) }
+
+    private fun moduleScript(module: String) = script("$module/build.gradle.kts")
+
+    private fun calls(nodes: List<Node>): List<Pair<Call, List<Call>>> {
+        val out = ArrayList<Pair<Call, List<Call>>>()
+        KotlinDsl.walk(nodes) { n, outer -> if (n is Call) out += n to outer }
+        return out
+    }
+
+    private fun assigns(nodes: List<Node>): List<Pair<Assign, List<Call>>> {
+        val out = ArrayList<Pair<Assign, List<Call>>>()
+        KotlinDsl.walk(nodes) { n, outer -> if (n is Assign) out += n to outer }
+        return out
+    }
+
+    /** Names of the blocks around a node: `android`, `defaultConfig`, `tasks.withType<Test>().configureEach`… */
+    private fun List<Call>.paths() = map { path(it.callee) + if (it.typeArgs.isEmpty()) "" else it.typeArgs.joinToString(",", "<", ">") }
+
+    /** Inside a test task's configuration block. */
+    private fun List<Call>.inTestTask(): Boolean = paths().any { p ->
+        p == "tasks.test" || p.endsWith("withType<Test>().configureEach") || p.endsWith("withType<Test>") ||
+            p.endsWith("named<Test>") || p == "unitTests.all" || p.endsWith(".configureEach") && p.contains("<Test>")
+    } || any { c -> c.name == "configureEach" && path(c.callee).contains("withType<Test>") }
+
+    private val toml: Map<String, Map<String, String>> by lazy {
+        val sections = HashMap<String, MutableMap<String, String>>()
+        var section = ""
+        for (raw in file("gradle/libs.versions.toml").readLines()) {
+            val line = raw.substringBefore('#').trim()
+            if (line.isEmpty()) continue
+            if (line.startsWith("[")) { section = line.trim('[', ']'); continue }
+            sections.getOrPut(section) { LinkedHashMap() }[line.substringBefore('=').trim()] = line.substringAfter('=').trim()
+        }
+        sections
+    }
+
+    private fun tomlField(entry: String, field: String): String? = Regex("""$field\s*=\s*"([^"]*)"""").find(entry)?.groupValues?.get(1)
+
+    private fun version(ref: String): String = toml["versions"]?.get(ref)?.trim('"') ?: error("no version $ref in libs.versions.toml")
+
+    /** `libs.androidx.core.ktx` → coordinates and version (a BOM-managed library takes the BOM's version). */
+    private fun library(accessor: String, bomVersion: String?): Pair<String, String> {
+        val libs = toml["libraries"].orEmpty()
+        val alias = libs.keys.singleOrNull { it.replace('-', '.').replace('_', '.') == accessor } ?: error("libs.$accessor is not in gradle/libs.versions.toml")
+        val entry = libs.getValue(alias)
+        val module = tomlField(entry, "module") ?: error("$alias: no module")
+        val v = tomlField(entry, "version.ref")?.let(::version) ?: tomlField(entry, "version") ?: bomVersion ?: error("$alias: no version and no BOM")
+        return module to v
+    }
+
+    private fun pluginId(accessor: String): Pair<String, String?> {
+        val entry = toml["plugins"].orEmpty().entries.single { it.key.replace('-', '.') == accessor }.value
+        return tomlField(entry, "id")!! to tomlField(entry, "version.ref")?.let(::version)
+    }
+
+    /** A dependency notation as Gradle reads it: `libs.x.y`, `project(":m")`, `platform(…)`, `variantOf(…) { }`, `"g:a:v"`. */
+    private fun notation(n: Node, bom: String?, where: String): Pair<String, String>? = when {
+        n is Member && path(n).startsWith("libs.") -> library(path(n).removePrefix("libs."), bom)
+        n is Call && n.name == "project" -> "dev.motionfusion:${literal(n.args.single().value)!!.removePrefix(":")}" to rootProperties.getValue("project.version")
+        n is Call && (n.name == "variantOf" || n.name == "platform") -> notation(n.args.first().value, bom, where)
+        n is Str && n.plain -> n.text.split(':').let { "${it[0]}:${it[1]}" to it.getOrElse(2) { bom ?: "" }.substringBefore('@') }
+        else -> { problem("$where: cannot read the dependency '${path(n)}'"); null }
+    }
+
+    private fun gradleDependencies(module: String): Set<Dep> {
+        val where = "$module/build.gradle.kts"
+        val blocks = moduleScript(module).filterIsInstance<Call>().filter { it.name == "dependencies" && it.callee is Name }
+        val statements = blocks.flatMap { it.lambda!!.body }
+        val bom = statements.filterIsInstance<Call>().firstOrNull { s -> s.args.firstOrNull()?.value.let { it is Call && it.name == "platform" } }
+            ?.let { notation(it.args.first().value, null, where)?.second }
+        val out = HashSet<Dep>()
+        for (s in statements) {
+            if (s !is Call || s.callee !is Name || s.args.size != 1) { problem("$where:${s.line}: cannot read '${path(s)}' in dependencies"); continue }
+            val arg = s.args.single().value
+            if (arg is Call && arg.name == "platform") continue
+            val (ga, v) = notation(arg, bom, "$where:${s.line}") ?: continue
+            out += Dep(s.name, ga, v)
+        }
+        return out
+    }
+
+    // --- the checks ---
+
+    private fun modules() {
+        val maven = rootPom.child("modules")!!.children("module").map { it.textContent.trim() }.toSet() - mavenOnlyModules.keys
+        val gradle = calls(script("settings.gradle.kts")).filter { it.first.name == "include" }
+            .flatMap { it.first.args }.mapNotNull { literal(it.value)?.removePrefix(":") }.toSet()
+        if (maven != gradle) problem("settings.gradle.kts includes $gradle; the Maven modules (without the Maven-only ones) are $maven")
+    }
+
+    private fun dependencies() {
+        for (module in MODULES) {
+            val gradle = gradleDependencies(module)
+            val compared = gradle.filter { it.configuration in setOf("implementation", "testImplementation", "apiSignature") }.toSet()
+            val maven = mavenDependencies(module)
+            for (d in maven - compared) problem("$module: Maven has $d, build.gradle.kts does not")
+            for (d in compared - maven) problem("$module: build.gradle.kts has $d, Maven does not")
+            for (d in gradle - compared) when (d.configuration) {
+                "testRuntimeOnly" -> if (d.coordinates != LAUNCHER) problem("$module: testRuntimeOnly $d is not in the Maven build")
+                "robolectricRuntime" -> {
+                    val expected = "org.robolectric:android-all-instrumented:" + rootProperties.getValue("android.all.instrumented.version")
+                    if ("${d.coordinates}:${d.version}" != expected) problem("$module: robolectricRuntime is $d; Maven copies $expected for Robolectric")
+                }
+                else -> problem("$module: configuration ${d.configuration} ($d) has no Maven counterpart")
+            }
+        }
+    }
+
+    private fun versionsAndToolchain() {
+        val (_, kotlin) = pluginId("kotlin.jvm")
+        if (kotlin != rootProperties.getValue("kotlin.version")) problem("the Kotlin plugin is $kotlin in libs.versions.toml, Maven's kotlin.version is ${rootProperties["kotlin.version"]}")
+        val target = rootProperties.getValue("kotlin.compiler.jvmTarget")
+        var toolchains = false
+        for (module in MODULES) {
+            val tc = calls(moduleScript(module)).filter { it.first.name == "jvmToolchain" }
+            if (tc.isEmpty()) problem("$module/build.gradle.kts: no jvmToolchain($target) (Maven compiles for JVM $target)")
+            for ((c, _) in tc) {
+                toolchains = true
+                val v = (c.args.singleOrNull()?.value as? KotlinDsl.Num)?.text
+                if (v != target) problem("$module/build.gradle.kts:${c.line}: jvmToolchain($v), Maven's jvmTarget is $target")
+            }
+        }
+        if (toolchains) {
+            val plugins = script("settings.gradle.kts").filterIsInstance<Call>().filter { it.name == "plugins" }.flatMap { it.lambda!!.body }
+            val foojay = plugins.any { p -> idOf(p) == FOOJAY }
+            if (!foojay) problem("settings.gradle.kts: jvmToolchain is used but no toolchain resolver is applied (plugins { id(\"$FOOJAY\") }): a machine without that JDK fails to configure")
+        }
+    }
+
+    /** `id("x") version "v"` or `id("x")` or `alias(libs.plugins.x)` → the plugin id. */
+    private fun idOf(n: Node): String? = when {
+        n is Binary && n.op == "version" -> idOf(n.left)
+        n is Call && n.name == "id" -> literal(n.args.singleOrNull()?.value)
+        n is Call && n.name == "alias" -> pluginId(path(n.args.single().value).removePrefix("libs.plugins.")).first
+        else -> null
+    }
+
+    private fun assignedIn(module: String, name: String, vararg blocks: String): Node? =
+        assigns(moduleScript(module)).firstOrNull { (a, outer) -> path(a.target) == name && blocks.all { b -> outer.any { path(it.callee) == b } } }?.first?.value
+
+    private fun value(n: Node?): String? = when (n) {
+        is Str -> n.text
+        is KotlinDsl.Num -> n.text
+        is Name -> n.name
+        null -> null
+        else -> path(n)
+    }
+
+    private fun androidSettings() {
+        val props = props("app")
+        val expect = mapOf(
+            "namespace" to props.getValue("android.package"),
+            "compileSdk" to props.getValue("android.compileSdk"),
+        )
+        for ((k, v) in expect) if (value(assignedIn("app", k, "android")) != v) problem("app/build.gradle.kts: android.$k is ${value(assignedIn("app", k, "android"))}, app/pom.xml says $v")
+        val defaults = mapOf(
+            "applicationId" to props.getValue("android.package"),
+            "minSdk" to props.getValue("android.minSdk"),
+            "targetSdk" to props.getValue("android.targetSdk"),
+            "versionCode" to props.getValue("app.versionCode"),
+            "versionName" to props.getValue("project.version"),
+        )
+        for ((k, v) in defaults) {
+            val g = value(assignedIn("app", k, "android", "defaultConfig"))
+            if (g != v) problem("app/build.gradle.kts: defaultConfig.$k is $g, the Maven build says $v")
+        }
+        val apiOfRelease = mapOf("13" to "33", "14" to "34", "15" to "35", "16" to "36")
+        if (props.getValue("android.compileSdk") != apiOfRelease[props.getValue("android.all.version").substringBefore('-')]) problem("app/pom.xml: android-all's release is not compileSdk")
+        // Folders: each folder Gradle names exists and the Maven build uses it.
+        val appPom = file("app/pom.xml").readText()
+        for ((c, _) in calls(moduleScript("app")).filter { it.first.name == "srcDirs" || it.first.name == "srcDir" || it.first.name == "srcFile" }) {
+            for (a in c.args) {
+                val dir = literal(a.value) ?: continue
+                if (!File(root, "app/$dir").exists()) problem("app/build.gradle.kts:${c.line}: app/$dir does not exist")
+                val maven = dir == "src/main/kotlin" || dir == "src/test/kotlin" || appPom.contains("\${project.basedir}/$dir") || appPom.contains("<directory>$dir</directory>")
+                if (!maven) problem("app/build.gradle.kts:${c.line}: app/pom.xml does not use app/$dir")
+            }
+        }
+        for (module in listOf("fusion-core", "fusion-cli")) {
+            val dirs = calls(moduleScript(module)).filter { it.first.name == "srcDirs" }.flatMap { it.first.args }.mapNotNull { literal(it.value) }.toSet()
+            if (dirs != setOf("src/main/kotlin", "src/test/kotlin")) problem("$module/build.gradle.kts: source folders $dirs")
+        }
+    }
+
+    private fun heapBytes(flag: String): Long? {
+        val m = Regex("""-Xmx(\d+)([kKmMgG]?)""").matchEntire(flag) ?: return null
+        val unit = when (m.groupValues[2].lowercase()) { "k" -> 1L shl 10; "m" -> 1L shl 20; "g" -> 1L shl 30; else -> 1L }
+        return m.groupValues[1].toLong() * unit
+    }
+
+    private fun gradleProperties() {
+        val f = File(root, "gradle.properties")
+        if (!f.isFile) { problem("gradle.properties is missing: the Android Gradle Plugin refuses AndroidX dependencies without android.useAndroidX=true, and the daemon gets a small default heap"); return }
+        val p = Properties().apply { f.reader().use { load(it) } }
+        if (p.getProperty("android.useAndroidX") != "true") problem("gradle.properties: android.useAndroidX=true is not set (the app depends on AndroidX)")
+        val heap = p.getProperty("org.gradle.jvmargs").orEmpty().split(Regex("\\s+")).firstNotNullOfOrNull(::heapBytes)
+        // R8 in the daemon peaks at about 2.4 GB on the release build (measured under Maven).
+        if (heap == null || heap < (3L shl 30)) problem("gradle.properties: org.gradle.jvmargs gives the daemon ${if (heap == null) "no -Xmx" else "${heap shr 20} MB"}; R8 needs at least -Xmx3g")
+    }
+
+    private fun junitLauncher() {
+        for (module in MODULES) {
+            val deps = gradleDependencies(module)
+            val platform = calls(moduleScript(module)).any { (c, outer) -> c.name == "useJUnitPlatform" && (outer.inTestTask() || path(c.callee).startsWith("it.")) }
+            if (!platform) problem("$module/build.gradle.kts: its test task does not useJUnitPlatform()")
+            if (deps.none { it.configuration == "testRuntimeOnly" && it.coordinates == LAUNCHER }) {
+                problem("$module/build.gradle.kts: no testRuntimeOnly(\"$LAUNCHER\"): Gradle then puts its own older launcher beside JUnit ${rootProperties["junit.version"]} and discovery fails")
+            }
+        }
+    }
+
+    /** What the test tasks of a module's script set: system properties (name → literal value or null), JVM flags, max heap, excluded classes. */
+    private data class TestConfig(val properties: Map<String, String?>, val jvmArgs: List<String>, val maxHeap: String?, val excluded: Set<String>)
+
+    private fun testConfig(module: String): TestConfig {
+        val properties = LinkedHashMap<String, String?>()
+        val jvm = ArrayList<String>()
+        var heap: String? = null
+        val excluded = HashSet<String>()
+        val nodes = moduleScript(module)
+        // Helpers declared in the script (`fun Test.systemPropertyFile(…)`) count where they are called.
+        val helpers = nodes.filterIsInstance<KotlinDsl.Decl>().filter { it.kind == "fun" }.map { it.name }.toSet()
+        for ((c, outer) in calls(nodes)) {
+            if (!outer.inTestTask()) continue
+            when (c.name) {
+                "systemProperty" -> literal(c.args.getOrNull(0)?.value)?.let { properties[it] = (c.args.getOrNull(1)?.value as? Str)?.takeIf { s -> s.plain }?.text }
+                in helpers -> if (c.name.startsWith("systemProperty")) literal(c.args.getOrNull(0)?.value)?.let { properties[it] = null }
+                "jvmArgs" -> c.args.forEach { a -> jvm += strings(a.value) }
+                "excludeTestsMatching" -> c.args.mapNotNull { literal(it.value) }.forEach { excluded += it }
+            }
+        }
+        for ((a, outer) in assigns(nodes)) {
+            if (!outer.inTestTask()) continue
+            if (path(a.target).endsWith("maxHeapSize")) heap = literal(a.value)
+            if (path(a.target).endsWith("jvmArgs")) jvm += strings(a.value)
+        }
+        return TestConfig(properties, jvm, heap, excluded)
+    }
+
+    private fun strings(n: Node): List<String> = when {
+        n is Str -> listOf(n.text)
+        n is Call && n.name in setOf("listOf", "arrayOf", "mutableListOf") -> n.args.flatMap { strings(it.value) }
+        else -> emptyList()
+    }
+
+    /** Property names the BuildFiles helper reads, by accessor (`val manifest: File get() = path("android.manifest")`). */
+    private val accessors by lazy {
+        val f = File(root, "app/src/test/kotlin/dev/motionfusion/app/build/BuildFiles.kt")
+        if (!f.isFile) emptyMap() else Regex("""val (\w+): File get\(\) = path\("([^"]+)"\)""").findAll(f.readText()).associate { it.groupValues[2] to it.groupValues[1] }
+    }
+
+    private fun testSources(module: String): List<File> =
+        File(root, "$module/src/test/kotlin").walk().filter { it.isFile && it.name.endsWith(".kt") }.toList()
+
+    private fun className(module: String, f: File): String {
+        val pkg = Regex("""(?m)^package ([\w.]+)""").find(f.readText())?.groupValues?.get(1)
+        return listOfNotNull(pkg, f.nameWithoutExtension).joinToString(".")
+    }
+
+    private fun readsProperty(source: String, name: String): Boolean =
+        source.contains("getProperty(\"$name\"") || accessors[name]?.let { Regex("""BuildFiles\.$it\b""").containsMatchIn(source) } == true
+
+    private fun excludedUnderGradle(module: String, f: File): Boolean {
+        val cls = className(module, f)
+        return testConfig(module).excluded.any { it == cls || (it.endsWith("*") && cls.startsWith(it.removeSuffix("*"))) }
+    }
+
+    private fun testTasks() {
+        for (module in MODULES) {
+            val (system, argLine) = surefire(module)
+            val g = testConfig(module)
+            val where = "$module/build.gradle.kts"
+            for ((name, value) in system) {
+                if (name in mavenOnlyProperties) {
+                    for (f in testSources(module)) {
+                        if (readsProperty(f.readText(), name) && !excludedUnderGradle(module, f)) {
+                            problem("$where: ${f.relativeTo(root)} reads $name (Maven only: ${mavenOnlyProperties[name]}) and is not excluded from Gradle's test task (filter { excludeTestsMatching(\"${className(module, f)}\") })")
+                        }
+                    }
+                    continue
+                }
+                if (name !in g.properties) { problem("$where: Surefire's system property $name has no systemProperty(\"$name\", …) in the test task"); continue }
+                val literalValue = !value.contains("\${") && !value.contains('/')
+                if (literalValue && g.properties[name] != value) problem("$where: systemProperty(\"$name\") is ${g.properties[name]}, Surefire gives $value")
+            }
+            for ((name, _) in g.properties) if (name !in system) problem("$where: the test task sets $name, which Surefire does not (${module}/pom.xml)")
+            var i = 0
+            while (i < argLine.size) {
+                val flag = argLine[i]
+                val heap = heapBytes(flag)
+                when {
+                    heap != null -> {
+                        val gradleHeap = g.maxHeap?.let { heapBytes("-Xmx$it") } ?: g.jvmArgs.firstNotNullOfOrNull(::heapBytes)
+                        if (gradleHeap != heap) problem("$where: Surefire runs the tests with $flag; the test task has ${g.maxHeap?.let { "maxHeapSize = \"$it\"" } ?: "no maxHeapSize"}")
+                    }
+                    flag.startsWith("--") && !flag.contains('=') && i + 1 < argLine.size -> {
+                        val v = argLine[++i]
+                        val ok = g.jvmArgs.zipWithNext().any { it == flag to v } || "$flag=$v" in g.jvmArgs
+                        if (!ok) problem("$where: Surefire's JVM flag $flag $v is not in the test task's jvmArgs")
+                    }
+                    flag !in g.jvmArgs -> problem("$where: Surefire's JVM flag $flag is not in the test task's jvmArgs")
+                }
+                i++
+            }
+        }
+    }
+
+    private fun jarPackages(ga: String, version: String): Set<String>? {
+        val repo = localRepository ?: return null
+        val (g, a) = ga.split(':')
+        val jar = File(repo, "${g.replace('.', '/')}/$a/$version/$a-$version.jar")
+        if (!jar.isFile) return null
+        return ZipFile(jar).use { z -> z.entries().asSequence().map { it.name }.filter { it.endsWith(".class") && '/' in it }.map { it.substringBeforeLast('/').replace('/', '.') }.toSet() }
+    }
+
+    private fun testSourceImports() {
+        for (module in MODULES) {
+            val gradle = gradleDependencies(module).map { it.coordinates }.toSet()
+            val missing = mavenDependencies(module).filter { it.coordinates !in gradle } +
+                pom(module).child("dependencies")!!.children("dependency")
+                    .filter { "${it.text("groupId")}:${it.text("artifactId")}" in mavenOnlyDependencies }
+                    .map { Dep("test", "${it.text("groupId")}:${it.text("artifactId")}", interpolate(it.text("version") ?: "", props(module))) }
+            for (dep in missing) {
+                val packages = jarPackages(dep.coordinates, dep.version)
+                if (packages == null) { if (dep.configuration != "apiSignature") problem("$module: ${dep.coordinates}:${dep.version} is not on Gradle's test class path and its jar is not in the local Maven repository to check imports against"); continue }
+                for (f in testSources(module)) {
+                    if (excludedUnderGradle(module, f)) continue
+                    for (imp in Regex("""(?m)^import ([\w.]+)""").findAll(f.readText()).map { it.groupValues[1] }) {
+                        if (imp.substringBeforeLast('.') in packages || imp in packages) {
+                            problem("${f.relativeTo(root)} imports $imp from ${dep.coordinates}, which only Maven puts on the test class path: under Gradle the test sources do not compile")
+                        }
+                    }
+                }
+            }
+            // Maven's output layout named in a test: under Gradle the classes are under build/.
+            for (f in testSources(module)) if (!excludedUnderGradle(module, f)) {
+                val text = f.readText()
+                for (layout in listOf("\"target/classes\"", "\"target/test-classes\"")) if (text.contains(layout)) {
+                    problem("${f.relativeTo(root)} reads $layout, Maven's output folder: under Gradle it finds nothing (pass the folder as a system property)")
+                }
+            }
+        }
+    }
+
+    /** Files of Maven's filtered resource folders that hold `${…}` and what stands for them under Gradle. */
+    private fun filteredResources() {
+        for (module in MODULES) {
+            val build = pom(module).child("build") ?: continue
+            val filtered = (build.child("resources")?.children("resource").orEmpty().map { "main" to it } +
+                build.child("testResources")?.children("testResource").orEmpty().map { "test" to it })
+                .filter { it.second.text("filtering") == "true" }
+            val nodes = moduleScript(module)
+            for ((set, res) in filtered) {
+                val dir = res.text("directory")!!
+                val files = File(root, "$module/$dir").walk().filter { it.isFile && it.readText().contains("\${") }.toList()
+                for (f in files) {
+                    val rel = f.relativeTo(File(root, "$module/$dir")).invariantSeparatorsPath
+                    val placeholders = Regex("""\$\{([^}]+)}""").findAll(f.readText()).map { it.groupValues[1] }.toSet()
+                    if (module == "app") {
+                        // The Android Gradle Plugin writes com/android/tools/test_config.properties itself when unit tests include Android resources.
+                        val agp = rel == "com/android/tools/test_config.properties" &&
+                            value(assignedIn("app", "unitTests.isIncludeAndroidResources", "android", "testOptions")) == "true"
+                        val gradleDirsAll = calls(nodes).filter { path(it.first.callee) == "resources.srcDirs" }.flatMap { it.first.args }.mapNotNull { literal(it.value) }
+                        if (dir in gradleDirsAll) problem("app/build.gradle.kts: $module/$dir/$rel is filtered by Maven (${placeholders.joinToString { "\${$it}" }}) but Gradle copies it unexpanded; keep it in a Maven-only folder")
+                        else if (!agp) problem("$module/$dir/$rel: filtered by Maven, no Gradle counterpart")
+                        continue
+                    }
+                    val task = if (set == "main") "tasks.processResources" else "tasks.processTestResources"
+                    val expands = calls(nodes).filter { (c, outer) -> c.name == "expand" && outer.any { path(it.callee) == task } && outer.any { it.name == "filesMatching" && glob(literal(it.args.firstOrNull()?.value) ?: "", rel) } }
+                    if (expands.isEmpty()) { problem("$module/build.gradle.kts: $dir/$rel is filtered by Maven (${placeholders.joinToString { "\${$it}" }}); $task has no filesMatching(…) { expand(…) } for it, so Gradle ships the placeholder"); continue }
+                    val keys = expands.flatMap { (c, _) -> c.args.flatMap { pairs(it.value) } }
+                    for (ph in placeholders) {
+                        val head = ph.substringBefore('.')
+                        val pair = keys.firstOrNull { it.first == head }
+                        val sub = pair?.second?.let { v -> if (v is Call && v.name == "mapOf") v.args.flatMap { pairs(it.value) }.map { it.first } else null }
+                        if (pair == null || (sub != null && ph.contains('.') && ph.substringAfter('.') !in sub)) problem("$module/build.gradle.kts: expand(…) does not give \${$ph} of $dir/$rel")
+                    }
+                }
+            }
+        }
+    }
+
+    private fun pairs(n: Node): List<Pair<String, Node>> = when {
+        n is Binary && n.op == "to" -> listOfNotNull(literal(n.left)?.let { it to n.right })
+        else -> emptyList()
+    }
+
+    private fun glob(pattern: String, path: String): Boolean {
+        val rx = Regex(pattern.split("**/").joinToString("(.*/)?") { part -> part.split('*').joinToString("[^/]*") { Regex.escape(it) } })
+        return rx.matches(path)
+    }
+
+    private fun kotlinArguments() {
+        for (module in MODULES) {
+            val maven = LinkedHashSet<String>()
+            val plugins = listOfNotNull(rootPlugin("kotlin-maven-plugin"), modulePlugin(module, "kotlin-maven-plugin"))
+            for (p in plugins) {
+                p.child("configuration")?.child("args")?.children("arg")?.forEach { maven += it.textContent.trim() }
+                p.child("executions")?.children("execution")?.forEach { e -> e.child("configuration")?.child("args")?.children("arg")?.forEach { maven += it.textContent.trim() } }
+            }
+            val nodes = moduleScript(module)
+            val gradle = HashSet<String>()
+            for ((c, _) in calls(nodes)) {
+                if (path(c.callee).endsWith("freeCompilerArgs.add") || path(c.callee).endsWith("freeCompilerArgs.addAll")) c.args.forEach { gradle += strings(it.value) }
+                if (c.name == "explicitApi" && c.args.isEmpty()) gradle += "-Xexplicit-api=strict"
+            }
+            for ((a, _) in assigns(nodes)) if (path(a.target).endsWith("freeCompilerArgs")) gradle += strings(a.value)
+            for (arg in maven - gradle) problem("$module/build.gradle.kts: Maven compiles Kotlin with $arg; the Gradle build does not (kotlin { compilerOptions { freeCompilerArgs.add(\"$arg\") } })")
+        }
+    }
+
+    private fun debugKey() {
+        val exec = modulePlugin("app", "exec-maven-plugin")!!.child("executions")!!.children("execution").single { it.text("id") == "apk-debug" }
+        val args = exec.child("configuration")!!.child("arguments")!!.children("argument").map { it.textContent.trim() }
+        val keystore = args[args.size - 3].replace("\${project.basedir}/", "")
+        val password = args[args.size - 2]
+        val alias = args[args.size - 1]
+        val block = { name: String -> assigns(moduleScript("app")).firstOrNull { (a, outer) -> path(a.target) == name && outer.any { path(it.callee) == "signingConfigs.getByName" || (it.name == "getByName" && outer.any { o -> o.name == "signingConfigs" }) } }?.first?.value }
+        val store = block("storeFile").let { if (it is Call && it.name == "file") literal(it.args.single().value) else null }
+        val expect = mapOf("storeFile" to (store to keystore), "storePassword" to (literal(block("storePassword")) to password),
+            "keyAlias" to (literal(block("keyAlias")) to alias), "keyPassword" to (literal(block("keyPassword")) to password))
+        for ((k, v) in expect) if (v.first != v.second) problem("app/build.gradle.kts: the debug signingConfig's $k is ${v.first}; Maven signs debug builds with $keystore (alias $alias): installing one build over the other fails")
+        if (!File(root, "app/$keystore").isFile) problem("app/$keystore is missing")
+    }
+
+    private fun compatibility(): List<List<String>> =
+        file("gradle/compatibility.tsv").readLines().map { it.substringBefore('#').trim() }.filter { it.isNotEmpty() }.map { it.split(Regex("\\s+")) }
+
+    private fun cmp(a: String, b: String): Int {
+        val x = a.split('.', '-').map { it.toIntOrNull() ?: 0 }
+        val y = b.split('.', '-').map { it.toIntOrNull() ?: 0 }
+        for (i in 0 until maxOf(x.size, y.size)) { val d = x.getOrElse(i) { 0 }.compareTo(y.getOrElse(i) { 0 }); if (d != 0) return d }
+        return 0
+    }
+
+    private fun minor(v: String) = v.split('.').take(2).joinToString(".")
+
+    private fun r8AndKotlin() {
+        val table = compatibility()
+        val kotlin = rootProperties.getValue("kotlin.version")
+        val agp = pluginId("android.application").second ?: error("no AGP version")
+        val kotlinRow = table.firstOrNull { it[0] == "kotlin" && it[1] == minor(kotlin) }
+            ?: return problem("gradle/compatibility.tsv has no row for Kotlin ${minor(kotlin)}")
+        val agpRow = table.firstOrNull { it[0] == "agp" && it[1] == minor(agp) }
+            ?: return problem("gradle/compatibility.tsv has no row for AGP ${minor(agp)}")
+        val (minAgp, minR8) = kotlinRow[2] to kotlinRow[3]
+        val (bundledR8, minGradle) = agpRow[2] to agpRow[3]
+        if (cmp(agp, minAgp) < 0) problem("AGP $agp is older than Kotlin $kotlin needs ($minAgp, gradle/compatibility.tsv)")
+        // The R8 the release build runs: the one on the root buildscript class path, else AGP's own.
+        val classpath = script("build.gradle.kts").filterIsInstance<Call>().filter { it.name == "buildscript" }
+            .flatMap { b -> calls(b.lambda!!.body).filter { it.first.name == "classpath" }.map { it.first } }
+        val pinned = classpath.mapNotNull { notation(it.args.single().value, null, "build.gradle.kts") }.firstOrNull { it.first == "com.android.tools:r8" }?.second
+        val r8 = pinned ?: bundledR8
+        if (cmp(r8, minR8) < 0) problem("the release build's R8 is $r8 (${if (pinned == null) "bundled with AGP $agp" else "pinned in build.gradle.kts"}), Kotlin $kotlin needs R8 $minR8 or newer (gradle/compatibility.tsv): pin com.android.tools:r8 on the root buildscript class path")
+        if (pinned != null && pinned != rootProperties["r8.version"]) problem("build.gradle.kts pins R8 $pinned, Maven runs ${rootProperties["r8.version"]}")
+        val gradle = Regex("""gradle-([\d.]+)-(bin|all)\.zip""").find(file("gradle/wrapper/gradle-wrapper.properties").readText())?.groupValues?.get(1)
+        if (gradle == null || cmp(gradle, minGradle) < 0) problem("the wrapper's Gradle $gradle is older than AGP $agp needs ($minGradle)")
+    }
+
+    private fun wrapper() {
+        val p = Properties().apply { file("gradle/wrapper/gradle-wrapper.properties").reader().use { load(it) } }
+        val sum = p.getProperty("distributionSha256Sum")
+        if (sum == null || !sum.matches(Regex("[0-9a-f]{64}"))) problem("gradle/wrapper/gradle-wrapper.properties: no distributionSha256Sum: the distribution is run without a check")
+        val sh = file("gradlew").readText()
+        if (!sh.contains("distributionSha256Sum") || !sh.contains("sha256")) problem("gradlew does not verify distributionSha256Sum")
+        if (!File(root, "gradlew").canExecute()) problem("gradlew is not executable")
+        val bat = file("gradlew.bat").readLines()
+        for ((i, line) in bat.withIndex()) {
+            if (Regex("(?i)powershell").containsMatchIn(line) && !line.trimStart().startsWith("@rem") && !line.trimStart().lowercase().startsWith("rem ")) {
+                if (!Regex("(?i)-File\\s").containsMatchIn(line)) problem("gradlew.bat:${i + 1}: PowerShell is given its program on cmd's command line, where cmd strips its quotes; run a script file with -File")
+                Regex("""-File\s+"%~dp0([^"]+)"""").find(line)?.groupValues?.get(1)?.let { ps -> if (!File(root, ps.replace('\\', '/')).isFile) problem("gradlew.bat:${i + 1}: $ps is missing") }
+            }
+        }
+    }
+
+    private fun workflow() {
+        val f = File(root, ".github/workflows/gradle.yml")
+        if (!f.isFile) return problem(".github/workflows/gradle.yml is missing: nothing runs the Gradle build")
+        val text = f.readText()
+        for (needed in listOf("actions/setup-java", "java-version: ${rootProperties["maven.compiler.release"]}", "gradle/actions/setup-gradle", "assembleDebug", "assembleRelease", "testDebugUnitTest", ":fusion-core:test", ":fusion-cli:test")) {
+            if (!text.contains(needed)) problem(".github/workflows/gradle.yml does not have $needed")
+        }
+    }
+
+}
