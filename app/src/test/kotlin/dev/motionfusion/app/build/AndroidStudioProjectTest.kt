@@ -1,186 +1,238 @@
 package dev.motionfusion.app.build
 
-import dev.motionfusion.app.build.BuildFiles.child
-import dev.motionfusion.app.build.BuildFiles.children
-import dev.motionfusion.app.build.BuildFiles.text
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
-import org.w3c.dom.Element
+import org.junit.jupiter.api.io.TempDir
 import java.io.File
+import java.nio.file.Files
+import java.nio.file.StandardCopyOption
 
 /**
- * The Android Studio project (settings.gradle.kts, build.gradle.kts files, gradle/libs.versions.toml)
- * is not built here, so nothing else would notice it drifting from the Maven build of record. This
- * test reads both and fails on any difference in modules, dependencies and their versions, source
- * and resource folders, SDK levels, application id, version and JVM target. It understands the
- * Gradle files in the forms they are written in and fails on a dependency line it cannot read.
+ * The Android Studio project is not built here, so GradleMirror (structural reading of the Gradle
+ * scripts against the poms) is what keeps it runnable. The first test checks the repository; each
+ * other test puts one known defect back into a copy of the build files and shows the checker
+ * reports it, so that none of these checks can pass by not looking.
  */
 class AndroidStudioProjectTest {
+    @TempDir
+    lateinit var copy: File
+
     private val root = BuildFiles.repositoryRoot
-    private val rootPom = BuildFiles.parse(File(root, "pom.xml"))
 
-    /** Maven modules without a Gradle counterpart, and why. */
-    private val mavenOnly = mapOf(
-        "android-libs" to "Maven's way to resolve AARs; Gradle resolves the app's dependencies itself",
-        "android-test-libs" to "as android-libs, for the tests",
-        "fusion-bench" to "JMH over the app module's classes, which Gradle does not offer to a JVM module",
-    )
-
-    /** Maven dependencies the Gradle build does not need, and why. */
-    private val mavenOnlyDependencies = mapOf(
-        "org.codehaus.mojo:animal-sniffer" to "the API-level guard's checker (Android Studio has lint)",
-        "com.toasttab.android:gummy-bears-api-26" to "the API-level guard's signature",
-    )
-
-    private data class Dep(val configuration: String, val coordinates: String, val version: String) {
-        override fun toString() = "$configuration $coordinates:$version"
+    @Test
+    fun `the Gradle files mirror the Maven build`() {
+        assertEquals(emptyList<String>(), GradleMirror(root, BuildFiles.localRepository).problems())
     }
 
-    // --- Maven side ---
+    // --- the defect put back into a copy ---
 
-    private fun properties(pom: Element): Map<String, String> =
-        pom.child("properties")?.children()?.associate { it.tagName to it.textContent.trim() }.orEmpty()
+    private fun copyRepository() {
+        // Outputs of either build (a module's target/ or build/), not the package folders named build.
+        val skip = setOf(".git", "target", "build", ".gradle", ".kotlin", ".idea")
+        val topLevel = { d: File -> d.parentFile == root || d.parentFile?.parentFile == root }
+        root.walkTopDown().onEnter { it == root || it.name !in skip || !topLevel(it) }.filter { it.isFile }.forEach { f ->
+            val to = File(copy, f.relativeTo(root).path)
+            to.parentFile.mkdirs()
+            Files.copy(f.toPath(), to.toPath(), StandardCopyOption.COPY_ATTRIBUTES)
+        }
+    }
 
-    private val rootProperties = properties(rootPom) + mapOf("project.version" to rootPom.text("version")!!)
+    private fun edit(path: String, old: String, new: String) {
+        val f = File(copy, path)
+        val text = f.readText()
+        assertTrue(text.contains(old), "$path no longer holds the text this regression changes: $old")
+        f.writeText(text.replace(old, new))
+    }
 
-    private fun interpolate(value: String, props: Map<String, String>): String =
-        Regex("""\$\{([^}]+)}""").replace(value) { m -> props[m.groupValues[1]] ?: error("unknown property ${m.value}") }
+    private fun problems(mavenOnlyDependencies: Map<String, String> = emptyMap()): List<String> =
+        GradleMirror(copy, BuildFiles.localRepository, mavenOnlyDependencies = mavenOnlyDependencies).problems()
 
-    private val managed: Map<String, String> = rootPom.child("dependencyManagement")!!.child("dependencies")!!.children("dependency")
-        .associate { "${it.text("groupId")}:${it.text("artifactId")}" to interpolate(it.text("version")!!, rootProperties) }
+    /** Copies the repository, applies [change], and asserts a problem containing [expected] is reported. */
+    private fun reports(expected: String, mavenOnlyDependencies: Map<String, String> = emptyMap(), change: () -> Unit) {
+        copyRepository()
+        change()
+        val found = problems(mavenOnlyDependencies)
+        assertTrue(found.any { expected in it }, "expected a problem with '$expected', got:\n" + found.joinToString("\n"))
+    }
 
-    private fun pom(module: String) = BuildFiles.parse(File(root, "$module/pom.xml"))
+    @Test
+    fun `an unchanged copy has no problems`() {
+        copyRepository()
+        assertEquals(emptyList<String>(), problems())
+    }
 
-    private fun mavenDependencies(module: String): Set<Dep> {
-        val pom = pom(module)
-        val props = rootProperties + properties(pom)
-        val out = HashSet<Dep>()
-        for (d in pom.child("dependencies")!!.children("dependency")) {
-            val ga = "${d.text("groupId")}:${d.text("artifactId")}"
-            val scope = d.text("scope") ?: "compile"
-            val version = d.text("version")?.let { interpolate(it, props) }
-                ?: managed[ga]
-                ?: (if (ga.startsWith("org.junit.")) managed["org.junit:junit-bom"] else null)
-                ?: error("$module: no version for $ga")
-            if (ga in mavenOnlyDependencies) continue
-            if (scope == "provided" && ga == "org.robolectric:android-all") continue // the framework to compile against: compileSdk
-            val configuration = if (scope == "test") "testImplementation" else "implementation"
-            if (ga.startsWith("dev.motionfusion:android-")) {
-                // The AndroidX lists: what the app asks for, at the versions the lists give.
-                val libs = pom(ga.substringAfter(':'))
-                val versions = libs.child("dependencies")!!.children("dependency")
-                    .associate { "${it.text("groupId")}:${it.text("artifactId")}" to it.text("version")!! }
-                for (used in properties(libs).getValue("app.uses").split(',')) out += Dep(configuration, used, versions.getValue(used))
-            } else {
-                out += Dep(configuration, ga, version)
+    @Test
+    fun `no gradle properties`() = reports("gradle.properties is missing") { File(copy, "gradle.properties").delete() }
+
+    @Test
+    fun `no AndroidX flag`() = reports("android.useAndroidX=true is not set") { edit("gradle.properties", "android.useAndroidX=true", "android.useAndroidX=false") }
+
+    @Test
+    fun `a daemon heap too small for R8`() = reports("R8 needs at least -Xmx3g") { edit("gradle.properties", "-Xmx4g", "-Xmx512m") }
+
+    @Test
+    fun `a toolchain without a resolver`() = reports("no toolchain resolver") {
+        edit("settings.gradle.kts", "    id(\"org.gradle.toolchains.foojay-resolver-convention\") version \"0.9.0\"\n", "")
+    }
+
+    @Test
+    fun `a test source importing a Maven-only dependency`() =
+        reports("ApiLevelGuardTest.kt imports org.codehaus.mojo.animal_sniffer.SignatureChecker", mapOf("org.codehaus.mojo:animal-sniffer" to "not needed by Gradle")) {
+            edit("app/build.gradle.kts", "    testImplementation(libs.animal.sniffer)\n", "")
+        }
+
+    @Test
+    fun `JUnit 6 without the platform launcher`() = reports("fusion-cli/build.gradle.kts: no testRuntimeOnly(\"org.junit.platform:junit-platform-launcher\")") {
+        edit("fusion-cli/build.gradle.kts", "    testRuntimeOnly(libs.junit.platform.launcher)\n", "")
+    }
+
+    @Test
+    fun `a Surefire system property without a Gradle counterpart`() = reports("Surefire's system property project.root has no systemProperty") {
+        edit("app/build.gradle.kts", "    systemProperty(\"project.root\", rootDir.path)\n", "")
+    }
+
+    @Test
+    fun `a Surefire property added to a pom is asked of Gradle too`() = reports("Surefire's system property robolectric.sdk has no systemProperty") {
+        edit("app/pom.xml", "<robolectric.offline>true</robolectric.offline>", "<robolectric.offline>true</robolectric.offline><robolectric.sdk>35</robolectric.sdk>")
+    }
+
+    @Test
+    fun `a literal Surefire value that differs`() = reports("systemProperty(\"robolectric.offline\") is false") {
+        edit("app/build.gradle.kts", "systemProperty(\"robolectric.offline\", \"true\")", "systemProperty(\"robolectric.offline\", \"false\")")
+    }
+
+    @Test
+    fun `a test reading a Maven-only property that Gradle runs`() = reports("LibraryTreeTest.kt reads maven.repo.local") {
+        edit("app/build.gradle.kts", "        excludeTestsMatching(\"dev.motionfusion.app.build.LibraryTreeTest\")\n", "")
+    }
+
+    @Test
+    fun `no add-opens for Robolectric`() = reports("JVM flag --add-opens java.base/java.io=ALL-UNNAMED is not in the test task's jvmArgs") {
+        edit("app/build.gradle.kts", "    jvmArgs(\"--add-opens\", \"java.base/java.io=ALL-UNNAMED\")\n", "")
+    }
+
+    @Test
+    fun `not the heap of Surefire`() = reports("Surefire runs the tests with -Xmx3g") { edit("app/build.gradle.kts", "    maxHeapSize = \"3g\"\n", "") }
+
+    @Test
+    fun `the heap of the root pom reaches the JVM modules`() = reports("fusion-core/build.gradle.kts: Surefire runs the tests with -Xmx2g") {
+        edit("fusion-core/build.gradle.kts", "    maxHeapSize = \"2g\"\n", "")
+    }
+
+    @Test
+    fun `Kotlin 2_4 with the R8 bundled with AGP 8_7`() = reports("Kotlin 2.4.21 needs R8 9.1.29 or newer") {
+        edit("build.gradle.kts", "        classpath(\"com.android.tools:r8:9.5.28\")\n", "")
+    }
+
+    @Test
+    fun `an R8 other than Maven's`() = reports("pins R8 9.1.30, Maven runs 9.5.28") { edit("build.gradle.kts", "r8:9.5.28", "r8:9.1.30") }
+
+    @Test
+    fun `a Kotlin version without a compatibility row`() = reports("no row for Kotlin 2.4") {
+        edit("gradle/compatibility.tsv", "kotlin    2.4", "kotlin    9.9")
+    }
+
+    @Test
+    fun `the CLI's version properties not expanded`() = reports("dev/motionfusion/cli/version.properties is filtered by Maven") {
+        edit("fusion-cli/build.gradle.kts", "filesMatching(\"**/version.properties\")", "filesMatching(\"**/other.properties\")")
+    }
+
+    @Test
+    fun `an expand without the placeholder's value`() = reports("expand(…) does not give \${project.version}") {
+        edit("fusion-cli/build.gradle.kts", "mapOf(\"version\" to version)", "mapOf(\"name\" to version)")
+    }
+
+    @Test
+    fun `Robolectric's filtered config where Gradle copies it unexpanded`() = reports("Gradle copies it unexpanded") {
+        edit("app/pom.xml", "<directory>src/test/maven-resources</directory>", "<directory>src/test/resources</directory>")
+        val from = File(copy, "app/src/test/maven-resources/com/android/tools/test_config.properties")
+        val to = File(copy, "app/src/test/resources/com/android/tools/test_config.properties")
+        to.parentFile.mkdirs()
+        assertTrue(from.renameTo(to))
+    }
+
+    @Test
+    fun `no jsr305 strict`() = reports("fusion-core/build.gradle.kts: Maven compiles Kotlin with -Xjsr305=strict") {
+        edit("fusion-core/build.gradle.kts", "        freeCompilerArgs.add(\"-Xjsr305=strict\")\n", "")
+    }
+
+    @Test
+    fun `PublicApiTest without the class folder under Gradle`() = reports("Surefire's system property api.classes has no systemProperty") {
+        edit("fusion-core/build.gradle.kts", "    systemProperty(\"api.classes\", sourceSets.main.get().output.classesDirs.asPath)\n", "")
+    }
+
+    @Test
+    fun `PublicApiTest reading Maven's target folder`() = reports("PublicApiTest.kt reads \"target/classes\"") {
+        edit("fusion-core/src/test/kotlin/dev/motionfusion/core/PublicApiTest.kt", "private val classes: File = run {", "private val old = File(\"target/classes\")\n    private val classes: File = run {")
+    }
+
+    @Test
+    fun `a debug key other than Maven's`() = reports("the debug signingConfig's storeFile is null") {
+        edit("app/build.gradle.kts", "            storeFile = file(\"debug.keystore\")\n", "")
+    }
+
+    @Test
+    fun `no checksum for the distribution`() = reports("no distributionSha256Sum") {
+        edit("gradle/wrapper/gradle-wrapper.properties", "distributionSha256Sum=", "#distributionSha256Sum=")
+    }
+
+    @Test
+    fun `a gradlew bat handing PowerShell a program through cmd`() = reports("gradlew.bat:2: PowerShell is given its program on cmd's command line") {
+        File(copy, "gradlew.bat").writeText("@echo off\r\npowershell -NoProfile -ExecutionPolicy Bypass -Command ^\r\n  \"\$ErrorActionPreference = Stop;\"\r\n")
+    }
+
+    @Test
+    fun `no workflow for the Gradle build`() = reports(".github/workflows/gradle.yml is missing") { File(copy, ".github/workflows/gradle.yml").delete() }
+
+    @Test
+    fun `a version that drifts from the poms`() = reports("the Kotlin plugin is 2.4.20 in libs.versions.toml") {
+        edit("gradle/libs.versions.toml", "kotlin = \"2.4.21\"", "kotlin = \"2.4.20\"")
+    }
+
+    @Test
+    fun `an SDK level changed in the pom is asked of Gradle`() = reports("defaultConfig.targetSdk is 35, the Maven build says 36") {
+        edit("app/pom.xml", "<android.targetSdk>35</android.targetSdk>", "<android.targetSdk>36</android.targetSdk>")
+    }
+
+    @Test
+    fun `a dependency Gradle adds that Maven lacks`() = reports("build.gradle.kts has testImplementation junit:junit:4.13.2") {
+        edit("fusion-cli/build.gradle.kts", "    testImplementation(libs.junit.jupiter)\n", "    testImplementation(libs.junit.jupiter)\n    testImplementation(libs.junit4)\n")
+    }
+
+    // --- the reader ---
+
+    @Test
+    fun `the reader gives calls, blocks, assignments and strings their structure`() {
+        val nodes = KotlinDsl.parse(
+            """
+            tasks.withType<Test>().configureEach {
+                maxHeapSize = "3g" // a comment
+                jvmArgs("--add-opens", "java.base/java.io=ALL-UNNAMED")
+                filesMatching("**/v.properties") { expand("project" to mapOf("version" to "${'$'}{x}")) }
             }
-        }
-        return out
-    }
-
-    // --- Gradle side ---
-
-    private val toml: Map<String, Map<String, String>> = run {
-        val sections = HashMap<String, MutableMap<String, String>>()
-        var section = ""
-        for (raw in File(root, "gradle/libs.versions.toml").readLines()) {
-            val line = raw.substringBefore('#').trim()
-            if (line.isEmpty()) continue
-            if (line.startsWith("[")) { section = line.trim('[', ']'); continue }
-            sections.getOrPut(section) { LinkedHashMap() }[line.substringBefore('=').trim()] = line.substringAfter('=').trim()
-        }
-        sections
-    }
-
-    private fun tomlField(entry: String, field: String): String? = Regex("""$field\s*=\s*"([^"]*)"""").find(entry)?.groupValues?.get(1)
-
-    private fun version(ref: String): String = toml.getValue("versions")[ref]?.trim('"') ?: error("no version $ref in libs.versions.toml")
-
-    /** `libs.androidx.core.ktx` → coordinates and version (a BOM-managed library takes the BOM's version). */
-    private fun library(accessor: String, bomVersion: String?): Pair<String, String> {
-        val alias = toml.getValue("libraries").keys.single { it.replace('-', '.').replace('_', '.') == accessor }
-        val entry = toml.getValue("libraries").getValue(alias)
-        val module = tomlField(entry, "module") ?: error("$alias: no module")
-        val v = tomlField(entry, "version.ref")?.let(::version) ?: bomVersion ?: error("$alias: no version and no BOM")
-        return module to v
-    }
-
-    private fun gradleFile(module: String) = File(root, "$module/build.gradle.kts").readText()
-
-    private fun gradleDependencies(module: String): Set<Dep> {
-        val text = gradleFile(module)
-        val block = text.substringAfter("\ndependencies {").substringBefore("\n}")
-        val lines = block.lines().map { it.trim() }.filter { it.isNotEmpty() && !it.startsWith("//") }
-        val bom = lines.firstNotNullOfOrNull { Regex("""\w+\(platform\(libs\.([\w.]+)\)\)""").matchEntire(it)?.groupValues?.get(1) }
-            ?.let { library(it, null).second }
-        val out = HashSet<Dep>()
-        for (line in lines) {
-            val m = Regex("""(implementation|testImplementation)\((.*)\)""").matchEntire(line) ?: error("$module/build.gradle.kts: cannot read '$line'")
-            val (configuration, arg) = m.destructured
-            when {
-                arg.startsWith("platform(") -> Unit
-                arg.startsWith("project(") -> {
-                    val p = Regex("""project\(":([\w-]+)"\)""").matchEntire(arg)!!.groupValues[1]
-                    out += Dep(configuration, "dev.motionfusion:$p", rootProperties.getValue("project.version"))
-                }
-                arg.startsWith("libs.") -> library(arg.removePrefix("libs."), bom).let { (ga, v) -> out += Dep(configuration, ga, v) }
-                else -> error("$module/build.gradle.kts: cannot read '$line'")
-            }
-        }
-        return out
-    }
-
-    private fun gradleValue(text: String, name: String): String =
-        Regex("""\b$name\s*=\s*"?([^"\n]+)"?""").find(text)?.groupValues?.get(1)?.trim() ?: error("$name not set")
-
-    // --- the comparisons ---
-
-    @Test
-    fun `the same modules`() {
-        val maven = rootPom.child("modules")!!.children("module").map { it.textContent.trim() }.toSet() - mavenOnly.keys
-        val gradle = Regex("""include\("(:[\w-]+)"\)""").findAll(File(root, "settings.gradle.kts").readText()).map { it.groupValues[1].removePrefix(":") }.toSet()
-        assertEquals(maven, gradle)
+            """.trimIndent(),
+            "t.kts",
+        )
+        val outer = nodes.single() as KotlinDsl.Call
+        assertEquals("tasks.withType<Test>().configureEach", KotlinDsl.path(outer))
+        val body = outer.lambda!!.body
+        val assign = body[0] as KotlinDsl.Assign
+        assertEquals("maxHeapSize", KotlinDsl.path(assign.target))
+        assertEquals("3g", KotlinDsl.literal(assign.value))
+        val jvm = body[1] as KotlinDsl.Call
+        assertEquals(listOf("--add-opens", "java.base/java.io=ALL-UNNAMED"), jvm.args.map { KotlinDsl.literal(it.value) })
+        val expand = (body[2] as KotlinDsl.Call).lambda!!.body.single() as KotlinDsl.Call
+        val pair = expand.args.single().value as KotlinDsl.Binary
+        assertEquals("to", pair.op)
+        val template = (((pair.right as KotlinDsl.Call).args.single().value as KotlinDsl.Binary).right as KotlinDsl.Str)
+        assertEquals(false, template.plain)
     }
 
     @Test
-    fun `the same dependencies at the same versions`() {
-        for (module in listOf("fusion-core", "fusion-cli", "app")) {
-            assertEquals(mavenDependencies(module).sortedBy { it.toString() }, gradleDependencies(module).sortedBy { it.toString() }, module)
-        }
-    }
-
-    @Test
-    fun `the same Kotlin version and JVM target`() {
-        val plugin = toml.getValue("plugins").getValue("kotlin-jvm")
-        assertEquals(rootProperties.getValue("kotlin.version"), version(tomlField(plugin, "version.ref")!!))
-        for (module in listOf("fusion-core", "fusion-cli", "app")) {
-            assertEquals(rootProperties.getValue("kotlin.compiler.jvmTarget"), Regex("""jvmToolchain\((\d+)\)""").find(gradleFile(module))?.groupValues?.get(1), module)
-        }
-    }
-
-    @Test
-    fun `the same application id, version, SDK levels and folders`() {
-        val app = gradleFile("app")
-        val props = rootProperties + properties(pom("app"))
-        assertEquals(props.getValue("android.package"), gradleValue(app, "applicationId"))
-        assertEquals(props.getValue("android.package"), gradleValue(app, "namespace"))
-        assertEquals(props.getValue("android.minSdk"), gradleValue(app, "minSdk"))
-        assertEquals(props.getValue("android.targetSdk"), gradleValue(app, "targetSdk"))
-        assertEquals(props.getValue("android.compileSdk"), gradleValue(app, "compileSdk"))
-        val apiOfRelease = mapOf("13" to "33", "14" to "34", "15" to "35", "16" to "36")
-        assertEquals(props.getValue("android.compileSdk"), apiOfRelease[props.getValue("android.all.version").substringBefore('-')], "android-all's release is compileSdk")
-        assertEquals(props.getValue("app.versionCode"), gradleValue(app, "versionCode"))
-        assertEquals(props.getValue("project.version"), gradleValue(app, "versionName"))
-        val appPom = File(root, "app/pom.xml").readText()
-        for (dir in Regex("""srcDirs?\("([^"]+)"\)|srcFile\("([^"]+)"\)""").findAll(app).map { it.groupValues.drop(1).first { g -> g.isNotEmpty() } }) {
-            assertTrue(File(root, "app/$dir").exists(), "app/$dir")
-            val mavenNamesIt = dir == "src/main/kotlin" || dir == "src/test/kotlin" || appPom.contains("\${project.basedir}/$dir") || appPom.contains("<directory>$dir</directory>")
-            assertTrue(mavenNamesIt, "app/pom.xml does not use app/$dir")
-        }
-        for (module in listOf("fusion-core", "fusion-cli")) {
-            val dirs = Regex("""srcDirs\("([^"]+)"\)""").findAll(gradleFile(module)).map { it.groupValues[1] }.toSet()
-            assertEquals(setOf("src/main/kotlin", "src/test/kotlin"), dirs, module)
-        }
+    fun `what the reader does not understand names file, line and column`() {
+        val e = assertThrows(KotlinDsl.SyntaxError::class.java) { KotlinDsl.parse("android {\n    compileSdk = (34\n}\n", "app/build.gradle.kts") }
+        assertTrue(e.message!!.startsWith("app/build.gradle.kts:3:1:"), e.message)
     }
 }
