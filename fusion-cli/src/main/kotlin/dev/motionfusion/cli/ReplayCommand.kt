@@ -63,6 +63,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         val o = Options(args, setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
         FilterOptions.settings(o) // usage errors before the input is opened
+        val offline = FilterOptions.offline(o)
         val output = o.value("-o") ?: o.value("--output")
         val calibrationOption = o.value("--calibration")
         val file = calibrationOption?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
@@ -98,7 +99,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
 
                         override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
                     }
-                    CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, listener, progress::update, rec.name) }
+                    CalibrateCommand.calibrated(rec, calibration).use { e ->
+                        if (offline == null) replayer.run(e, rec.originNs, listener, progress::update, rec.name)
+                        else replayer.runOffline(e, rec.originNs, listener, progress::update, rec.name, offline)
+                    }
                 }
             }
             progress.finish()
