@@ -37,7 +37,7 @@ import kotlin.math.sqrt
  * @property backwardWeight weight of the backward pass's orientation in the combination, 0…1 (the
  *   second forward pass has 1 − it); chosen by cross-validation (docs/ACCURACY.md, "Offline").
  */
-public data class OfflineSettings(val backwardWeight: Double = 0.5) {
+public data class OfflineSettings(val backwardWeight: Double = 0.3) {
     init {
         require(backwardWeight in 0.0..1.0) { "backwardWeight must be within 0…1, not $backwardWeight" }
     }
