@@ -54,7 +54,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |                       note says so), so the output reproduces its orientation.csv
         |${FilterOptions.HELP}
         |${InputOptions.HELP}
-        |Several inputs (or -o naming a folder, or ending in /): each is replayed as if alone into
+        |Several inputs (or one with -o ending in /): each is replayed as if alone into
         |FOLDER/NAME.csv (NAME: the input's name without .csv, .csv.gz, .zip), in parallel, one
         |input per available core; one result line per input and a summary on standard error. A bad
         |input gets its message and exit code there and the others go on; the exit code is the
@@ -70,7 +70,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("replay needs an INPUT")
         val target = o.value("-o") ?: o.value("--output")
-        if (o.positional.size > 1 || (target != null && (target.endsWith("/") || java.nio.file.Files.isDirectory(java.nio.file.Path.of(target))))) {
+        if (o.positional.size > 1 || (target != null && target.endsWith("/"))) {
             return batch(args, o, valued, target ?: throw UsageException("with several inputs give -o FOLDER/ for their outputs"))
         }
         val input = o.positional.single()
