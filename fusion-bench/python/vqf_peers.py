@@ -7,6 +7,10 @@ Usage:
       the table has magnetometer columns, else 6D, and writes t_s,qw,qx,qy,qz per row (sensor ->
       ENU). Rows without an accelerometer reading are left out; a missing magnetometer reading
       is passed as zeros (VQF skips the magnetometer update then).
+  python3 vqf_peers.py [--offline] ROWS.csv[.gz] OUT.csv  (--offline: vqf.offlineVQF, the acausal variant)
+  python3 vqf_peers.py --trials [--offline] DATA_DIR
+      Prints subset/trial,total RMSE (deg) of VQF (real-time, or offlineVQF) on every trial of the
+      BROAD and Tyrex subsets, scored by `bin/fusion eval --truth` (docs/ACCURACY.md, "Offline").
   python3 vqf_peers.py --figures DATA_DIR OUT.csv
       Regenerates fusion-core/src/test/resources/peers/vqf.csv: for every input listed below,
       the rows via `bin/fusion replay --rows`, VQF on them, and the figures by the project's own
@@ -52,20 +56,20 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 FUSION = os.path.join(REPO, "bin", "fusion")
 
 
-def run_vqf(rows_path, out_path):
-    from vqf import VQF
+def run_vqf(rows_path, out_path, offline=False):
+    from vqf import VQF, offlineVQF
 
     table = pd.read_csv(rows_path)
     table = table[np.isfinite(table[["ax", "ay", "az"]].to_numpy()).all(axis=1)]
     t = table["t_s"].to_numpy()
     gyr = np.ascontiguousarray(table[["gx", "gy", "gz"]].to_numpy(dtype=float))
     acc = np.ascontiguousarray(table[["ax", "ay", "az"]].to_numpy(dtype=float))
-    vqf = VQF(float(np.median(np.diff(t))))
+    ts = float(np.median(np.diff(t)))
     if "mx" in table.columns:
         mag = np.ascontiguousarray(np.nan_to_num(table[["mx", "my", "mz"]].to_numpy(dtype=float), nan=0.0))
-        quat = vqf.updateBatch(gyr, acc, mag)["quat9D"]
+        quat = offlineVQF(gyr, acc, mag, ts)["quat9D"] if offline else VQF(ts).updateBatch(gyr, acc, mag)["quat9D"]
     else:
-        quat = vqf.updateBatch(gyr, acc)["quat6D"]
+        quat = offlineVQF(gyr, acc, None, ts)["quat6D"] if offline else VQF(ts).updateBatch(gyr, acc)["quat6D"]
     out = pd.DataFrame({"t_s": table["t_s"].map(lambda v: "%.9f" % v), "qw": quat[:, 0], "qx": quat[:, 1], "qy": quat[:, 2], "qz": quat[:, 3]})
     out.to_csv(out_path, index=False)
 
@@ -76,6 +80,26 @@ def fusion(*args):
 
 def last_row(table):
     return [c.strip() for c in table.strip().splitlines()[-1].strip("|").split("|")]
+
+
+def trial_figures(data, offline):
+    """(subset/trial, total RMSE) of VQF, real-time or offline (vqf.offlineVQF), on every trial of the subsets."""
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        est = os.path.join(tmp, "vqf.csv")
+        for subset in SUBSETS:
+            for trial in sorted(os.listdir(os.path.join(data, subset))):
+                d = os.path.join(data, subset, trial)
+                if not os.path.isdir(d):
+                    continue
+                inp = next(os.path.join(d, f) for f in ("input.csv.gz", "input.csv") if os.path.exists(os.path.join(d, f)))
+                truth = next(os.path.join(d, f) for f in ("truth.csv.gz", "truth.csv") if os.path.exists(os.path.join(d, f)))
+                run_vqf(inp, est, offline)
+                has_mag = "mx" in pd.read_csv(inp, nrows=1).columns
+                cells = last_row(fusion("eval", *([] if has_mag else ["--6d"]), "--truth", truth, est))
+                numbers = [c for c in cells if re.fullmatch(r"-?[0-9.]+", c)]
+                out.append(("%s/%s" % (subset, trial), numbers[0]))
+    return out
 
 
 def figures(data, out_path):
@@ -117,5 +141,12 @@ def figures(data, out_path):
 if __name__ == "__main__":
     if sys.argv[1] == "--figures":
         figures(sys.argv[2], sys.argv[3])
+    elif sys.argv[1] == "--trials":
+        # python3 vqf_peers.py --trials [--offline] DATA_DIR: VQF's total RMSE per trial of the subsets
+        offline = sys.argv[2] == "--offline"
+        for name, value in trial_figures(sys.argv[3 if offline else 2], offline):
+            print("%s,%s" % (name, value))
+    elif sys.argv[1] == "--offline":
+        run_vqf(sys.argv[2], sys.argv[3], True)
     else:
         run_vqf(sys.argv[1], sys.argv[2])

@@ -11,6 +11,7 @@ import dev.motionfusion.core.filter.MadgwickFilter;
 import dev.motionfusion.core.eval.PhoneComparison;
 import dev.motionfusion.core.eval.TrialReader;
 import dev.motionfusion.core.input.QuaternionTableReader;
+import dev.motionfusion.core.replay.OfflineSettings;
 
 import java.io.File;
 import java.io.IOException;
@@ -57,8 +58,10 @@ public final class TuneFilter {
         final double[][] truth;
         final boolean[] movement;
         final double[][] rotationVector; // null without one
+        final File dir;
 
         Loaded(File dir, boolean withRv) throws IOException {
+            this.dir = dir;
             Trial t = Trial.Companion.load(dir);
             name = t.getName();
             group = dir.getParentFile().getName();
@@ -101,6 +104,12 @@ public final class TuneFilter {
             }
         }
 
+        /** The offline estimate (Replayer.runOffline through the library's trial evaluation; reads the trial's files). */
+        ErrorRmse run(FilterSettings s, OfflineSettings offline) {
+            if (offline == null) return run(s);
+            return Evaluation.INSTANCE.evaluate(Trial.Companion.load(dir), s, offline).getError();
+        }
+
         ErrorRmse run(FilterSettings s) {
             MadgwickFilter f = new MadgwickFilter(s);
             int n = tNs.length;
@@ -120,8 +129,26 @@ public final class TuneFilter {
         }
     }
 
+    /**
+     * The offline settings of [spec] ("offline:" before the overrides, backwardWeight=… among them for
+     * OfflineSettings), or null for the causal filter.
+     */
+    static OfflineSettings parseOffline(String spec) {
+        String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
+        if (!body.startsWith("offline")) return null;
+        OfflineSettings o = new OfflineSettings();
+        for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
+            if (a.trim().startsWith("backwardWeight=")) o = new OfflineSettings(Double.parseDouble(a.trim().substring("backwardWeight=".length())));
+        }
+        return o;
+    }
+
     static FilterSettings parse(String spec) {
         String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
+        if (body.startsWith("offline")) {
+            body = body.substring("offline".length()).replaceFirst("^:", "").replaceAll("backwardWeight=[^,]*,?", "");
+            if (body.isBlank()) body = "defaults";
+        }
         FilterSettings s = new FilterSettings();
         if (body.equals("defaults")) return s;
         if (body.startsWith("report")) {
@@ -169,6 +196,8 @@ public final class TuneFilter {
         if (specs.isEmpty()) specs.add("defaults");
         List<FilterSettings> settings = new ArrayList<>();
         for (String s : specs) settings.add(parse(s));
+        List<OfflineSettings> offline = new ArrayList<>();
+        for (String s : specs) offline.add(parseOffline(s));
 
         long t0 = System.nanoTime();
         List<File> trialDirs = Evaluation.INSTANCE.findTrials(dirs);
@@ -188,7 +217,7 @@ public final class TuneFilter {
                 final int a = si;
                 final int b = ti;
                 jobs.add(pool.submit(() -> {
-                    res[a][b] = trials.get(b).run(settings.get(a));
+                    res[a][b] = trials.get(b).run(settings.get(a), offline.get(a));
                 }));
             }
         }

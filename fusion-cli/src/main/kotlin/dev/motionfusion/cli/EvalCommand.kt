@@ -16,6 +16,7 @@ import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
+import dev.motionfusion.core.replay.OfflineSettings
 import dev.motionfusion.core.event.SessionStream
 import java.io.File
 import java.io.PrintStream
@@ -91,6 +92,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
             return ExitCode.OK
         }
         val settings = FilterOptions.settings(o)
+        val offline = FilterOptions.offline(o)
         val results = ArrayList<TrialResult>()
         val rotationVector = HashMap<String, ErrorRmse>()
         for (p in o.positional) {
@@ -106,34 +108,34 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                 }
                 for (d in dirs) {
                     err.print(if (System.console() != null) "\reval ${d.name} …" else "")
-                    results += evaluateTrial(d, settings, rotationVector)
+                    results += evaluateTrial(d, settings, offline, rotationVector)
                 }
                 if (System.console() != null) err.print("\r" + " ".repeat(60) + "\r")
             } else {
-                results += evaluateSession(p, settings, o)
+                results += evaluateSession(p, settings, offline, o)
             }
         }
-        out.println("Filter: ${describe(settings)}")
+        out.println("Filter: ${describe(settings)}" + (offline?.let { ", offline (backward weight ${it.backwardWeight})" } ?: ""))
         out.println()
         out.print(if (rotationVector.isEmpty()) Evaluation.table(results) else PhoneComparison.table(results, rotationVector))
         return ExitCode.OK
     }
 
     /** Scores [d]; a trial with the phone's rotation vector also gets that scored into [rotationVector]. */
-    private fun evaluateTrial(d: File, settings: FilterSettings, rotationVector: MutableMap<String, ErrorRmse>): TrialResult {
+    private fun evaluateTrial(d: File, settings: FilterSettings, offline: OfflineSettings?, rotationVector: MutableMap<String, ErrorRmse>): TrialResult {
         val trial = try {
             Trial.load(d).also { t -> PhoneComparison.rotationVector(d, t)?.let { rotationVector[t.name] = it } }
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
         }
-        return Evaluation.evaluate(trial, settings)
+        return Evaluation.evaluate(trial, settings, offline)
     }
 
     /**
      * Replays a session with a truth stream and scores every gyroscope step that has truth at its
      * instant; for a 6D score a first replay finds the heading offset.
      */
-    private fun evaluateSession(input: String, settings: FilterSettings, o: Options): TrialResult {
+    private fun evaluateSession(input: String, settings: FilterSettings, offline: OfflineSettings?, o: Options): TrialResult {
         InputOptions.open(input, o, err, name).use { rec ->
             if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(input, 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
             val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
@@ -155,7 +157,10 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                         lastTruthT = timestampNs
                     }
                 }
-                rec.events().use { Replayer(settings).run(it, rec.originNs, listener, null, rec.name) }
+                rec.events().use {
+                    if (offline == null) Replayer(settings).run(it, rec.originNs, listener, null, rec.name)
+                    else Replayer(settings).runOffline(it, rec.originNs, listener, null, rec.name, offline)
+                }
             }
             if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
             return TrialResult(rec.name, e)

@@ -6,12 +6,13 @@ import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
 import dev.motionfusion.core.filter.SettingKind
 import dev.motionfusion.core.input.Recording
+import dev.motionfusion.core.replay.OfflineSettings
 import java.io.PrintStream
 
 /** The filter settings options shared by replay, eval, compare and plot. */
 internal object FilterOptions {
-    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set")
-    val FLAGS = setOf("--report", "--default-settings", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection")
+    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set", "--offline-weight")
+    val FLAGS = setOf("--report", "--default-settings", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection", "--offline")
 
     val HELP = """
         |Filter settings (defaults: FilterSettings(), chosen by cross-validation on BROAD and phone recordings;
@@ -30,7 +31,27 @@ internal object FilterOptions {
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
         |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); names, units, defaults:
         |${settingsTable()}
+        |  --offline            the offline estimate: each orientation from the whole recording, the
+        |                       samples after it as well as before (a forward and a backward pass
+        |                       with these settings, combined; docs/ACCURACY.md, "Offline"); the
+        |                       same rows and columns; needs a temporary file of 128 bytes per row
+        |                       (java.io.tmpdir), removed however the run ends
+        |  --offline-weight W   the backward pass's weight in the combination, 0…1 (default ${OfflineSettings().backwardWeight})
         |""".trimMargin()
+
+    /** The offline settings (--offline, --offline-weight), or null for the causal filter. */
+    fun offline(o: Options): OfflineSettings? {
+        val w = o.double("--offline-weight")
+        if (!o.has("--offline")) {
+            if (w != null) throw UsageException("--offline-weight needs --offline")
+            return null
+        }
+        return try {
+            if (w == null) OfflineSettings() else OfflineSettings(w)
+        } catch (e: IllegalArgumentException) {
+            throw UsageException("--offline-weight: ${e.message}")
+        }
+    }
 
     /** One line per setting of [FilterSettingDescriptors]: name, unit, default. */
     private fun settingsTable(): String {

@@ -15,6 +15,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
     override val summary = "run the filter over a recording and write the orientation as CSV"
     override val help = """
         |Usage: fusion replay INPUT [-o OUT.csv[.gz]] [filter settings]
+        |       fusion replay INPUT... -o FOLDER/ [filter settings]
         |
         |Merges the recording's streams by timestamp, runs the Madgwick filter over them
         |(accelerometer and magnetometer held, one step per gyroscope sample) and writes CSV,
@@ -53,6 +54,11 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |                       note says so), so the output reproduces its orientation.csv
         |${FilterOptions.HELP}
         |${InputOptions.HELP}
+        |Several inputs (or one with -o ending in /): each is replayed as if alone into
+        |FOLDER/NAME.csv (NAME: the input's name without .csv, .csv.gz, .zip), in parallel, one
+        |input per available core; one result line per input and a summary on standard error. A bad
+        |input gets its message and exit code there and the others go on; the exit code is the
+        |worst. Two inputs of the same name, or an output onto an input, are refused first.
         |A progress bar is drawn on standard error when it is a terminal.
         |The output is written aside and moved into place only when the replay succeeds; an
         |output that is the input or lies inside it is refused.
@@ -60,9 +66,16 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
-        val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "replay needs an INPUT" else "replay takes one INPUT")
+        val valued = setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED
+        val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
+        if (o.positional.isEmpty()) throw UsageException("replay needs an INPUT")
+        val target = o.value("-o") ?: o.value("--output")
+        if (o.positional.size > 1 || (target != null && target.endsWith("/"))) {
+            return batch(args, o, valued, target ?: throw UsageException("with several inputs give -o FOLDER/ for their outputs"))
+        }
+        val input = o.positional.single()
         FilterOptions.settings(o) // usage errors before the input is opened
+        val offline = FilterOptions.offline(o)
         val output = o.value("-o") ?: o.value("--output")
         val calibrationOption = o.value("--calibration")
         val file = calibrationOption?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
@@ -98,7 +111,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
 
                         override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
                     }
-                    CalibrateCommand.calibrated(rec, calibration).use { e -> replayer.run(e, rec.originNs, listener, progress::update, rec.name) }
+                    CalibrateCommand.calibrated(rec, calibration).use { e ->
+                        if (offline == null) replayer.run(e, rec.originNs, listener, progress::update, rec.name)
+                        else replayer.runOffline(e, rec.originNs, listener, progress::update, rec.name, offline)
+                    }
                 }
             }
             progress.finish()
@@ -117,5 +133,38 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             }
         }
         return ExitCode.OK
+    }
+
+    /** `fusion replay IN... -o DIR/`: one output per input, DIR/NAME.csv, in parallel (Batch). */
+    private fun batch(args: List<String>, o: Options, valued: Set<String>, dir: String): Int {
+        if (o.value("--rows") != null) throw UsageException("--rows takes one input; replay the inputs one at a time to keep their rows")
+        FilterOptions.settings(o)
+        FilterOptions.offline(o)
+        val batch = Batch(name, err)
+        val folder = java.nio.file.Path.of(dir)
+        if (!java.nio.file.Files.isDirectory(folder)) java.nio.file.Files.createDirectories(folder)
+        val outputs = batch.outputs(o.positional, dir, ".csv")
+        // The options without the inputs and -o, for each input's own run.
+        val rest = ArrayList<String>()
+        var i = 0
+        var onlyPositional = false
+        while (i < args.size) {
+            val a = args[i]
+            val optionName = a.substringBefore('=')
+            when {
+                onlyPositional || !a.startsWith("-") || a == "-" -> Unit
+                a == "--" -> onlyPositional = true
+                optionName == "-o" || optionName == "--output" -> if (!a.contains('=')) i++
+                optionName in valued -> { rest += a; if (!a.contains('=')) rest += args[++i] }
+                else -> rest += a
+            }
+            i++
+        }
+        val jobs = o.positional.mapIndexed { k, input -> Batch.Job(input, outputs[k], listOf(input, "-o", outputs[k]) + rest) }
+        return batch.run(jobs) { r ->
+            val m = r.messages.lineSequence().filter { it.isNotBlank() }.joinToString("\n  ")
+            if (r.code == ExitCode.OK) "fusion replay: ${r.job.input} → ${r.job.output}" + (if (m.isEmpty()) "" else "\n  $m")
+            else "fusion replay: ${r.job.input}: failed (exit ${r.code}): ${Batch.lastLine(r.messages)}"
+        }
     }
 }

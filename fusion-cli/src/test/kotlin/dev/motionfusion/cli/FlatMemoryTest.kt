@@ -54,6 +54,12 @@ class FlatMemoryTest {
         val t = ok("eval", "--truth", replayed, replayed)
         assertTrue(t.out.contains("| replay.csv | 0.00 |"), t.out)
         ok("plot", session, "-o", tmp.resolve("hour.svg").toString())
+        // The offline estimate of an hour at 200 Hz (720,000 rows): its backward pass reads a temporary file.
+        val table200 = tmp.resolve("hour200.csv").toString()
+        ok("simulate", "--duration", "3600", "--rate", "200", "-o", table200)
+        val offline = tmp.resolve("offline.csv").toString()
+        ok("replay", "--quiet", "--offline", table200, "-o", offline)
+        assertEquals(720_001L, Files.lines(java.nio.file.Paths.get(offline)).use { it.count() })
         ok("compare", session)
     }
 }

@@ -8,6 +8,12 @@ import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.input.ImuTableEvents
+import dev.motionfusion.core.input.ImuTableReader
+import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.replay.Replayer
 import java.io.File
 import kotlin.math.roundToLong
 
@@ -41,9 +47,31 @@ public object Evaluation {
      * Scores [settings] on [trial]; a 6D filter (or a trial without magnetometer) has its heading
      * offset removed, which takes a first pass over the trial to find the offset.
      */
-    public fun evaluate(trial: Trial, settings: FilterSettings): TrialResult {
+    @JvmOverloads
+    public fun evaluate(trial: Trial, settings: FilterSettings, offline: OfflineSettings? = null): TrialResult {
         val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
-        return TrialResult(trial.name, BroadMetric.streamed(sixD) { add -> run(trial, settings, add) })
+        return TrialResult(
+            trial.name,
+            BroadMetric.streamed(sixD) { add -> if (offline == null) run(trial, settings, add) else runOffline(trial, settings, offline, add) },
+        )
+    }
+
+    /**
+     * [run] with the offline estimate (Replayer.runOffline) in place of the causal one: [onStep] gets
+     * the rows in order once the whole trial has been read (orientation NaN where no pass has one yet).
+     */
+    public fun runOffline(trial: Trial, settings: FilterSettings, offline: OfflineSettings, onStep: (estimate: DoubleArray, truth: DoubleArray, scored: Boolean) -> Unit) {
+        trial.open().use { rows ->
+            val listener = object : ReplayListener {
+                override fun step(step: ReplayStep) {
+                    rows.next()
+                    onStep(step.orientation, rows.truth, rows.scored)
+                }
+            }
+            ImuTableEvents(ImuTableReader.open(trial.input.toPath())).use { events ->
+                Replayer(settings).runOffline(events, null, listener, null, trial.name, offline)
+            }
+        }
     }
 
     /** Scores every trial under [paths] (see [findTrials]), in name order. */

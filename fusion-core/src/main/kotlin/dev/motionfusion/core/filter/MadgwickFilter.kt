@@ -362,6 +362,22 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         skippedOutOfRange = l[16]
     }
 
+    /**
+     * Turns the filter round in time, for a pass over the same samples backward (the offline estimate,
+     * replay/Offline.kt): the gyroscope readings of such a pass are negated, so the bias estimate and the
+     * rest detector's gyroscope low-pass are negated too; the orientation, the field reference, the
+     * low-passed accelerometer and the held readings stay. [timestampNs] is the time, on the new pass's
+     * clock, of the last step taken: the held readings count as taken then.
+     */
+    internal fun turnAround(timestampNs: Long) {
+        wbx = -wbx; wby = -wby; wbz = -wbz
+        rest?.reverse()
+        lastT = timestampNs
+        accT = timestampNs
+        magT = timestampNs
+        firstAccT = timestampNs
+    }
+
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
     private fun upX() = 2.0 * (q2 * q4 - q1 * q3)
     private fun upY() = 2.0 * (q1 * q2 + q3 * q4)

@@ -61,6 +61,11 @@ internal class RestDetector(settings: FilterSettings) {
         return atRest
     }
 
+    /** For a run backward in time (gyroscope readings negated): the gyroscope low-pass is negated too. */
+    fun reverse() {
+        gx = -gx; gy = -gy; gz = -gz
+    }
+
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = if (started) 1.0 else 0.0
         d[at + 1] = gx; d[at + 2] = gy; d[at + 3] = gz

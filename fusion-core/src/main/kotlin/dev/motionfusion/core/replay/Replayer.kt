@@ -40,6 +40,10 @@ public class ReplayStep internal constructor() {
 
     /** The latest magnetometer reading (µT, device frame); NaN before the first and without one. */
     public val magneticField: DoubleArray = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN)
+
+    /** Timestamps of the held accelerometer and magnetometer readings, ns (Long.MIN_VALUE before the first): the offline pass's freshness. */
+    internal var accelerometerNs: Long = Long.MIN_VALUE
+    internal var magnetometerNs: Long = Long.MIN_VALUE
 }
 
 /** Receives replay results. */
@@ -68,7 +72,29 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
      */
     @JvmOverloads
     public fun run(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null, source: String = "input"): ReplayCounts =
-        usable(source, if (events is RowEvents) runRows(events, originNs, listener, progress) else runEvents(events, originNs, listener, progress))
+        usable(source, runCausal(events, originNs, listener, progress))
+
+    /**
+     * The offline estimate of [events] (docs/ACCURACY.md, "Offline"): the same steps, outputs and
+     * counts as [run], but each step's orientation uses the whole recording, the samples after it as
+     * well as those before (a pass forward, one backward over the same samples, and their
+     * combination; [offline] has the settings beyond the filter's). [listener] gets every step and
+     * reference event in time order after the whole input has been read. Memory does not grow
+     * with the length: what the backward pass needs goes to a temporary file in [tempDir] (the
+     * system's when null), which is removed however the run ends.
+     */
+    @JvmOverloads
+    public fun runOffline(
+        events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null, source: String = "input",
+        offline: OfflineSettings = OfflineSettings(), tempDir: java.nio.file.Path? = null,
+    ): ReplayCounts = OfflinePass(filter, offline, tempDir).use { pass ->
+        val counts = usable(source, runCausal(events, originNs, pass, progress))
+        pass.finish(listener)
+        counts
+    }
+
+    private fun runCausal(events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)?): ReplayCounts =
+        if (events is RowEvents) runRows(events, originNs, listener, progress) else runEvents(events, originNs, listener, progress)
 
     /**
      * [counts] when most of the input was usable; a gyroscope stepping back by more than
@@ -137,11 +163,13 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                     acc++
                     f.updateAccelerometer(t, v[0], v[1], v[2])
                     step.specificForce[0] = v[0]; step.specificForce[1] = v[1]; step.specificForce[2] = v[2]
+                    step.accelerometerNs = t
                 }
                 SessionStream.MAGNETOMETER -> {
                     mag++
                     f.updateMagnetometer(t, v[0], v[1], v[2])
                     step.magneticField[0] = v[0]; step.magneticField[1] = v[1]; step.magneticField[2] = v[2]
+                    step.magnetometerNs = t
                 }
                 SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR, SessionStream.TRUTH, SessionStream.ORIENTATION ->
                     listener.reference(events.stream, t, v)
@@ -174,9 +202,11 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
             f.updateAccelerometer(t, r[3], r[4], r[5])
             step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
+            step.accelerometerNs = t
             if (mag) {
                 f.updateMagnetometer(t, r[6], r[7], r[8])
                 step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
+                step.magnetometerNs = t
             }
             gyroscopeTime(t)
             f.updateGyroscope(t, r[0], r[1], r[2])
