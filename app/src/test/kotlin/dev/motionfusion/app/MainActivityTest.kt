@@ -1,5 +1,7 @@
 package dev.motionfusion.app
 
+import dev.motionfusion.app.platform.Sdks
+import org.robolectric.annotation.Config
 import android.content.Context
 import android.hardware.Sensor
 import android.hardware.SensorManager
@@ -129,6 +131,7 @@ class MainActivityTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `each sensor is registered once while visible and removed after onStop`() {
         val c = start(acc, gyro, mag, rv, grv)
         assertEquals(1, sensors.listeners.size)
@@ -292,6 +295,7 @@ class MainActivityTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `the rate and jitter achieved are shown per sensor`() {
         val c = start(acc, gyro, mag)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))
@@ -306,6 +310,7 @@ class MainActivityTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `a new requested rate re-registers the listeners and samples keep flowing`() {
         val c = start(acc, gyro, mag)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 22f, -40f))

@@ -25,7 +25,6 @@ import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
 import org.robolectric.android.controller.ActivityController
-import org.robolectric.annotation.Config
 import org.robolectric.shadows.SensorBuilder
 import java.io.File
 import java.time.Duration
@@ -37,7 +36,6 @@ import java.time.Duration
  * gone when the recording ends; all from the one [dev.motionfusion.app.record.Recordings] state.
  */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class RecordingBannerTest {
     private val app = RuntimeEnvironment.getApplication()
     private lateinit var graph: TestGraph

@@ -46,7 +46,6 @@ import org.robolectric.Robolectric
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
-import org.robolectric.annotation.Config
 import org.robolectric.annotation.GraphicsMode
 import org.robolectric.shadows.SensorBuilder
 import java.io.File
@@ -61,7 +60,6 @@ import kotlin.math.sin
  */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
-@Config(sdk = [34])
 class ScreensTest {
     private val app = RuntimeEnvironment.getApplication()
 

@@ -45,7 +45,6 @@ import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
 import org.robolectric.android.controller.ServiceController
-import org.robolectric.annotation.Config
 import org.robolectric.shadows.SensorBuilder
 import org.robolectric.shadows.SensorEventBuilder
 import org.robolectric.shadows.ShadowSensorManager
@@ -61,7 +60,6 @@ import kotlin.math.sqrt
  * by core to the same orientation; the calibration screen on the one capture; the still recording.
  */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class CalibrationInUseTest {
     private val app = RuntimeEnvironment.getApplication()
     private lateinit var sensors: ShadowSensorManager

@@ -28,14 +28,12 @@ import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
-import org.robolectric.annotation.Config
 import java.io.File
 import java.io.IOException
 import java.util.concurrent.Executors
 
 /** The per-device calibration store: atomic JSON files keyed by device, merged per sensor, and the recorder's and live filter's hooks. */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class CalibrationStoreTest {
     private val app = RuntimeEnvironment.getApplication()
     private val dir = offMainThread { File(app.filesDir, "calibration") }

@@ -21,7 +21,6 @@ import org.junit.Test
 import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
-import org.robolectric.annotation.Config
 import java.io.File
 import java.util.concurrent.Executors
 
@@ -31,7 +30,6 @@ import java.util.concurrent.Executors
  * here (Dispatchers.Main.immediate), so each step is complete when the call returns.
  */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class CalibrationViewModelTest {
     private val app = RuntimeEnvironment.getApplication()
     /** One background thread, tasks in order, as the app's disk executor; drained when the test ends. */

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.export
 
+import dev.motionfusion.app.platform.Sdks
+import org.robolectric.annotation.Config
 import dev.motionfusion.app.offMainThread
 import android.content.ContentProvider
 import android.content.ContentValues
@@ -20,7 +22,6 @@ import org.junit.runner.RunWith
 import org.robolectric.Robolectric
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
-import org.robolectric.annotation.Config
 import java.io.File
 
 /**
@@ -28,7 +29,8 @@ import java.io.File
  * of it: the insert (pending), the write, the update that publishes, or a delete on failure.
  */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
+/** MediaStore.Downloads exists from API 29; before it the detail screen offers Save as only (SessionsScreensTest). */
+@Config(minSdk = 29, maxSdk = Sdks.MAX)
 class DownloadsExportTest {
     class FakeMediaStore : ContentProvider() {
         val log = ArrayList<String>()

@@ -19,7 +19,6 @@ import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
-import org.robolectric.annotation.Config
 import java.util.concurrent.CountDownLatch
 
 /**
@@ -63,7 +62,6 @@ class MainThreadPolicyTest {
     }
 
     @RunWith(RobolectricTestRunner::class)
-    @Config(sdk = [34])
     class OnMainThread {
         private val app = RuntimeEnvironment.getApplication()
 
@@ -88,7 +86,6 @@ class MainThreadPolicyTest {
     }
 
     @RunWith(RobolectricTestRunner::class)
-    @Config(sdk = [34])
     class OffMainThread {
         private val app = RuntimeEnvironment.getApplication()
 

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.platform.Sdks
+import org.robolectric.annotation.Config
 import dev.motionfusion.app.offMainThread
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.live.RecordingLimits
@@ -37,7 +39,6 @@ import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
 import org.robolectric.android.controller.ActivityController
-import org.robolectric.annotation.Config
 import org.robolectric.shadows.SensorBuilder
 import org.robolectric.shadows.SensorEventBuilder
 import org.robolectric.shadows.ShadowDialog
@@ -53,7 +54,6 @@ import java.time.Duration
  * and the gyroscope saturation taken from the sensor's range into meta.json.
  */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class RecordingAsExpectedTest {
     private val app = RuntimeEnvironment.getApplication()
     private lateinit var sensors: ShadowSensorManager
@@ -153,6 +153,7 @@ class RecordingAsExpectedTest {
     private fun recordingScreen(): ActivityController<MainActivity> = Robolectric.buildActivity(MainActivity::class.java).setup()
 
     @Test
+    @Config(minSdk = 33, maxSdk = Sdks.MAX)
     fun `API 33+, the first Record explains the notification, then asks, recording starts whatever the answer and it is not asked again`() {
         val activity = recordingScreen()
         val a = activity.get()
@@ -187,6 +188,19 @@ class RecordingAsExpectedTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = 32)
+    fun `before API 33, Record starts at once, as notifications need no permission there`() {
+        val activity = recordingScreen()
+        val before = ShadowDialog.getShownDialogs().size
+        click(activity.get(), R.id.record_toggle)
+        assertEquals("no explanation", before, ShadowDialog.getShownDialogs().size)
+        assertNull("nothing asked", shadowOf(activity.get()).lastRequestedPermission)
+        assertNotNull(shadowOf(app).nextStartedService)
+        activity.pause().stop().destroy()
+    }
+
+    @Test
+    @Config(minSdk = 33, maxSdk = Sdks.MAX)
     fun `API 33+, recording without notifications from the explanation also asks only once`() {
         val activity = recordingScreen()
         click(activity.get(), R.id.record_toggle)

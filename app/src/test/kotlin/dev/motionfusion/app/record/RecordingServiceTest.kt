@@ -1,5 +1,8 @@
 package dev.motionfusion.app.record
 
+import android.os.Build
+import dev.motionfusion.app.platform.Sdks
+import org.robolectric.annotation.Config
 import dev.motionfusion.app.offMainThread
 
 import dev.motionfusion.core.event.SessionStream
@@ -28,7 +31,6 @@ import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
 import org.robolectric.android.controller.ServiceController
-import org.robolectric.annotation.Config
 import org.robolectric.shadows.SensorBuilder
 import org.robolectric.shadows.SensorEventBuilder
 import org.robolectric.shadows.ShadowPowerManager
@@ -37,7 +39,6 @@ import java.io.File
 
 /** The recording service with the sensors ShadowSensorManager provides and a test double of the session format. */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class RecordingServiceTest {
     private val app = RuntimeEnvironment.getApplication()
     private lateinit var sensors: ShadowSensorManager
@@ -94,11 +95,21 @@ class RecordingServiceTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `start goes foreground as health with a wake lock and listens to every stream`() {
         val c = startService()
         val service = shadowOf(c.get())
         assertNotNull(service.lastForegroundNotification)
-        assertEquals(ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH, c.get().foregroundServiceType)
+        // Types exist from API 29 and are required from 34: below 34 the service starts without one.
+        if (Build.VERSION.SDK_INT >= 29) {
+            val expected = if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH else 0
+            assertEquals(expected, c.get().foregroundServiceType)
+        }
+        // The channels exist on every version (API 26+), the recording's one quiet.
+        val nm = app.getSystemService(android.app.NotificationManager::class.java)
+        assertEquals(android.app.NotificationManager.IMPORTANCE_LOW, nm.getNotificationChannel(RecordingService.CHANNEL_RECORDING).importance)
+        assertNotNull(nm.getNotificationChannel(RecordingService.CHANNEL_ALERTS))
+        assertEquals(RecordingService.CHANNEL_RECORDING, service.lastForegroundNotification.channelId)
         val lock = ShadowPowerManager.getLatestWakeLock()
         assertTrue("partial wake lock held", lock.isHeld)
         val listener = sensors.listeners.single()

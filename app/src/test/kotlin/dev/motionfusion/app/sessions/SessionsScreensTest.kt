@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.platform.Sdks
 import dev.motionfusion.app.offMainThread
 import android.app.Activity
 import androidx.appcompat.app.AlertDialog
@@ -55,7 +56,6 @@ import java.io.File
 /** The sessions list, a session's detail with rename, delete and export, and the main screen while recording. */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
-@Config(sdk = [34])
 class SessionsScreensTest {
     private val app = RuntimeEnvironment.getApplication()
 
@@ -217,6 +217,7 @@ class SessionsScreensTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `share sends a content URI with a read grant that opens the session zip`() {
         val dir = record("walk", 3.0, 1_795_684_500_000L, 7)
         Robolectric.setupContentProvider(ExportProvider::class.java, ExportProvider.authority(app))
@@ -247,6 +248,17 @@ class SessionsScreensTest {
     }
 
     @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
+    fun `the detail offers Save to Downloads from API 29 and Save as on every version`() {
+        val a = detail(record("walk", 3.0, 1_795_684_500_000L, 9))
+        val expected = if (android.os.Build.VERSION.SDK_INT >= 29) View.VISIBLE else View.GONE
+        assertEquals(expected, a.findViewById<Button>(R.id.detail_downloads).visibility)
+        assertEquals(View.VISIBLE, a.findViewById<Button>(R.id.detail_save_as).visibility)
+        assertEquals(View.VISIBLE, a.findViewById<Button>(R.id.detail_share).visibility)
+    }
+
+    @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `save as writes the zip into the document the user picked`() {
         val dir = record("walk", 3.0, 1_795_684_500_000L, 8)
         val a = detail(dir)

@@ -14,11 +14,9 @@ import org.junit.runner.RunWith
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
-import org.robolectric.annotation.Config
 
 /** The settings repository's background writes: what stays stored is the last change. */
 @RunWith(RobolectricTestRunner::class)
-@Config(sdk = [34])
 class SettingsRepositoryTest {
     private val store = SettingsStore(RuntimeEnvironment.getApplication())
 
