@@ -76,7 +76,7 @@ val apiSignature by configurations.creating {
     isCanBeConsumed = false
     isTransitive = false
 }
-// Robolectric's runtime framework jar, copied into a folder so the tests run offline (Maven: dependency:copy).
+// Robolectric's runtime framework jars, API 26 to 35 (the SDK matrix), copied into a folder so the tests run offline (Maven: dependency:copy).
 val robolectricRuntime by configurations.creating {
     isCanBeConsumed = false
     isTransitive = false
@@ -104,7 +104,16 @@ dependencies {
     testRuntimeOnly(libs.junit.platform.launcher)
 
     apiSignature(variantOf(libs.gummy.bears.api26) { artifactType("signature") })
-    robolectricRuntime(libs.android.all.instrumented)
+    robolectricRuntime(libs.android.all.instrumented.api26)
+    robolectricRuntime(libs.android.all.instrumented.api27)
+    robolectricRuntime(libs.android.all.instrumented.api28)
+    robolectricRuntime(libs.android.all.instrumented.api29)
+    robolectricRuntime(libs.android.all.instrumented.api30)
+    robolectricRuntime(libs.android.all.instrumented.api31)
+    robolectricRuntime(libs.android.all.instrumented.api32)
+    robolectricRuntime(libs.android.all.instrumented.api33)
+    robolectricRuntime(libs.android.all.instrumented.api34)
+    robolectricRuntime(libs.android.all.instrumented.api35)
 }
 
 val robolectricDeps = tasks.register<Sync>("robolectricDeps") {

@@ -247,6 +247,10 @@ internal class GradleMirror(
         if (maven != gradle) problem("settings.gradle.kts includes $gradle; the Maven modules (without the Maven-only ones) are $maven")
     }
 
+    /** The framework jars of the SDK matrix, one per API level (root pom's android.all.instrumented.N). */
+    private val robolectricJars: Set<String> get() = rootProperties.filterKeys { it.startsWith("android.all.instrumented.") }
+        .values.map { "org.robolectric:android-all-instrumented:$it" }.toSet()
+
     private fun dependencies() {
         for (module in MODULES) {
             val gradle = gradleDependencies(module)
@@ -256,11 +260,12 @@ internal class GradleMirror(
             for (d in compared - maven) problem("$module: build.gradle.kts has $d, Maven does not")
             for (d in gradle - compared) when (d.configuration) {
                 "testRuntimeOnly" -> if (d.coordinates != LAUNCHER) problem("$module: testRuntimeOnly $d is not in the Maven build")
-                "robolectricRuntime" -> {
-                    val expected = "org.robolectric:android-all-instrumented:" + rootProperties.getValue("android.all.instrumented.version")
-                    if ("${d.coordinates}:${d.version}" != expected) problem("$module: robolectricRuntime is $d; Maven copies $expected for Robolectric")
-                }
+                "robolectricRuntime" -> if ("${d.coordinates}:${d.version}" !in robolectricJars) problem("$module: robolectricRuntime $d is not one of the framework jars Maven copies for Robolectric")
                 else -> problem("$module: configuration ${d.configuration} ($d) has no Maven counterpart")
+            }
+            if (module == "app") {
+                val copied = gradle.filter { it.configuration == "robolectricRuntime" }.map { "${it.coordinates}:${it.version}" }.toSet()
+                for (jar in robolectricJars - copied) problem("app: robolectricRuntime lacks $jar, which Maven copies for the SDK matrix")
             }
         }
     }
