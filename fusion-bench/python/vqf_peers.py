@@ -15,7 +15,8 @@ Usage:
       Regenerates fusion-core/src/test/resources/peers/vqf.csv: for every input listed below,
       the rows via `bin/fusion replay --rows`, VQF on them, and the figures by the project's own
       metric code: `bin/fusion eval --rows` (still-sample tilt, after-motion tilt) for the real
-      exports, `bin/fusion eval --truth` (BROAD total RMSE) for the trials. Needs vqf==2.1.2,
+      exports, `bin/fusion eval --truth` (BROAD total RMSE) for the trials, of VQF and of
+      vqf.offlineVQF (offline_total_rmse_deg). Needs vqf==2.1.2,
       numpy, pandas and a built fusion command. Intermediate files go to a temporary folder.
 See docs/ACCURACY.md ("Peer figures").
 """
@@ -118,18 +119,8 @@ def figures(data, out_path):
             lines.append("realdata/%s,still_tilt_median_deg,%s,%s" % (name, still, still_n))
             if window:
                 lines.append("realdata/%s,after_motion_tilt_median_deg_%g_%g_s,%s,%s" % (name, window[0], window[1], after, after_n))
-        for subset in SUBSETS:
-            for trial in sorted(os.listdir(os.path.join(data, subset))):
-                d = os.path.join(data, subset, trial)
-                if not os.path.isdir(d):
-                    continue
-                inp = next(os.path.join(d, f) for f in ("input.csv.gz", "input.csv") if os.path.exists(os.path.join(d, f)))
-                truth = next(os.path.join(d, f) for f in ("truth.csv.gz", "truth.csv") if os.path.exists(os.path.join(d, f)))
-                run_vqf(inp, est)
-                has_mag = "mx" in pd.read_csv(inp, nrows=1).columns
-                cells = last_row(fusion("eval", *([] if has_mag else ["--6d"]), "--truth", truth, est))
-                numbers = [c for c in cells if re.fullmatch(r"-?[0-9.]+", c)]
-                lines.append("%s/%s,total_rmse_deg,%s," % (subset, trial, numbers[0]))
+    for metric, offline in (("total_rmse_deg", False), ("offline_total_rmse_deg", True)):
+        lines += ["%s,%s,%s," % (trial, metric, value) for trial, value in trial_figures(data, offline)]
     with open(out_path, "w") as f:
         f.write("# VQF %s (Python package vqf, default parameters; 9D, 6D without magnetometer) on the rows the project's\n" % VQF_VERSION)
         f.write("# filter steps on; figures by the project's metric code. Regenerate (the data beside the repository):\n")

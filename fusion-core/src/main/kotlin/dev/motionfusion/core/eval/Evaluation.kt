@@ -75,8 +75,8 @@ public object Evaluation {
     }
 
     /** Scores every trial under [paths] (see [findTrials]), in name order. */
-    internal fun evaluateAll(paths: List<File>, settings: FilterSettings): List<TrialResult> =
-        findTrials(paths).map { evaluate(Trial.load(it), settings) }
+    internal fun evaluateAll(paths: List<File>, settings: FilterSettings, offline: OfflineSettings? = null): List<TrialResult> =
+        findTrials(paths).map { evaluate(Trial.load(it), settings, offline) }
 
     /**
      * The trial folders under [paths]: each path is a trial folder or a folder of trial folders

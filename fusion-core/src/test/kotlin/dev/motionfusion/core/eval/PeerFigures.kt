@@ -40,6 +40,7 @@ internal object PeerFigures {
 
     const val STILL_TILT = "still_tilt_median_deg"
     const val TOTAL_RMSE = "total_rmse_deg"
+    const val OFFLINE_TOTAL_RMSE = "offline_total_rmse_deg"
 
     /** The after-motion metric's name for the window [fromS, toS). */
     fun afterMotion(fromS: Double, toS: Double) = "after_motion_tilt_median_deg_${fromS.toInt()}_${toS.toInt()}_s"
