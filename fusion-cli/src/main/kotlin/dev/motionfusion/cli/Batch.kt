@@ -18,8 +18,6 @@ internal class Batch(private val command: String, private val err: PrintStream, 
     /** One input's job: the input, where its output goes, and the arguments of its own run. */
     class Job(val input: String, val output: String, val args: List<String>)
 
-    class Result(val job: Job, val code: Int, val messages: String)
-
     /**
      * The output of each input in [dir]: its file name without .csv/.csv.gz/.zip, then [extension].
      * Two inputs of the same name, and an output that is one of the inputs or lies inside one, are
@@ -40,21 +38,33 @@ internal class Batch(private val command: String, private val err: PrintStream, 
         return outs
     }
 
-    /** Runs [jobs] in parallel; prints one result line per input (in input order) and a summary; returns the worst exit code. */
-    fun run(jobs: List<Job>, describe: (Result) -> String): Int {
+    /** One input's outcome: its [value] when it succeeded, its exit [code] and what it wrote to standard error. */
+    data class Outcome<T>(val input: String, val value: T?, val code: Int, val messages: String)
+
+    /**
+     * Runs [work] on each of [jobs] in parallel, each with its own stream for messages, and returns
+     * their outcomes in input order, with the progress bar while they run. A job that throws fails
+     * alone, with the exit code and message a whole run would have given ([Cli.failure]).
+     */
+    fun <J, T> map(jobs: List<J>, input: (J) -> String, work: (J, PrintStream) -> T): List<Outcome<T>> {
         val pool = Executors.newFixedThreadPool(maxOf(1, minOf(threads, jobs.size)))
-        val results = arrayOfNulls<Result>(jobs.size)
+        val results = arrayOfNulls<Outcome<T>>(jobs.size)
         val progress = Progress(err, command, jobs.size.toLong())
         try {
             val done = ExecutorCompletionService<Int>(pool)
             jobs.forEachIndexed { i, job ->
                 done.submit {
-                    val out = ByteArrayOutputStream()
                     val messages = ByteArrayOutputStream()
-                    val code = PrintStream(out, true, "UTF-8").use { o ->
-                        PrintStream(messages, true, "UTF-8").use { e -> Cli(o, e).run(listOf(command) + job.args) }
-                    }
-                    results[i] = Result(job, code, messages.toString("UTF-8").trim())
+                    results[i] = PrintStream(messages, true, "UTF-8").use { e ->
+                        try {
+                            val v = work(job, e)
+                            Outcome(input(job), v, ExitCode.OK, "")
+                        } catch (t: Throwable) {
+                            val (code, message) = if (t is Exited) t.code to null else Cli.failure(t, command) ?: throw t
+                            message?.let { e.println("fusion: $it") }
+                            Outcome<T>(input(job), null, code, "")
+                        }
+                    }.copy(messages = messages.toString("UTF-8").trim())
                     i
                 }
             }
@@ -66,20 +76,32 @@ internal class Batch(private val command: String, private val err: PrintStream, 
             pool.shutdownNow()
             progress.finish()
         }
-        var worst = ExitCode.OK
-        val failed = ArrayList<Result>()
-        for (r in results) {
-            r!!
-            err.println(describe(r))
-            if (r.code != ExitCode.OK) failed += r
-            worst = maxOf(worst, r.code)
-        }
-        err.println(
-            "fusion $command: ${jobs.size} inputs: ${jobs.size - failed.size} ok, ${failed.size} failed" +
-                failed.joinToString("") { "\n  ${it.job.input}: exit ${it.code}: ${lastLine(it.messages)}" },
-        )
-        return worst
+        return results.map { it!! }
     }
+
+    /** Prints [describe] of each outcome (in input order; null: no line) and the summary; returns the worst exit code. */
+    fun <T> summary(outcomes: List<Outcome<T>>, describe: (Outcome<T>) -> String?): Int {
+        outcomes.forEach { r -> describe(r)?.let { err.println(it) } }
+        val failed = outcomes.filter { it.code != ExitCode.OK }
+        err.println(
+            "fusion $command: ${outcomes.size} inputs: ${outcomes.size - failed.size} ok, ${failed.size} failed" +
+                failed.joinToString("") { "\n  ${it.input}: exit ${it.code}: ${lastLine(it.messages)}" },
+        )
+        return outcomes.maxOfOrNull { it.code } ?: ExitCode.OK
+    }
+
+    /** Runs each job as its own run of the command (its own [Cli], so its own [Outputs]), then [summary]. */
+    fun run(jobs: List<Job>, describe: (Outcome<Job>) -> String): Int {
+        val outcomes = map(jobs, { it.input }) { job, e ->
+            val code = PrintStream(ByteArrayOutputStream(), true, "UTF-8").use { o -> Cli(o, e).run(listOf(command) + job.args) }
+            if (code != ExitCode.OK) throw Exited(code)
+            job
+        }
+        return summary(outcomes.mapIndexed { i, r -> if (r.value == null) r.copy(value = jobs[i]) else r }, describe)
+    }
+
+    /** A run of the command that ended with [code], its message already given. */
+    private class Exited(val code: Int) : RuntimeException()
 
     companion object {
         /** The file or folder name of [input] without .csv, .csv.gz or .zip. */

@@ -65,25 +65,11 @@ internal class Cli(
         if (out.checkError()) throw StdoutException("write failed")
         if (code == ExitCode.OK) outputs.commit()
         code
-    } catch (e: UsageException) {
-        fail(ExitCode.USAGE, "${e.message}; run 'fusion ${command.name} --help'")
-    } catch (e: DataFormatException) {
-        fail(ExitCode.DATA_ERROR, e.message ?: "malformed input")
     } catch (e: StdoutException) {
         fail(ExitCode.IO_ERROR, stdoutMessage())
-    } catch (e: FileSystemException) {
-        fail(ExitCode.IO_ERROR, "${shown(e.file)}${e.otherFile?.let { " → ${shown(it)}" } ?: ""}: ${AtomicFiles.reason(e)}")
-    } catch (e: IOException) {
-        fail(ExitCode.IO_ERROR, e.message ?: e.toString())
-    } catch (e: InvalidPathException) {
-        // e.g. a name with letters outside ASCII while LANG=C: Java cannot turn it into a path.
-        fail(ExitCode.USAGE, "'${e.input}': this file name cannot be represented in the system's file name encoding " +
-            "(${System.getProperty("sun.jnu.encoding") ?: "unknown"}); run fusion in a UTF-8 locale, e.g. LC_ALL=C.UTF-8")
-    } catch (e: RuntimeException) {
-        fail(ExitCode.INTERNAL_ERROR, "internal error, a bug of fusion (please report it with the command line): $e")
-    } catch (e: OutOfMemoryError) {
-        val maxMiB = Runtime.getRuntime().maxMemory() shr 20
-        fail(ExitCode.IO_ERROR, "out of memory: '${command.name}' needs more than the $maxMiB MiB this Java may use; nothing was written. Give it more, e.g. FUSION_JAVA_OPTS=-Xmx4g")
+    } catch (e: Throwable) {
+        val (code, message) = failure(e, command.name, ::shown) ?: throw e
+        fail(code, message)
     } finally {
         outputs.abort()
     }
@@ -124,6 +110,24 @@ internal class Cli(
 
     companion object {
         private const val MAX_SHOWN = 160
+
+        /**
+         * The exit code and message of a command's failure [e] (null: not one of the failures a
+         * command reports, to be rethrown). [shown] gives a file as the user typed it. One mapping for
+         * a whole run ([execute]) and for each input of a run over many ([Batch]).
+         */
+        fun failure(e: Throwable, command: String, shown: (String?) -> String = { it ?: "?" }): Pair<Int, String>? = when (e) {
+            is UsageException -> ExitCode.USAGE to "${e.message}; run 'fusion $command --help'"
+            is DataFormatException -> ExitCode.DATA_ERROR to (e.message ?: "malformed input")
+            is FileSystemException -> ExitCode.IO_ERROR to "${shown(e.file)}${e.otherFile?.let { " → ${shown(it)}" } ?: ""}: ${AtomicFiles.reason(e)}"
+            is IOException -> ExitCode.IO_ERROR to (e.message ?: e.toString())
+            // e.g. a name with letters outside ASCII while LANG=C: Java cannot turn it into a path.
+            is InvalidPathException -> ExitCode.USAGE to "'${e.input}': this file name cannot be represented in the system's file name encoding " +
+                "(${System.getProperty("sun.jnu.encoding") ?: "unknown"}); run fusion in a UTF-8 locale, e.g. LC_ALL=C.UTF-8"
+            is RuntimeException -> ExitCode.INTERNAL_ERROR to "internal error, a bug of fusion (please report it with the command line): $e"
+            is OutOfMemoryError -> ExitCode.IO_ERROR to "out of memory: '$command' needs more than the ${Runtime.getRuntime().maxMemory() shr 20} MiB this Java may use; nothing was written. Give it more, e.g. FUSION_JAVA_OPTS=-Xmx4g"
+            else -> null
+        }
 
         val VERSION: String by lazy {
             Cli::class.java.getResourceAsStream("version.properties")?.use { s ->

@@ -62,7 +62,11 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |  --after FROM:TO      the window after violent motion, s
         |
         |All inputs are streamed: memory does not grow with their length. Scoring a 6D filter
-        |reads each input twice (the first pass finds the heading offset).
+        |reads each input twice (the first pass finds the heading offset). Several inputs (and a
+        |dataset folder's trials) are scored in parallel, one per core, with a progress bar on a
+        |terminal; the table lists them in input order. One that fails does not stop the others:
+        |it is named with its error and exit code in the summary on standard error, and the exit
+        |code is the worst one.
         |
         |${FilterOptions.HELP}
         |${InputOptions.HELP}""".trimMargin()
@@ -93,50 +97,75 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         }
         val settings = FilterOptions.settings(o)
         val offline = FilterOptions.offline(o)
-        val results = ArrayList<TrialResult>()
-        val rotationVector = HashMap<String, ErrorRmse>()
-        for (p in o.positional) {
-            val path = InputOptions.path(p)
-            if (!Files.exists(path)) throw java.nio.file.NoSuchFileException(p)
-            val isTrialSet = Files.isDirectory(path) &&
-                (!Files.exists(path.resolve("meta.json")) || Trial.isTrial(path.toFile()))
-            if (isTrialSet) {
-                val dirs = try {
-                    Evaluation.findTrials(listOf(path.toFile()))
-                } catch (e: IllegalArgumentException) {
-                    throw DataFormatException(p, 0, 0, "no trial folders (input.csv[.gz] + truth.csv[.gz]) and not a session")
-                }
-                for (d in dirs) {
-                    err.print(if (System.console() != null) "\reval ${d.name} …" else "")
-                    results += evaluateTrial(d, settings, offline, rotationVector)
-                }
-                if (System.console() != null) err.print("\r" + " ".repeat(60) + "\r")
-            } else {
-                results += evaluateSession(p, settings, offline, o)
-            }
+        // One unit per trial folder (a dataset folder expands to its trials) or session, scored in parallel.
+        val units = o.positional.flatMap { p -> expand(p) }
+        val batch = Batch(name, err)
+        val outcomes = batch.map(units, { it.input }) { u, messages ->
+            u.error?.let { throw it }
+            u.trial?.let { evaluateTrial(it, settings, offline) } ?: (evaluateSession(u.input, settings, offline, o, messages) to null)
         }
-        out.println("Filter: ${describe(settings)}" + (offline?.let { ", offline (backward weight ${it.backwardWeight})" } ?: ""))
-        out.println()
-        out.print(if (rotationVector.isEmpty()) Evaluation.table(results) else PhoneComparison.table(results, rotationVector))
-        return ExitCode.OK
+        if (outcomes.size == 1 && outcomes[0].code != ExitCode.OK) {
+            err.println(outcomes[0].messages)
+            return outcomes[0].code
+        }
+        val results = outcomes.mapNotNull { it.value?.first }
+        val rotationVector = outcomes.mapNotNull { r -> r.value?.let { (t, rv) -> rv?.let { t.trial to it } } }.toMap()
+        if (results.isNotEmpty()) {
+            out.println("Filter: ${describe(settings)}" + (offline?.let { ", offline (backward weight ${it.backwardWeight})" } ?: ""))
+            out.println()
+            out.print(if (rotationVector.isEmpty()) Evaluation.table(results) else PhoneComparison.table(results, rotationVector))
+        }
+        if (outcomes.size == 1) {
+            outcomes[0].messages.takeIf { it.isNotEmpty() }?.let { err.println(it) }
+            return ExitCode.OK
+        }
+        return batch.summary(outcomes) { r ->
+            val m = r.messages.lineSequence().filter { it.isNotBlank() }.joinToString("\n  ")
+            if (r.code == ExitCode.OK) m.takeIf { it.isNotEmpty() }?.let { "fusion eval: ${r.input}\n  $it" }
+            else "fusion eval: ${r.input}: failed (exit ${r.code}): ${Batch.lastLine(r.messages)}"
+        }
     }
 
-    /** Scores [d]; a trial with the phone's rotation vector also gets that scored into [rotationVector]. */
-    private fun evaluateTrial(d: File, settings: FilterSettings, offline: OfflineSettings?, rotationVector: MutableMap<String, ErrorRmse>): TrialResult {
+    /** What one input of eval is: a trial folder ([trial]), a session ([input] alone), or an input that could not be read ([error]). */
+    private class Unit(val input: String, val trial: File?, val error: Exception? = null)
+
+    /** [p] as units: a trial folder, each trial folder of a dataset folder, or a session; a folder without trials fails alone. */
+    private fun expand(p: String): List<Unit> = try {
+        units(p)
+    } catch (e: Exception) {
+        listOf(Unit(p, null, e))
+    }
+
+    private fun units(p: String): List<Unit> {
+        val path = InputOptions.path(p)
+        if (!Files.exists(path)) throw java.nio.file.NoSuchFileException(p)
+        val isTrialSet = Files.isDirectory(path) &&
+            (!Files.exists(path.resolve("meta.json")) || Trial.isTrial(path.toFile()))
+        if (!isTrialSet) return listOf(Unit(p, null))
+        val dirs = try {
+            Evaluation.findTrials(listOf(path.toFile()))
+        } catch (e: IllegalArgumentException) {
+            throw DataFormatException(p, 0, 0, "no trial folders (input.csv[.gz] + truth.csv[.gz]) and not a session")
+        }
+        return dirs.map { d -> Unit(if (dirs.size == 1 && d == path.toFile()) p else d.path, d) }
+    }
+
+    /** Scores [d], and the phone's rotation vector when the trial has one. */
+    private fun evaluateTrial(d: File, settings: FilterSettings, offline: OfflineSettings?): Pair<TrialResult, ErrorRmse?> {
         val trial = try {
-            Trial.load(d).also { t -> PhoneComparison.rotationVector(d, t)?.let { rotationVector[t.name] = it } }
+            Trial.load(d)
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
         }
-        return Evaluation.evaluate(trial, settings, offline)
+        return Evaluation.evaluate(trial, settings, offline) to PhoneComparison.rotationVector(d, trial)
     }
 
     /**
      * Replays a session with a truth stream and scores every gyroscope step that has truth at its
      * instant; for a 6D score a first replay finds the heading offset.
      */
-    private fun evaluateSession(input: String, settings: FilterSettings, offline: OfflineSettings?, o: Options): TrialResult {
-        InputOptions.open(input, o, err, name).use { rec ->
+    private fun evaluateSession(input: String, settings: FilterSettings, offline: OfflineSettings?, o: Options, messages: PrintStream): TrialResult {
+        InputOptions.open(input, o, messages, name).use { rec ->
             if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(input, 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
             val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
             var steps = 0L

@@ -163,8 +163,8 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         val jobs = o.positional.mapIndexed { k, input -> Batch.Job(input, outputs[k], listOf(input, "-o", outputs[k]) + rest) }
         return batch.run(jobs) { r ->
             val m = r.messages.lineSequence().filter { it.isNotBlank() }.joinToString("\n  ")
-            if (r.code == ExitCode.OK) "fusion replay: ${r.job.input} → ${r.job.output}" + (if (m.isEmpty()) "" else "\n  $m")
-            else "fusion replay: ${r.job.input}: failed (exit ${r.code}): ${Batch.lastLine(r.messages)}"
+            if (r.code == ExitCode.OK) "fusion replay: ${r.input} → ${r.value!!.output}" + (if (m.isEmpty()) "" else "\n  $m")
+            else "fusion replay: ${r.input}: failed (exit ${r.code}): ${Batch.lastLine(r.messages)}"
         }
     }
 }

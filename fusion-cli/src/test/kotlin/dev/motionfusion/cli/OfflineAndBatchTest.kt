@@ -69,6 +69,26 @@ class OfflineAndBatchTest {
     }
 
     @Test
+    fun `eval over several inputs scores each as alone, in input order, a bad one reported without stopping the others`() {
+        val sessions = (1..3).map { k -> p("s$k").also { ok("simulate", "--duration", "8", "--seed", "$k", "-o", it) } }
+        ok("simulate", "--duration", "5", "-o", p("plain.csv"))
+        val r = fusion("eval", "--offline", sessions[0], p("plain.csv"), sessions[1], sessions[2])
+        assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
+        val rows = r.out.lines().filter { it.startsWith("| ") && !it.startsWith("| trial") && !it.contains("**mean**") }
+        assertEquals(3, rows.size, r.out)
+        for (k in 1..3) {
+            val alone = ok("eval", "--offline", sessions[k - 1]).out.lines().single { it.startsWith("| ") && !it.startsWith("| trial") && !it.contains("**mean**") }
+            assertEquals(alone, rows[k - 1], "session $k as alone, in input order")
+        }
+        assertTrue(r.err.contains("4 inputs: 3 ok, 1 failed"), r.err)
+        assertTrue(r.err.contains("plain.csv: exit ${ExitCode.DATA_ERROR}: ") && r.err.contains("no truth.csv"), r.err)
+        val allBad = fusion("eval", p("plain.csv"))
+        assertEquals(ExitCode.DATA_ERROR, allBad.code)
+        assertEquals("", allBad.out)
+        assertFalse(allBad.err.contains("inputs:"), "one input: its error alone, no summary: ${allBad.err}")
+    }
+
+    @Test
     fun `two inputs of one name, or an output onto an input, are usage errors before anything is written`() {
         Files.createDirectories(tmp.resolve("a"))
         Files.createDirectories(tmp.resolve("b"))
