@@ -119,10 +119,13 @@ resources() {
     if [ -f "$dir/res.zip" ]; then overlays+=(-R "$dir/res.zip"); fi
   done < "$libraries"
   # aapt2 prints a harmless "Unknown chunk type '200'" for the API 34 framework resources.
-  aapt2 link -o "$out/resources.ap_" -I "$android_jar" --manifest "$manifest" \
+  # Debian's aapt2 predates the manifest's <property> element (API 31; the specialUse service's
+  # subtype): --warn-manifest-validation makes its "unexpected element" a warning, and the element
+  # is kept in the APK as written.
+  aapt2 link -o "$out/resources.ap_" -I "$android_jar" --manifest "$manifest" --warn-manifest-validation \
     --java "$gen" --proguard "$out/aapt-rules.pro" --output-text-symbols "$out/R.txt" \
     --auto-add-overlay "${overlays[@]}" -R "$out/compiled.zip" 2>&1 \
-    | { grep -v "Unknown chunk type '200'" || true; } >&2
+    | { grep -v -e "Unknown chunk type '200'" -e "unexpected element <property> found in <manifest><application><service>" || true; } >&2
   [ -f "$out/resources.ap_" ] || die "aapt2 link failed"
   app_pkg=$(grep -o 'package="[^"]*"' "$manifest" | head -1 | cut -d'"' -f2)
   while read -r dir pkg; do

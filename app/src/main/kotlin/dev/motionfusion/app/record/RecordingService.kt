@@ -33,7 +33,7 @@ import kotlinx.coroutines.launch
 
 /**
  * Records every sensor stream into a session while the user wants it: a foreground service of
- * type `health`, started from the Record button, holding a partial wake lock (non-wake-up
+ * type `specialUse` (docs/RECORDING.md), started from the Record button, holding a partial wake lock (non-wake-up
  * sensors deliver with the screen off only under one; it times out unless renewed, so a
  * crashed service cannot keep the phone awake) and an ongoing notification with the elapsed
  * time, the number of samples and a Stop action. It does not depend on any activity: closing
@@ -208,7 +208,7 @@ class RecordingService : Service() {
     }
 
     /**
-     * Enters the foreground, as a `health` service on Android 14+ (the type the manifest declares;
+     * Enters the foreground, as a `specialUse` service on Android 14+ (the type the manifest declares;
      * earlier versions do not know it). Returns why the system refused, or null: Android 12+ refuses
      * a start from the background (ForegroundServiceStartNotAllowedException, an
      * IllegalStateException), Android 14+ one whose type's permission is missing (SecurityException).
@@ -360,8 +360,8 @@ class RecordingService : Service() {
         /** The battery level is read every 30 s (it changes slowly). */
         private const val BATTERY_CHECK_NS = 30_000_000_000L
 
-        /** The manifest's android:foregroundServiceType; its permission is FOREGROUND_SERVICE_HEALTH (ForegroundServiceTest). */
-        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH
+        /** The manifest's android:foregroundServiceType; its permission is FOREGROUND_SERVICE_SPECIAL_USE (ForegroundServiceTest). */
+        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE
 
         /**
          * Starts a recording ([still]: a still recording, docs/CALIBRATION.md); call from a user action (Android 12+ forbids it from the background).

@@ -37,9 +37,21 @@ class ForegroundServiceTest {
     }
 
     @Test
-    fun `the health type has one of the sensor permissions Android 14 requires with it`() {
-        // FOREGROUND_SERVICE_HEALTH also needs ACTIVITY_RECOGNITION, BODY_SENSORS or HIGH_SAMPLING_RATE_SENSORS.
-        val anyOf = setOf("android.permission.ACTIVITY_RECOGNITION", "android.permission.BODY_SENSORS", "android.permission.HIGH_SAMPLING_RATE_SENSORS")
-        assertTrue(permissions.any { it in anyOf }, "$permissions")
+    fun `the type's own requirements are met`() {
+        val service = manifest.child("application")!!.children("service").single { it.androidName().endsWith(".record.RecordingService") }
+        when (val declared = service.getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")) {
+            // Play reviews a specialUse service by the subtype the manifest gives it.
+            "specialUse" -> {
+                val subtype = service.children("property").singleOrNull { it.androidName() == "android.app.PROPERTY_SPECIAL_USE_FGS_SUBTYPE" }
+                assertTrue(subtype != null, "a specialUse service needs its PROPERTY_SPECIAL_USE_FGS_SUBTYPE property")
+                assertTrue(subtype!!.getAttributeNS(BuildFiles.ANDROID, "value").length >= 40, "the subtype says what the service does")
+            }
+            // FOREGROUND_SERVICE_HEALTH also needs ACTIVITY_RECOGNITION, BODY_SENSORS or HIGH_SAMPLING_RATE_SENSORS.
+            "health" -> {
+                val anyOf = setOf("android.permission.ACTIVITY_RECOGNITION", "android.permission.BODY_SENSORS", "android.permission.HIGH_SAMPLING_RATE_SENSORS")
+                assertTrue(permissions.any { it in anyOf }, "$permissions")
+            }
+            else -> error("no requirements known for type $declared")
+        }
     }
 }

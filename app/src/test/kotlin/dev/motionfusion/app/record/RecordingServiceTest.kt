@@ -96,13 +96,13 @@ class RecordingServiceTest {
 
     @Test
     @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
-    fun `start goes foreground as health with a wake lock and listens to every stream`() {
+    fun `start goes foreground as specialUse with a wake lock and listens to every stream`() {
         val c = startService()
         val service = shadowOf(c.get())
         assertNotNull(service.lastForegroundNotification)
         // Types exist from API 29 and are required from 34: below 34 the service starts without one.
         if (Build.VERSION.SDK_INT >= 29) {
-            val expected = if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_HEALTH else 0
+            val expected = if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE else 0
             assertEquals(expected, c.get().foregroundServiceType)
         }
         // The channels exist on every version (API 26+), the recording's one quiet.
@@ -166,7 +166,7 @@ class RecordingServiceTest {
     @Test
     fun `a foreground start the system refuses is shown to the user and records nothing`() {
         for (refusal in listOf(
-            SecurityException("Starting FGS with type health requires permissions"),
+            SecurityException("Starting FGS with type specialUse requires permissions"),
             IllegalStateException("startForeground() not allowed due to mAllowStartForeground false"),
         )) {
             this.refusal = refusal
