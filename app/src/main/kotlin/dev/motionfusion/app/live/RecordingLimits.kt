@@ -21,6 +21,13 @@ data class RecordingLimits(
         /** The choices the settings offer for the battery stop level, % (0: never). */
         val BATTERY_CHOICES: List<Int> = listOf(0, 5, 10, 15, 20, 30)
 
+        /**
+         * The Noise (still) recording's own limits, whatever the user set for ordinary recordings:
+         * it asks for 1–3 h, so it stops at 3 h (a forgotten one does not run all night) and at the
+         * default battery level.
+         */
+        val STILL = RecordingLimits(maxDurationS = 3 * 3600L, stopBatteryPercent = DEFAULT_STOP_BATTERY_PERCENT)
+
         /** 5 %: stops early enough for the phone to close the session and still be usable. */
         const val DEFAULT_STOP_BATTERY_PERCENT = 5
         const val MAX_DURATION_LIMIT_S = 7 * 24 * 3600L

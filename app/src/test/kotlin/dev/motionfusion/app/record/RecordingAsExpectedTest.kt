@@ -231,6 +231,24 @@ class RecordingAsExpectedTest {
     }
 
     @Test
+    fun `the Noise recording has its own limits, not the user's maximum duration or battery level`() {
+        graph.graph.settingsRepository.update(LiveSettings(limits = RecordingLimits(maxDurationS = 5 * 60L, stopBatteryPercent = 30)))
+        graph.battery.state = BatteryState(20, charging = false)
+        val start = graph.clock.elapsedNs
+        startService(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START).putExtra(RecordingService.EXTRA_STILL, true))
+        sendRound(start + 1_000_000L)
+        graph.pump()
+        graph.clock.elapsedNs = start + 3 * 3600 * 1_000_000_000L - 1
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+        assertTrue("past the user's 5 min and below their 30 %: still recording", graph.graph.recordings.isRecording)
+        graph.clock.elapsedNs = start + 3 * 3600 * 1_000_000_000L
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+        val ended = awaitEnded()
+        assertEquals(RecordingEnd.MaxDuration(RecordingLimits.STILL.maxDurationS), ended.result.end)
+        assertTrue(ended.still)
+    }
+
+    @Test
     fun `a low battery stops the recording unless it is charging, and meta json says why`() {
         graph.graph.settingsRepository.update(LiveSettings(limits = RecordingLimits(stopBatteryPercent = 10)))
         graph.battery.state = BatteryState(10, charging = true)
@@ -290,5 +308,10 @@ class RecordingAsExpectedTest {
         assertNull(GyroSaturation.fromRange(0f))
         assertNull(GyroSaturation.fromRange(Float.NaN))
         assertNull(GyroSaturation.fromRange(null))
+        // A driver that reports its range in °/s gets the same threshold as one in rad/s.
+        assertEquals(Math.toRadians(2000.0) * GyroSaturation.MARGIN, GyroSaturation.fromRange(2000f)!!, 1e-9)
+        assertEquals(GyroSaturation.fromRange(Math.toRadians(2000.0).toFloat())!!, GyroSaturation.fromRange(2000f)!!, 1e-5)
+        assertEquals(Math.toRadians(125.0) * GyroSaturation.MARGIN, GyroSaturation.fromRange(125f)!!, 1e-9)
+        assertEquals(69.8 * GyroSaturation.MARGIN, GyroSaturation.fromRange(69.8f)!!, 1e-5)
     }
 }
