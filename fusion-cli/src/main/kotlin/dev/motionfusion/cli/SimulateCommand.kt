@@ -13,6 +13,8 @@ import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.calib.Matrix3
 import dev.motionfusion.core.sim.CalibrationMotion
+import dev.motionfusion.core.sim.MagneticDisturbance
+import dev.motionfusion.core.sim.MagneticDisturbanceKind
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
@@ -77,6 +79,9 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         |  --acc-range M_S2           accelerometer clipped at ±M_S2 per axis (e.g. 78.5 for ±8 g)
         |  --gyro-range RAD_S         gyroscope clipped at ±RAD_S per axis (e.g. 34.9 for ±2000°/s)
         |  --gyro-scale-error R       gyroscope reads (1 + R) times the rate (e.g. 0.03)
+        |  --mag-disturbance KIND@S:D,...  a magnetic disturbance from S s for D s (D ≥ 2): ferrous (an
+        |                             object passing, up to 40 µT added) or hall (a weak 15 µT field,
+        |                             dip 30°, pointing 40° west of north), e.g. ferrous@10:6,hall@30:20
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
@@ -138,6 +143,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         val ERROR_OPTIONS = listOf(
             "--hard-iron", "--soft-iron", "--gyro-bias", "--acc-offset", "--acc-scale", "--gyro-noise-density", "--acc-noise-density", "--mag-noise",
             "--violent", "--acc-range", "--gyro-range", "--gyro-scale-error", "--field", "--hard-iron-window",
+            "--mag-disturbance",
         )
 
         /** The simulated recording's fixed wall-clock start (2025-11-26 12:00 UTC): reproducible output. */
@@ -178,10 +184,29 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
                 ViolentMotion(kind, start)
             }
         }
+        val magDisturbances = o.value("--mag-disturbance")?.let { text ->
+            text.split(',').map { item ->
+                val at = item.indexOf('@')
+                val colon = item.indexOf(':', at + 1)
+                val name = if (at > 0) item.substring(0, at).trim().lowercase() else ""
+                val kind = when (name) {
+                    "ferrous" -> MagneticDisturbanceKind.FERROUS_PASS
+                    "hall" -> MagneticDisturbanceKind.WEAK_TILTED_HALL
+                    else -> null
+                }
+                val start = if (at > 0 && colon > at) item.substring(at + 1, colon).trim().toDoubleOrNull() else null
+                val length = if (colon > at) item.substring(colon + 1).trim().toDoubleOrNull() else null
+                if (kind == null || start == null || length == null || !start.isFinite() || !length.isFinite() || start < 0.0 || length < 2.0 || start + length > base.durationS) {
+                    throw UsageException("--mag-disturbance expects KIND@S:D with KIND ferrous or hall, D ≥ 2 s and the disturbance inside --duration, got '$item'")
+                }
+                MagneticDisturbance(kind, start, length)
+            }
+        }
         fun nonNegative(name: String, max: Double) = o.double(name)?.also { if (it < 0.0 || it > max) throw UsageException("$name must be in [0, $max]") }
         val scale = o.double("--gyro-scale-error")?.also { if (kotlin.math.abs(it) >= 0.5) throw UsageException("--gyro-scale-error must be in (−0.5, 0.5)") }
         return base.copy(
             violentMotions = violent ?: base.violentMotions,
+            magDisturbances = magDisturbances ?: base.magDisturbances,
             // Still outside the violent motions, which replace the rest where they fall.
             restWindows = if (violent != null) listOf(TimeWindow(0.0, base.durationS + 1.0)) else base.restWindows,
             accRange = nonNegative("--acc-range", 2000.0) ?: base.accRange,

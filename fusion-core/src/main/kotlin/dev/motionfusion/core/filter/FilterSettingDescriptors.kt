@@ -142,6 +142,8 @@ public object FilterSettingDescriptors {
         number("magMaxRejectionTime", "mag_max_rejection_time_s", "s", G.REJECTION, "New field accepted after", 1.0..300.0, off = false, { it.magMaxRejectionTime }) { s, v -> s.copy(magMaxRejectionTime = v) },
         number("magReferenceTime", "mag_reference_time_s", "s", G.REJECTION, "Field reference follows over", 1.0..120.0, off = false, { it.magReferenceTime }) { s, v -> s.copy(magReferenceTime = v) },
         number("magNewFieldTime", "mag_new_field_time_s", "s", G.REJECTION, "Steady new field trusted after", 0.0..60.0, off = true, { it.magNewFieldTime }, absent = 0.0) { s, v -> s.copy(magNewFieldTime = v) },
+        number("magNewFieldMinGyro", "mag_new_field_min_gyro_rad_s", "rad/s", G.REJECTION, "New field learnt while turning faster than", 0.0..2.0, off = true, { it.magNewFieldMinGyro }, absent = 0.0) { s, v -> s.copy(magNewFieldMinGyro = v) },
+        number("magResumeTime", "mag_resume_time_s", "s", G.REJECTION, "Heading gain back over", 0.0..60.0, off = true, { it.magResumeTime }, absent = 0.0) { s, v -> s.copy(magResumeTime = v) },
         flag("accRejection", "acc_rejection", G.REJECTION, "Ignore the accelerometer in strong acceleration", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
         number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", G.REJECTION, "Acceleration tolerance", 0.1..10.0, off = false, { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
         number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", G.REJECTION, "Angle from up tolerance", 0.01..1.0, off = false, { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },

@@ -95,6 +95,14 @@ public enum class Initialisation {
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
  *   tolerances of its own running mean for this long is trusted as the new reference, s. 0 disables
  *   it (then only magMaxRejectionTime ends a rejection). Default 0.
+ * @property magNewFieldMinGyro with magNewFieldTime, the steady time of a new field counts only while the
+ *   bias-corrected rate is at least this, rad/s: a disturbed field that stays steady because the phone lies
+ *   still (a magnet beside it on a table) is not learnt; one that stays steady while the phone turns is a
+ *   new environment. 0: any motion counts. Default 0.
+ * @property magResumeTime with magDisturbanceRejection, the heading gain comes back from 0 to headingGain
+ *   linearly over this time after a disturbance ends or a new reference is taken, s, instead of at once (and
+ *   a new reference then does not restart the fast heading convergence): the heading carried by the
+ *   gyroscope is pulled onto the field without a jump. 0: at once, as before. Default 0.
  * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: at the
  *   start (a first reading taken in motion) and after a saturated gyroscope reading (gyroSaturation),
  *   once the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
@@ -140,6 +148,8 @@ public data class FilterSettings(
     val magMaxRejectionTime: Double = 60.0,
     val magReferenceTime: Double = 20.0,
     val magNewFieldTime: Double = 0.0,
+    val magNewFieldMinGyro: Double = 0.0,
+    val magResumeTime: Double = 0.0,
     val accRejection: Boolean = false,
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
@@ -178,6 +188,8 @@ public data class FilterSettings(
         requireFinite("motionBiasGain", motionBiasGain, min = 0.0)
         requireFinite("headingRecoveryTime", headingRecoveryTime, min = 0.0)
         requireFinite("magNewFieldTime", magNewFieldTime, min = 0.0)
+        requireFinite("magNewFieldMinGyro", magNewFieldMinGyro, min = 0.0)
+        requireFinite("magResumeTime", magResumeTime, min = 0.0)
         requireFinite("inclinationRecoveryBeta", inclinationRecoveryBeta, min = 0.0)
         requirePositive("accTrustTime", accTrustTime)
         require(recoveryAngle.isFinite() && recoveryAngle >= 0.0 && recoveryAngle < PI) { "recoveryAngle must be in [0, π) rad: $recoveryAngle" }

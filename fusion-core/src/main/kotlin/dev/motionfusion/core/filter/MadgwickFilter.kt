@@ -52,6 +52,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val restBiasTime = settings.restBiasTime
     private val restMinTime = settings.restMinTime
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
+    private val magResume = magDetector != null && settings.magResumeTime > 0.0
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val headingGain = settings.headingGain
     private val motionBiasGain = settings.motionBiasGain
@@ -223,9 +224,12 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             val inv = invSqrt(n2)
             val sinDip = -(mx * upX() + my * upY() + mz * upZ()) * inv
             val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
-            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw)
+            val rx = x - wbx
+            val ry = y - wby
+            val rz = z - wbz
+            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw, rx * rx + ry * ry + rz * rz)
             if (!useMag) magRejections++
-            if (magDetector.newReference) headingClock = 0.0
+            if (magDetector.newReference && !magResume) headingClock = 0.0
         }
         var cx = ax
         var cy = ay
@@ -246,10 +250,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             // magnetic reference, while the heading is off, the gain is at least 1/t, t the time since
             // then (the mean of the errors).
             headingClock += dt
-            val k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
+            var k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
+            // After a disturbance the gain comes back as a ramp (magResumeTime), the bias estimate with it.
+            val f = if (magResume) magDetector!!.gainFactor else 1.0
+            k *= f
             val sinDelta = headingStep(dt * k)
             headingOff = abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
-            if (motionBiasGain != 0.0) motionBias(dt, sinDelta)
+            if (motionBiasGain != 0.0) motionBias(dt * f, sinDelta)
         }
     }
 

@@ -8,6 +8,11 @@
  * so linear acceleration does not look like a disturbance; a new reference is taken against the
  * raw accelerometer, so it does not depend on an estimate that may not have converged yet. Units: µT (any unit, consistently),
  * radians, seconds. Allocation-free and free of trigonometric calls per sample.
+ *
+ * Holding heading through a disturbance on a phone (magNewFieldMinGyro, magResumeTime): a steady new field
+ * is learnt only from the time the phone turns (a field that is steady because nothing moves says nothing
+ * about whether it is the environment's), and once the field is trusted again the heading gain comes back
+ * as a ramp ([gainFactor]) instead of at once, so the heading the gyroscope carried is not pulled with a jump.
  */
 package dev.motionfusion.core.filter
 
@@ -20,6 +25,14 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val maxRejectionTime = settings.magMaxRejectionTime
     private val referenceRate = 1.0 / settings.magReferenceTime
     private val newFieldTime = settings.magNewFieldTime
+    private val newFieldMinGyro2 = settings.magNewFieldMinGyro * settings.magNewFieldMinGyro
+    private val resumeRate = if (settings.magResumeTime > 0.0) 1.0 / settings.magResumeTime else Double.POSITIVE_INFINITY
+
+    // Time since the field was last disturbed (or since a new reference), s; infinite before any disturbance.
+    private var sinceDisturbed = Double.POSITIVE_INFINITY
+
+    /** Fraction of the heading gain to apply to the current reading: 0 while disturbed, then a ramp up to 1 over magResumeTime. */
+    val gainFactor: Double get() = if (disturbed) 0.0 else minOf(1.0, sinceDisturbed * resumeRate)
 
     // A disturbed field's own running mean (the candidate for a new reference) and how long the
     // field has stayed within the tolerances of it.
@@ -50,10 +63,11 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
      * undisturbed field slowly updates it. With magNewFieldTime > 0, a disturbed field that stays
      * within the tolerances of its own running mean for that long becomes the reference too.
      */
-    fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double): Boolean {
+    fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double, rate2: Double = Double.POSITIVE_INFINITY): Boolean {
         newReference = false
         if (needsReference) {
             newReference = hasReference
+            if (hasReference) sinceDisturbed = 0.0
             refNorm = norm
             refSinDip = sinDipRaw
             hasReference = true
@@ -64,7 +78,8 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         disturbed = !matches(norm, sinDip, refNorm, refSinDip)
         if (disturbed && newFieldTime > 0.0) {
             if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
-                steadyTime += dt
+                // Only time in motion counts (magNewFieldMinGyro); the candidate mean still follows.
+                if (rate2 >= newFieldMinGyro2) steadyTime += dt
                 val k = minOf(1.0, dt / steadyTime)
                 candNorm += k * (norm - candNorm)
                 candSinDip += k * (sinDip - candSinDip)
@@ -78,11 +93,14 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
                 refSinDip = candSinDip
                 disturbed = false
                 newReference = true
+                sinceDisturbed = 0.0
             }
         }
         if (disturbed) {
             disturbedTime += dt
+            sinceDisturbed = 0.0
         } else {
+            sinceDisturbed += dt
             disturbedTime = 0.0
             steadyTime = 0.0
             val k = minOf(1.0, dt * referenceRate)
@@ -106,6 +124,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         d[at + 5] = candNorm
         d[at + 6] = candSinDip
         d[at + 7] = steadyTime
+        d[at + 8] = sinceDisturbed
         return at + STATE_SIZE
     }
 
@@ -118,10 +137,11 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         candNorm = d[at + 5]
         candSinDip = d[at + 6]
         steadyTime = d[at + 7]
+        sinceDisturbed = d[at + 8]
         return at + STATE_SIZE
     }
 
     companion object {
-        const val STATE_SIZE = 8
+        const val STATE_SIZE = 9
     }
 }

@@ -62,6 +62,12 @@ public class MotionSimulator(public val settings: SimulationSettings) {
         return Vector3(a * sin(2.0 * PI * 1.3 * t), a * cos(2.0 * PI * 0.7 * t), a * sin(2.0 * PI * 0.9 * t))
     }
 
+    private fun magDisturbanceAt(t: Double): MagneticDisturbance? {
+        val v = settings.magDisturbances
+        for (i in v.indices) if (t in v[i].window) return v[i]
+        return null
+    }
+
     private fun violentAt(t: Double): ViolentMotion? {
         val v = settings.violentMotions
         for (i in v.indices) if (t in v[i].window) return v[i]
@@ -104,7 +110,7 @@ public class MotionSimulator(public val settings: SimulationSettings) {
             var acc = q.inverseRotate(up + linearAcceleration(t))
             if (s.accMisalignment != Matrix3.IDENTITY) acc = s.accMisalignment * acc
             acc += gaussianVector(s.accNoise)
-            var magField = q.inverseRotate(field)
+            var magField = q.inverseRotate(magDisturbanceAt(t)?.field(t, field) ?: field)
             if (s.magSoftIron != Matrix3.IDENTITY) magField = s.magSoftIron * magField
             val mag = magField + hardIron + gaussianVector(s.magNoise)
             if (gyroDensitySigma > 0.0) gyro += gaussianVector(errors, gyroDensitySigma)

@@ -57,6 +57,8 @@ public data class TimeWindow(val startS: Double, val endS: Double) {
  * @property accRange each accelerometer axis is clipped at ±this, m/s² (phones: 2, 4, 8 or 16 g); 0: no clipping.
  * @property gyroRange each gyroscope axis is clipped at ±this, rad/s (±2000°/s: 34.9 rad/s); 0: no clipping.
  * @property gyroScaleError relative scale error of the gyroscope (0.01: it reads 1 % more than the rate).
+ * @property magDisturbances ferrous objects passing and halls with their own field ([MagneticDisturbance]);
+ *   inside their windows the magnetometer senses their field instead of the earth's (default: none).
  */
 public data class SimulationSettings(
     val seed: Long = 1L,
@@ -89,6 +91,7 @@ public data class SimulationSettings(
     val accRange: Double = 0.0,
     val gyroRange: Double = 0.0,
     val gyroScaleError: Double = 0.0,
+    val magDisturbances: List<MagneticDisturbance> = emptyList(),
 ) {
     init {
         require(rateHz.isFinite() && rateHz > 0.0) { "rateHz must be > 0: $rateHz" }
