@@ -200,8 +200,18 @@ public final class TuneFilter {
         for (String s : specs) offline.add(parseOffline(s));
 
         long t0 = System.nanoTime();
-        List<File> trialDirs = Evaluation.INSTANCE.findTrials(dirs);
         ExecutorService pool = Executors.newFixedThreadPool(threads);
+        try {
+            run(pool, dirs, specs, settings, offline, perTrial, rv, cv, t0);
+        } finally {
+            // A trial that fails to load must end the run, not leave the workers waiting for more work.
+            pool.shutdownNow();
+        }
+    }
+
+    static void run(ExecutorService pool, List<File> dirs, List<String> specs, List<FilterSettings> settings, List<OfflineSettings> offline,
+                    boolean perTrial, boolean rv, boolean cv, long t0) throws Exception {
+        List<File> trialDirs = Evaluation.INSTANCE.findTrials(dirs);
         final boolean withRv = rv;
         List<Future<Loaded>> lf = new ArrayList<>();
         for (File d : trialDirs) lf.add(pool.submit(() -> new Loaded(d, withRv)));
@@ -262,7 +272,6 @@ public final class TuneFilter {
             }
         }
         if (cv) crossValidate(specs, trials, groups, res);
-        pool.shutdown();
     }
 
     /** Mean total, heading, inclination over the trials [idx]. */
