@@ -21,6 +21,7 @@ import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.BatterySource
 import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.RecordingDependencies
+import dev.motionfusion.app.record.RecordingInProgress
 import dev.motionfusion.app.record.StickyBattery
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.record.SessionFormat
@@ -55,12 +56,16 @@ internal class AppGraph(
     settingsStore: SettingsStore,
     /** Where the calibration screen's "use in the live filter" is kept (opened on the disk executor). */
     calibrationPrefs: () -> SharedPreferences,
-    override val disk: DiskExecutor = SerialDiskExecutor(),
+    /** The folder locks both disk queues hold (one session folder is never worked on by both at once). */
+    locks: FolderLocks = FolderLocks(),
+    /** The screens' disk queue: reads of the sessions and their details, exports, shares, rename, delete, the stores. */
+    val disk: DiskExecutor = SerialDiskExecutor(locks),
+    /** The recording's own disk queue: a Record never waits behind an export, a share or a detail read. */
+    override val recordingDisk: DiskExecutor = SerialDiskExecutor(locks, "recording-disk"),
     override val clock: Clock = Clock.System,
     override val format: SessionFormat = CoreSessionFormat,
     override val library: SessionLibrary = CoreSessionLibrary,
     override val minFreeBytes: Long = 32L * 1024 * 1024,
-    locks: FolderLocks = FolderLocks(),
     /** False in tests that run the capture step by step ([Capture.pump]). */
     captureThread: Boolean = true,
     ringCapacity: Int = Capture.DEFAULT_RING_CAPACITY,
@@ -86,6 +91,7 @@ internal class AppGraph(
     override val calibrationSource: CalibrationSampleSource = calibrationSource ?: CaptureSampleSource(capture)
     override val recordings = Recordings()
     override val sessions = SessionsRepository(files, format, locks)
+    override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }
 
     override suspend fun awaitStores() {
         settingsRepository.awaitLoaded()

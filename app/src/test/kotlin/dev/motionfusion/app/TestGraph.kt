@@ -99,8 +99,8 @@ internal class HeldDispatcher : CoroutineDispatcher() {
 }
 
 /**
- * The application graph of a Robolectric test: capture pumped by the test, disk tasks run by the
- * test. The settings and the calibration are read from storage as the graph is made ([loadStores];
+ * The application graph of a Robolectric test: capture pumped by the test, the tasks of both disk
+ * queues ([disk], [recordingDisk]) run by the test. The settings and the calibration are read from storage as the graph is made ([loadStores];
  * false: they stay unread until the test runs the disk tasks, as in the first moments of a process).
  */
 internal class TestGraph(
@@ -113,13 +113,17 @@ internal class TestGraph(
     loadStores: Boolean = true,
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
-    val disk = ManualDiskExecutor()
+    private val locks = FolderLocks()
+    /** The screens' disk queue. */
+    val disk = ManualDiskExecutor(locks)
+    /** The recording's own disk queue. */
+    val recordingDisk = ManualDiskExecutor(locks)
     val clock = FakeClock()
     var captureNs = 0L
     val graph = AppGraph(
         app.getSystemService(SensorManager::class.java), AppFiles { app.filesDir }, SettingsStore(app),
         { app.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
-        disk = disk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
+        locks = locks, disk = disk, recordingDisk = recordingDisk, clock = clock, format = format, minFreeBytes = minFreeBytes, captureThread = false,
         captureClock = { captureNs }, enterForeground = enterForeground, battery = battery,
         // The calibration's fits run on the main thread: each step is complete when the looper is idle.
         calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
@@ -156,10 +160,10 @@ internal class TestGraph(
         }
         do {
             runMain()
-            val n = disk.runAll()
+            val n = recordingDisk.runAll() + disk.runAll()
             capture.pump()
             runMain()
-        } while (n > 0 || disk.pending > 0)
+        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0)
         return longest to tasks
     }
 
@@ -167,9 +171,9 @@ internal class TestGraph(
     fun settle() {
         do {
             shadowOf(Looper.getMainLooper()).idle()
-            val n = disk.runAll()
+            val n = recordingDisk.runAll() + disk.runAll()
             capture.pump()
             shadowOf(Looper.getMainLooper()).idle()
-        } while (n > 0 || disk.pending > 0)
+        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0)
     }
 }

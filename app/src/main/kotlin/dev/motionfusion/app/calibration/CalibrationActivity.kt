@@ -3,6 +3,7 @@ package dev.motionfusion.app.calibration
 import android.content.pm.PackageManager
 import android.os.Bundle
 import android.view.View
+import android.view.WindowManager
 import android.widget.Button
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
@@ -70,8 +71,9 @@ class CalibrationActivity : AppCompatActivity() {
         primary = findViewById(R.id.primary_action)
         save = findViewById(R.id.save)
         stored = findViewById(R.id.stored)
+        // Only a change of step resets it: the toggle restored after a rotation re-checks the current one.
         steps.addOnButtonCheckedListener { _, id, checked ->
-            if (checked) viewModel.select(stepOf(id))
+            if (checked && stepOf(id) != viewModel.state.value.step) viewModel.select(stepOf(id))
         }
         primary.setOnClickListener { onPrimary() }
         save.setOnClickListener { viewModel.save() }
@@ -125,9 +127,14 @@ class CalibrationActivity : AppCompatActivity() {
         return true
     }
 
+    override fun onStart() {
+        super.onStart()
+        viewModel.resume()
+    }
+
     override fun onStop() {
-        // Sensors stay registered through a rotation, not while the screen is away.
-        if (!isChangingConfigurations && viewModel.state.value.stage == CalibrationStage.COLLECTING) viewModel.select(viewModel.state.value.step)
+        // Sensors stay registered through a rotation, not while the screen is away; what was collected is kept either way.
+        if (!isChangingConfigurations) viewModel.pause()
         super.onStop()
     }
 
@@ -139,6 +146,12 @@ class CalibrationActivity : AppCompatActivity() {
             CalibrationStep.STILL -> R.id.step_still
         }
         if (steps.checkedButtonId != stepButton) steps.check(stepButton)
+        // The screen stays on while the phone is turned through or posed (the still recording is made with it off).
+        if (s.stage == CalibrationStage.COLLECTING && s.step != CalibrationStep.STILL) {
+            window.addFlags(WindowManager.LayoutParams.FLAG_KEEP_SCREEN_ON)
+        } else {
+            window.clearFlags(WindowManager.LayoutParams.FLAG_KEEP_SCREEN_ON)
+        }
         val mag = s.step == CalibrationStep.MAGNETOMETER
         val still = s.step == CalibrationStep.STILL
         map.visibility = if (mag) View.VISIBLE else View.GONE

@@ -115,6 +115,10 @@ class CalibrationViewModel(
     private var job: Job? = null
     private var mag: MagnetometerFitter? = null
     private var still: StillPeriods? = null
+    /** The clock stream's first timestamp of this collection (kept through a pause), ns. */
+    private var firstNs = Long.MIN_VALUE
+    /** The collection is paused ([pause]): its readings are kept, [resume] goes on with them. */
+    private var paused = false
 
     private fun unavailable(step: CalibrationStep): String? = when (step) {
         CalibrationStep.MAGNETOMETER -> if (magStream == null) "this device has no magnetometer" else null
@@ -131,7 +135,28 @@ class CalibrationViewModel(
         if (step == _state.value.step && _state.value.stage == CalibrationStage.READY) return
         job?.cancel()
         job = null
+        paused = false
         _state.value = state0.copy(step = step, unavailable = unavailable(step))
+    }
+
+    /**
+     * The screen went away (turned off, another app): the sensors are let go, but what was collected
+     * is kept, and the step stays where it was; [resume] goes on from there.
+     */
+    fun pause() {
+        if (_state.value.stage != CalibrationStage.COLLECTING || paused) return
+        paused = true
+        // Kept, cancelled: the next collection (or the fit) waits for it to end, so the fitter is fed by one at a time.
+        job?.cancel()
+    }
+
+    /** The screen is back: a paused collection goes on with the readings it had. */
+    fun resume() {
+        if (!paused) return
+        paused = false
+        if (_state.value.stage != CalibrationStage.COLLECTING) return
+        val previous = job
+        job = if (_state.value.step == CalibrationStep.MAGNETOMETER) collectMagnetometer(mag!!, previous) else collectPoses(still!!, previous)
     }
 
     /** Starts collecting for the current step (again from nothing); the still recording is the recording service's. */
@@ -139,13 +164,18 @@ class CalibrationViewModel(
         val s = _state.value
         if (s.unavailable != null || s.stage == CalibrationStage.COLLECTING || s.step == CalibrationStep.STILL) return
         job?.cancel()
+        paused = false
+        firstNs = Long.MIN_VALUE
         _state.value = state0.copy(step = s.step, stage = CalibrationStage.COLLECTING)
-        job = if (s.step == CalibrationStep.MAGNETOMETER) collectMagnetometer() else collectPoses()
+        job = if (s.step == CalibrationStep.MAGNETOMETER) {
+            collectMagnetometer(MagnetometerFitter(settings, magStream!!).also { mag = it })
+        } else {
+            collectPoses(StillPeriods(settings, gyroStream!!).also { still = it })
+        }
     }
 
-    private fun collectMagnetometer(): Job {
-        val fitter = MagnetometerFitter(settings, magStream!!).also { mag = it }
-        return collect(magStream, { r -> if (r.stream == magStream) fitter.add(r.x, r.y, r.z) }) { elapsed ->
+    private fun collectMagnetometer(fitter: MagnetometerFitter, after: Job? = null): Job {
+        return collect(magStream!!, after, { r -> if (r.stream == magStream) fitter.add(r.x, r.y, r.z) }) { elapsed ->
             val c = fitter.coverage()
             _state.update {
                 it.copy(cellHits = List(DirectionCoverage.CELLS) { i -> c.hits(i) }, coverage = c.fraction, magSamples = fitter.samples, elapsedS = elapsed)
@@ -153,8 +183,7 @@ class CalibrationViewModel(
         }
     }
 
-    private fun collectPoses(): Job {
-        val periods = StillPeriods(settings, gyroStream!!).also { still = it }
+    private fun collectPoses(periods: StillPeriods, after: Job? = null): Job {
         val feed = { r: CalibrationSample ->
             when (r.stream) {
                 SessionStream.ACCELEROMETER -> periods.accelerometer(r.x, r.y, r.z)
@@ -162,7 +191,7 @@ class CalibrationViewModel(
                 else -> Unit
             }
         }
-        return collect(gyroStream, feed) { elapsed ->
+        return collect(gyroStream!!, after, feed) { elapsed ->
             val poses = periods.distinctPoses()
             _state.update {
                 it.copy(
@@ -176,19 +205,19 @@ class CalibrationViewModel(
     /**
      * Collects [source] on [compute], handing every reading to [feed]; every [PUBLISH_NS] of
      * [clock]'s timestamps (and when they step back) calls [publish] with the seconds since
-     * [clock]'s first reading.
+     * [clock]'s first reading (of the collection, kept through a pause); [after] (a paused one) ends first.
      */
-    private fun collect(clock: SessionStream, feed: (CalibrationSample) -> Unit, publish: (Double) -> Unit): Job = viewModelScope.launch(compute) {
-        var first = Long.MIN_VALUE
+    private fun collect(clock: SessionStream, after: Job?, feed: (CalibrationSample) -> Unit, publish: (Double) -> Unit): Job = viewModelScope.launch(compute) {
+        after?.join()
         var published = Long.MIN_VALUE
         source.samples().collect { r ->
             feed(r)
             if (r.stream != clock) return@collect
             val t = r.timestampNs
-            if (first == Long.MIN_VALUE) first = t
+            if (firstNs == Long.MIN_VALUE) firstNs = t
             if (published == Long.MIN_VALUE || t - published >= PUBLISH_NS || t < published) {
                 published = t
-                publish((t - first) * 1e-9)
+                publish((t - firstNs) * 1e-9)
             }
         }
     }
@@ -197,6 +226,7 @@ class CalibrationViewModel(
     fun finish() {
         if (_state.value.stage != CalibrationStage.COLLECTING) return
         val collecting = job
+        paused = false
         job = viewModelScope.launch(compute) {
             collecting?.cancelAndJoin()
             when (_state.value.step) {

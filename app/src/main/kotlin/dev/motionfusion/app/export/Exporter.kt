@@ -8,7 +8,9 @@ import android.net.Uri
 import android.os.Build
 import androidx.annotation.RequiresApi
 import android.os.Environment
+import android.provider.DocumentsContract
 import android.provider.MediaStore
+import kotlinx.coroutines.CancellationException
 import dev.motionfusion.app.R
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.session.SessionArchive
@@ -21,9 +23,18 @@ import java.io.IOException
  * ([SessionArchive.zip]: the folder's files inside a folder named after the session):
  * Downloads through MediaStore (API 29+, no permission), a document the user picks
  * (ACTION_CREATE_DOCUMENT), and a share sheet with a content:// URI from [ExportProvider].
- * Blocking: call off the main thread.
+ * Blocking: call off the main thread. [Progress] gets the bytes of the session read so far and
+ * their total; an exception it throws (a cancelled export's) stops the export, and what was begun
+ * is removed (the zip aside, the pending Downloads entry, the picked document).
  */
 internal object Exporter {
+    /** How far an export is: (bytes of the session's files read, their total). */
+    fun interface Progress {
+        fun update(done: Long, total: Long)
+    }
+
+    private val NONE = Progress { _, _ -> }
+
     fun zipName(session: String): String = "$session.zip"
 
     /** Only a finished (or repaired) session leaves the app: never one being written. */
@@ -39,10 +50,10 @@ internal object Exporter {
 
     /** Writes the zip to [target] all-or-nothing (the project's [AtomicFiles]): a failed export leaves no partial zip. */
     @Throws(IOException::class)
-    fun writeZip(dir: File, target: File) {
+    fun writeZip(dir: File, target: File, progress: Progress = NONE) {
         checkExportable(dir)
         target.parentFile?.mkdirs()
-        AtomicFiles().write(target.toPath()) { SessionArchive.zip(dir.toPath(), it) }
+        AtomicFiles().write(target.toPath()) { SessionArchive.zip(dir.toPath(), it, null, progress::update) }
     }
 
     /** MediaStore.Downloads needs API 29; before that, Save as… covers it without a storage permission. */
@@ -51,7 +62,7 @@ internal object Exporter {
     /** Saves to Downloads: inserted pending, written, then published. Returns the display name. */
     @RequiresApi(29)
     @Throws(IOException::class)
-    fun toDownloads(context: Context, dir: File): String {
+    fun toDownloads(context: Context, dir: File, progress: Progress = NONE): String {
         check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
         checkExportable(dir)
         val resolver = context.contentResolver
@@ -65,11 +76,12 @@ internal object Exporter {
         val uri = resolver.insert(MediaStore.Downloads.EXTERNAL_CONTENT_URI, values)
             ?: throw IOException("Downloads refused the file")
         try {
-            resolver.openOutputStream(uri, "w")?.use { SessionArchive.zip(dir.toPath(), it) } ?: throw IOException("cannot open $name")
+            resolver.openOutputStream(uri, "w")?.use { SessionArchive.zip(dir.toPath(), it, null, progress::update) } ?: throw IOException("cannot open $name")
             resolver.update(uri, ContentValues().apply { put(MediaStore.MediaColumns.IS_PENDING, 0) }, null, null)
         } catch (e: Exception) {
             resolver.delete(uri, null, null)
-            throw e as? IOException ?: IOException(e.message, e)
+            if (e is IOException || e is CancellationException) throw e
+            throw IOException(e.message, e)
         }
         return name
     }
@@ -78,21 +90,27 @@ internal object Exporter {
 
     /** Writes the zip into the document the user created. */
     @Throws(IOException::class)
-    fun toDocument(context: Context, dir: File, document: Uri) {
+    fun toDocument(context: Context, dir: File, document: Uri, progress: Progress = NONE) {
         checkExportable(dir)
-        context.contentResolver.openOutputStream(document, "wt")?.use { SessionArchive.zip(dir.toPath(), it) }
-            ?: throw IOException("cannot open the document")
+        try {
+            context.contentResolver.openOutputStream(document, "wt")?.use { SessionArchive.zip(dir.toPath(), it, null, progress::update) }
+                ?: throw IOException("cannot open the document")
+        } catch (e: Exception) {
+            // The document the picker created holds a part of a zip: removed when its provider allows.
+            runCatching { DocumentsContract.deleteDocument(context.contentResolver, document) }
+            throw e
+        }
     }
 
     /** Zips into the provider's folder and returns a chooser for ACTION_SEND with a read grant. */
     @Throws(IOException::class)
-    fun shareIntent(context: Context, dir: File): Intent {
+    fun shareIntent(context: Context, dir: File, progress: Progress = NONE): Intent {
         val exports = ExportProvider.exportDir(context)
         // The cache is for handing over, not for keeping: zips shared a day ago are gone.
         val dayAgo = System.currentTimeMillis() - 24L * 3600 * 1000
         exports.listFiles()?.filter { it.lastModified() < dayAgo }?.forEach { it.delete() }
         val zip = File(exports, zipName(dir.name))
-        writeZip(dir, zip)
+        writeZip(dir, zip, progress)
         val uri = ExportProvider.uriFor(context, zip)
         val send = Intent(Intent.ACTION_SEND)
             .setType(ExportProvider.MIME_ZIP)

@@ -80,9 +80,14 @@ class AppFiles(resolve: () -> File) {
     }
 }
 
-/** The app's disk executor: one background thread, tasks in order, each under its folder's lock. */
-class SerialDiskExecutor(private val locks: FolderLocks = FolderLocks()) : DiskExecutor {
-    private val executor: ExecutorService = Executors.newSingleThreadExecutor { r -> Thread(r, "disk").apply { isDaemon = true } }
+/**
+ * A disk queue: one background thread named [name], tasks in order, each under its folder's lock.
+ * The app has two (AppGraph): the recording's own (preparing, resuming and ending a recording, never
+ * behind anything else) and the screens' (reads, exports, shares, rename, delete); they share the
+ * folder locks, so the two never work on one session folder at once.
+ */
+class SerialDiskExecutor(private val locks: FolderLocks = FolderLocks(), name: String = "disk") : DiskExecutor {
+    private val executor: ExecutorService = Executors.newSingleThreadExecutor { r -> Thread(r, name).apply { isDaemon = true } }
 
     override fun execute(folder: File?, task: () -> Unit) {
         executor.execute { locks.withFolder(folder, task) }

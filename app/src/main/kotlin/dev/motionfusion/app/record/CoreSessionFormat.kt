@@ -3,6 +3,7 @@ package dev.motionfusion.app.record
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.app.sessions.CoreSessionRepair
+import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.session.SessionRecovery
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.SessionWriter
@@ -11,6 +12,8 @@ import java.io.File
 /** The app's binding to the session format of `fusion-core` (docs/SESSION_FORMAT.md). */
 internal object CoreSessionFormat : SessionFormat {
     override fun create(dir: File, metadata: SessionMetadata): SessionSink = CoreSessionSink(SessionWriter.create(dir.toPath(), metadata))
+
+    override fun endNs(dir: File): Long? = SessionReader.open(dir.toPath()).use { it.metadata.endElapsedRealtimeNs }
 
     override fun isInterrupted(dir: File): Boolean = CoreSessionRepair.isInterrupted(dir)
 

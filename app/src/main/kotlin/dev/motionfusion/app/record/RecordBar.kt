@@ -169,6 +169,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 val lines = listOfNotNull(
                     if (markers == 0) activity.getString(R.string.record_active, DateUtils.formatElapsedTime(elapsed), s.rows())
                     else activity.getString(R.string.record_active_marked, DateUtils.formatElapsedTime(elapsed), s.rows(), markers),
+                    s.resumedLine(activity),
                     limitsText(s.limits),
                     if (notificationsAllowed()) null else activity.getString(R.string.record_notifications_off),
                 )
@@ -198,5 +199,12 @@ internal class RecordBar private constructor(private val activity: ComponentActi
 }
 
 /** What a starting recording is doing: repairing interrupted sessions (n of m), or preparing. The record bar and the banner show it. */
-internal fun RecordingState.Preparing.line(c: Context): String =
-    if (toRepair > 0) c.getString(R.string.record_repairing, repaired, toRepair) else c.getString(R.string.record_preparing)
+internal fun RecordingState.Preparing.line(c: Context): String = when {
+    toRepair > 0 -> c.getString(R.string.record_repairing, repaired, toRepair)
+    resuming -> c.getString(R.string.record_resuming)
+    else -> c.getString(R.string.record_preparing)
+}
+
+/** A recording that resumed after the system killed it: what the record bar and the banner add. */
+internal fun RecordingState.Active.resumedLine(c: Context): String? =
+    continues?.let { c.getString(R.string.record_resumed, RecordingService.gapText(it)) }

@@ -74,7 +74,8 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
             is RecordingState.Active -> {
                 val elapsed = DateUtils.formatElapsedTime(s.elapsedS(deps!!.clock.elapsedRealtimeNanos() / 1_000_000))
                 val what = context.getString(if (s.still) R.string.recording_banner_still else R.string.recording_banner_active, elapsed)
-                if (s.streams == 0) what else context.getString(R.string.recording_banner_streams_line, what, resources.getQuantityString(R.plurals.recording_banner_streams, s.streams, s.streams))
+                val line = if (s.streams == 0) what else context.getString(R.string.recording_banner_streams_line, what, resources.getQuantityString(R.plurals.recording_banner_streams, s.streams, s.streams))
+                s.continues?.let { context.getString(R.string.recording_banner_streams_line, line, context.getString(R.string.record_resumed_short, RecordingService.gapText(it))) } ?: line
             }
             is RecordingState.Preparing -> s.line(context)
             else -> null

@@ -24,6 +24,8 @@ import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.Continuation
+import android.util.Log
 import java.io.File
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -40,6 +42,13 @@ import kotlinx.coroutines.launch
  * the app's screens does not stop it; only Stop (button or notification), a limit of the
  * settings ([RecordingLimits]: maximum duration, battery level, checked once a second on the
  * injected clock) or a storage problem does; a limit or a problem is told to the user.
+ *
+ * The wake lock is taken when Record is pressed, before anything is prepared. The service is
+ * sticky: when the system kills the process during a recording and later restarts the service
+ * (a null intent), the recording resumes by itself as a linked continuation — the cut-off session
+ * is repaired and a new one, whose meta.json names it and the gap (`continues`), goes on with the
+ * same settings, limits and start time ([RecordingInProgress]); the notification and the app say
+ * so. A recording the user stopped never resumes: Stop forgets it before anything else.
  */
 class RecordingService : Service() {
     private val main = Handler(Looper.getMainLooper())
@@ -57,6 +66,10 @@ class RecordingService : Service() {
     private var wakeLockRenewedNs = 0L
     private var batteryCheckedNs = Long.MIN_VALUE / 2
     private var limits = RecordingLimits()
+    /** The earlier session and the gap when this recording resumed one the system killed. */
+    private var continues: Continuation? = null
+    /** Restarted by the system, resuming (until the recorder runs). */
+    private var resuming = false
 
     private val tick = object : Runnable {
         override fun run() {
@@ -98,13 +111,17 @@ class RecordingService : Service() {
 
     override fun onStartCommand(intent: Intent?, flags: Int, startId: Int): Int {
         when (intent?.action) {
-            ACTION_STOP -> stopRecording()
+            ACTION_STOP -> {
+                // Forgotten first: a kill while the session is being finished must not resume it.
+                deps.recordingDisk.execute(null) { deps.inProgress.clear() }
+                stopRecording()
+            }
             ACTION_START -> startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false))
-            // Restarted by the system after the process died: the interrupted session is
-            // repaired by recovery; a new recording needs the user's action.
+            // Restarted by the system after the process died (START_STICKY): the recording resumes if one was running.
+            null -> if (recorder == null && !preparing) resumeRecording()
             else -> if (recorder == null && !preparing) stopSelf()
         }
-        return START_NOT_STICKY
+        return START_STICKY
     }
 
     /**
@@ -116,35 +133,117 @@ class RecordingService : Service() {
      */
     private fun startRecording(still: Boolean) {
         if (recorder != null || preparing) return
+        // The wake lock first: a phone pocketed right after Record does not sleep while the recording is prepared.
+        holdWakeLock()
         this.still = still
+        continues = null
         createChannels()
         startedWallMs = deps.clock.wallClockMs()
         startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
         // Foreground first: startForegroundService() must be answered within a few seconds.
         goForeground()?.let { reason ->
-            deps.recordings.set(RecordingState.NotStarted(reason))
-            notificationManager().notify(END_NOTIFICATION_ID, alertNotification(getString(R.string.record_not_started, reason)))
-            stopSelf()
+            notStarted(getString(R.string.record_not_started, reason), reason)
             return
         }
-        preparing = true
-        stopWhenReady = false
-        deps.recordings.set(RecordingState.Preparing(0, 0))
-        deps.capture.acquire()
-        holdsCapture = true
+        beginPreparing(resuming = false)
         scope.launch {
             deps.awaitStores()
-            prepare(still)
+            prepare(still, null)
         }
     }
 
-    /** Main thread, the stores read: the session's settings, sensors and calibration; then its files on the disk executor. */
-    private fun prepare(still: Boolean) {
+    /** Foreground refused: told to the user, nothing recorded, the wake lock let go. */
+    private fun notStarted(alert: String, reason: String) {
+        releaseWakeLock()
+        deps.recordings.set(RecordingState.NotStarted(reason))
+        notificationManager().notify(END_NOTIFICATION_ID, alertNotification(alert))
+        stopSelf()
+    }
+
+    private fun beginPreparing(resuming: Boolean) {
+        preparing = true
+        stopWhenReady = false
+        deps.recordings.set(RecordingState.Preparing(0, 0, resuming))
+        deps.capture.acquire()
+        holdsCapture = true
+    }
+
+    /**
+     * The system restarted the service after the process was killed: if a recording was running
+     * ([RecordingInProgress]), its cut-off session is repaired (under its folder's lock, on the
+     * recording's queue) and the recording goes on in a new session that names it and the gap. On
+     * Android 14+ the restart enters the foreground with the manifest's type as a start does;
+     * a refusal (the system's rules for a service started in the background) is told to the user and
+     * the session before the kill stays as it was written, repaired by the next listing or Record.
+     */
+    private fun resumeRecording() {
+        holdWakeLock()
+        createChannels()
+        continues = null
+        resuming = true
+        startedWallMs = deps.clock.wallClockMs()
+        startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
+        goForeground()?.let { reason ->
+            deps.recordingDisk.execute(null) { deps.inProgress.clear() }
+            resuming = false
+            notStarted(getString(R.string.record_resume_failed, reason), reason)
+            return
+        }
+        beginPreparing(resuming = true)
+        scope.launch {
+            deps.awaitStores()
+            val resumedNs = deps.clock.elapsedRealtimeNanos()
+            deps.recordingDisk.execute(null) {
+                val entry = deps.inProgress.read()
+                val previous = entry?.let { deps.sessions.folder(it.session) }?.takeIf { it.isDirectory }
+                // Nothing to resume: none was running (stopped by the user), its session is gone, or the phone restarted since (another clock).
+                if (entry == null || previous == null || entry.startedElapsedMs * 1_000_000 > resumedNs) {
+                    deps.inProgress.clear()
+                    main.post { nothingToResume() }
+                    return@execute
+                }
+                val gapStart = try {
+                    deps.sessions.locks.withFolder(previous) {
+                        if (deps.format.isInterrupted(previous)) deps.format.recover(previous)
+                        deps.format.endNs(previous)
+                    }
+                } catch (e: Exception) {
+                    null // unreadable: the gap's start is unknown; the repair is tried again by the next listing
+                }
+                main.post {
+                    if (!preparing) return@post
+                    startedWallMs = entry.startedWallMs
+                    startedElapsedMs = entry.startedElapsedMs
+                    still = entry.still
+                    continues = Continuation(previous.name, gapStart, resumedNs)
+                    prepare(entry.still, entry.limits)
+                }
+            }
+        }
+    }
+
+    /** A restart with no recording to resume: back to idle, the foreground and the wake lock let go. */
+    private fun nothingToResume() {
+        preparing = false
+        resuming = false
+        if (holdsCapture) deps.capture.release()
+        holdsCapture = false
+        releaseWakeLock()
+        if (deps.recordings.state.value is RecordingState.Preparing) deps.recordings.set(RecordingState.Idle)
+        ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
+        stopSelf()
+    }
+
+    /**
+     * Main thread, the stores read: the session's settings, sensors and calibration; then its files
+     * on the recording's disk queue. [resumedLimits]: the limits of the recording being resumed.
+     */
+    private fun prepare(still: Boolean, resumedLimits: RecordingLimits?) {
         val capture = deps.capture
         // A still recording: the streams it writes, as fast as the device delivers.
         val live = deps.settings.value.let { if (still) it.copy(rate = SamplingRate.Delay.FASTEST) else it }
         // The still recording asks for 1–3 h (docs/CALIBRATION.md): the user's limits are for ordinary recordings.
-        limits = if (still) RecordingLimits.STILL else live.limits
+        limits = resumedLimits ?: if (still) RecordingLimits.STILL else live.limits
         batteryCheckedNs = Long.MIN_VALUE / 2
         val filterSettings = capture.filterSettingsFor(live)
         val sensors = if (still) capture.sensors.filterKeys { it in STILL_STREAMS } else capture.sensors
@@ -153,14 +252,18 @@ class RecordingService : Service() {
         val applied = if (stored?.appliedInLiveFilter == true) capture.calibrationFor(stored.calibration) else null
         val calibration = stored?.copy(appliedInLiveFilter = applied != null)
         val rate = live.rate
-        val anchor = ClockAnchor(startedWallMs, deps.clock.elapsedRealtimeNanos())
+        val continues = continues
+        // A resumed part is anchored and named at its own start.
+        val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
+        val anchor = ClockAnchor(nowWallMs, deps.clock.elapsedRealtimeNanos())
         val version = appVersion()
-        deps.disk.execute(null) {
+        val entry = { dir: File -> RecordingInProgress.Entry(dir.name, still, startedWallMs, startedElapsedMs, limits) }
+        deps.recordingDisk.execute(null) {
             val sessions = deps.sessions
-            sessions.repairInterrupted { done, total -> main.post { if (preparing) deps.recordings.set(RecordingState.Preparing(done, total)) } }
+            sessions.repairInterrupted { done, total -> main.post { if (preparing) deps.recordings.set(RecordingState.Preparing(done, total, continues != null)) } }
             var dir: File? = null
             try {
-                val d = sessions.newRecording(startedWallMs)
+                val d = sessions.newRecording(nowWallMs)
                 dir = d
                 val metadata = RecordingMetadata.create(
                     version,
@@ -169,8 +272,14 @@ class RecordingService : Service() {
                     anchor,
                     calibration,
                     still,
-                )
+                ).copy(continues = continues)
                 val sink = deps.format.create(d, metadata)
+                try {
+                    deps.inProgress.write(entry(d))
+                } catch (e: Exception) {
+                    // The recording goes on; only its resumption after a kill is lost.
+                    Log.w("RecordingService", "cannot keep the recording in progress: ${e.message}")
+                }
                 main.post { ready(d, sink, live, applied, still) }
             } catch (e: Exception) {
                 val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
@@ -182,6 +291,7 @@ class RecordingService : Service() {
     /** Main thread: the session exists; the recorder joins the capture. */
     private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean) {
         preparing = false
+        resuming = false
         val minFree = deps.minFreeBytes
         val recorder = Recorder(
             sink,
@@ -196,16 +306,27 @@ class RecordingService : Service() {
         deps.recordings.set(
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
-                recorder::mark, limits, still, deps.capture.sensors.keys.count { !still || it in STILL_STREAMS },
+                recorder::mark, limits, still, deps.capture.sensors.keys.count { !still || it in STILL_STREAMS }, continues,
             ),
         )
-        wakeLock = getSystemService(PowerManager::class.java)
-            .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
-            .apply { setReferenceCounted(false); acquire(WAKE_LOCK_TIMEOUT_MS) }
-        wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
         deps.capture.attach(recorder, live, calibration, if (still) STILL_STREAMS else null)
         main.post(tick)
         if (stopWhenReady) stopRecording()
+    }
+
+    /** The partial wake lock, from the press of Record (or the restart) to the end; renewed every minute while recording. */
+    private fun holdWakeLock() {
+        val lock = wakeLock ?: getSystemService(PowerManager::class.java)
+            .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
+            .apply { setReferenceCounted(false) }
+            .also { wakeLock = it }
+        lock.acquire(WAKE_LOCK_TIMEOUT_MS)
+        wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
+    }
+
+    private fun releaseWakeLock() {
+        wakeLock?.let { if (it.isHeld) it.release() }
+        wakeLock = null
     }
 
     /**
@@ -237,7 +358,7 @@ class RecordingService : Service() {
     /** Capture thread: the recording is over (stopped or failed). Repairs a failed session off the main thread, then hands over to main. */
     private fun onWriterEnded(dir: File, result: RecorderResult) {
         if (result.end is RecordingEnd.WriteFailed) {
-            deps.disk.execute(dir) {
+            deps.recordingDisk.execute(dir) {
                 try {
                     deps.sessions.recordingEnded(dir)
                     if (deps.format.isInterrupted(dir)) deps.format.recover(dir)
@@ -253,14 +374,16 @@ class RecordingService : Service() {
 
     private fun ended(dir: File?, result: RecorderResult) {
         preparing = false
+        resuming = false
         recorder = null
         session = null
         if (dir != null) deps.sessions.recordingEnded(dir)
         if (holdsCapture) deps.capture.release()
         holdsCapture = false
         main.removeCallbacks(tick)
-        wakeLock?.let { if (it.isHeld) it.release() }
-        wakeLock = null
+        releaseWakeLock()
+        // Ended, however: nothing to resume.
+        deps.recordingDisk.execute(null) { deps.inProgress.clear() }
         deps.recordings.set(RecordingState.Ended(dir, result, still))
         ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
         if (result.end != RecordingEnd.Stopped) notificationManager().notify(END_NOTIFICATION_ID, alertNotification(endMessage(this, result), result.end.isFailure))
@@ -299,6 +422,7 @@ class RecordingService : Service() {
             .setSmallIcon(R.drawable.ic_record)
             .setContentTitle(getString(R.string.record_notification_title))
             .setContentText(getString(R.string.record_notification_text, DateUtils.formatElapsedTime(elapsedS), rows))
+            .setSubText(continues?.let { getString(R.string.record_resumed_short, gapText(it)) } ?: if (resuming) getString(R.string.record_resuming) else null)
             .setOngoing(true)
             .setOnlyAlertOnce(true)
             .setShowWhen(true)
@@ -380,6 +504,9 @@ class RecordingService : Service() {
         fun stop(context: Context) {
             context.startService(Intent(context, RecordingService::class.java).setAction(ACTION_STOP))
         }
+
+        /** The gap of a resumed recording, "0:42"; "—" when the earlier part had no sample. */
+        internal fun gapText(c: Continuation): String = c.gapNs?.let { DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 
         /** What to tell the user about how a recording ended. */
         internal fun endMessage(context: Context, result: RecorderResult): String {

@@ -8,6 +8,7 @@ import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.sessions.SessionsRepository
+import dev.motionfusion.core.session.Continuation
 import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionCalibration
 import java.io.File
@@ -22,8 +23,11 @@ import kotlinx.coroutines.flow.asStateFlow
 sealed interface RecordingState {
     data object Idle : RecordingState
 
-    /** Record was pressed: interrupted sessions are being repaired ([repaired] of [toRepair]) and the new one created. */
-    data class Preparing(val repaired: Int, val toRepair: Int) : RecordingState
+    /**
+     * Record was pressed: interrupted sessions are being repaired ([repaired] of [toRepair]) and the new one created;
+     * [resuming]: the system restarted the service after the recording's process was killed, and the recording resumes.
+     */
+    data class Preparing(val repaired: Int, val toRepair: Int, val resuming: Boolean = false) : RecordingState
 
     data class Active(
         val session: File,
@@ -40,6 +44,8 @@ sealed interface RecordingState {
         val still: Boolean = false,
         /** How many sensor streams are recorded (0: not told). */
         val streams: Int = 0,
+        /** This part resumed a recording whose process was killed: the earlier session and the gap; null: not resumed. */
+        val continues: Continuation? = null,
     ) : RecordingState {
         /** Whole seconds recorded at [nowElapsedMs] (`SystemClock.elapsedRealtime()`). */
         fun elapsedS(nowElapsedMs: Long): Long = ((nowElapsedMs - startedElapsedMs) / 1000).coerceAtLeast(0)
@@ -76,7 +82,11 @@ internal interface RecordingDependencies {
     val recordings: Recordings
     val sessions: SessionsRepository
     val format: SessionFormat
-    val disk: DiskExecutor
+    /** The recording's own disk queue (nothing of the screens waits in it). */
+    val recordingDisk: DiskExecutor
+
+    /** The recording in progress, kept on storage for a resumption after the process was killed. */
+    val inProgress: RecordingInProgress
     val clock: Clock
     /** The user's settings, the recording limits among them. */
     val settings: StateFlow<LiveSettings>

@@ -14,4 +14,8 @@ internal interface SessionFormat : SessionRepair {
     /** Starts a new session in the empty folder [dir]. */
     @Throws(IOException::class)
     fun create(dir: File, metadata: SessionMetadata): SessionSink
+
+    /** The sensor time (ns) where the finished or repaired session [dir] ends; null when it has no sample. */
+    @Throws(IOException::class)
+    fun endNs(dir: File): Long?
 }

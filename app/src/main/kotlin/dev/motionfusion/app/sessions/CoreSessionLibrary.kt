@@ -25,6 +25,8 @@ internal object CoreSessionLibrary : SessionLibrary {
             streams = sensorStats.map { (s, st) -> StreamSummary(s.key, st.samples, if (st.achievedRateHz.isFinite()) st.achievedRateHz else 0.0) },
             fusedRows = m.streams[SessionStream.ORIENTATION]?.samples ?: 0L,
             recovered = m.recovered,
+            continues = m.continues?.previousSession,
+            gapNs = m.continues?.gapNs,
         )
     }
 

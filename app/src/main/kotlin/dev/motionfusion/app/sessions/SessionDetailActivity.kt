@@ -1,6 +1,8 @@
 package dev.motionfusion.app.sessions
 
 import android.content.ActivityNotFoundException
+import android.content.Context
+import com.google.android.material.progressindicator.LinearProgressIndicator
 import android.os.Bundle
 import android.text.InputType
 import android.view.View
@@ -23,7 +25,6 @@ import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
-import kotlinx.coroutines.withContext
 import java.io.File
 
 /**
@@ -56,7 +57,7 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
         findViewById<Button>(R.id.detail_downloads).apply {
             visibility = if (Exporter.downloadsAvailable) View.VISIBLE else View.GONE
-            setOnClickListener { export { dir -> getString(R.string.export_done_downloads, Exporter.toDownloads(this@SessionDetailActivity, dir)) } }
+            setOnClickListener { export { app, dir, progress -> app.getString(R.string.export_done_downloads, Exporter.toDownloads(app, dir, progress)) } }
         }
         findViewById<Button>(R.id.detail_save_as).setOnClickListener {
             try {
@@ -65,16 +66,8 @@ class SessionDetailActivity : AppCompatActivity() {
                 model.message(getString(R.string.export_failed, e.message))
             }
         }
-        findViewById<Button>(R.id.detail_share).setOnClickListener {
-            lifecycleScope.launch {
-                try {
-                    val intent = withContext(deps.io) { model.folder().let { dir -> deps.sessions.locks.withFolder(dir) { Exporter.shareIntent(this@SessionDetailActivity, dir) } } }
-                    startActivity(intent)
-                } catch (e: Exception) {
-                    model.message(getString(R.string.export_failed, e.message))
-                }
-            }
-        }
+        findViewById<Button>(R.id.detail_share).setOnClickListener { export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) } }
+        findViewById<Button>(R.id.detail_export_cancel).setOnClickListener { model.cancelExport() }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
@@ -97,6 +90,7 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<TextView>(R.id.detail_name).text = state.name
         title = state.name
         findViewById<TextView>(R.id.detail_message).text = state.message ?: ""
+        showExport(state)
         val whenText = findViewById<TextView>(R.id.detail_when)
         val s = state.summary
         when {
@@ -121,25 +115,45 @@ class SessionDetailActivity : AppCompatActivity() {
         }
     }
 
-    /** Runs [action] on the session's folder, on the disk executor under the folder's lock. */
-    private fun export(action: (File) -> String) {
-        lifecycleScope.launch {
-            model.message(
-                try {
-                    withContext(deps.io) { model.folder().let { dir -> deps.sessions.locks.withFolder(dir) { action(dir) } } }
-                } catch (e: Exception) {
-                    getString(R.string.export_failed, e.message)
-                },
-            )
+    /**
+     * Runs [action] on the session's folder through the ViewModel (disk executor, folder lock,
+     * progress, Cancel); it gets the application's context, never this activity's (it outlives a rotation).
+     */
+    private fun export(action: (Context, File, Exporter.Progress) -> Any) {
+        val app = applicationContext
+        model.export({ reason -> app.getString(R.string.export_failed, reason) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
+    }
+
+    /** An export under way: its progress and Cancel, the export buttons off; a share's chooser started once. */
+    private fun showExport(state: SessionDetailUiState) {
+        val exporting = state.exporting
+        findViewById<View>(R.id.detail_export_row).visibility = if (exporting == null) View.GONE else View.VISIBLE
+        for (id in intArrayOf(R.id.detail_share, R.id.detail_downloads, R.id.detail_save_as, R.id.detail_rename, R.id.detail_delete)) {
+            findViewById<View>(id).isEnabled = exporting == null
+        }
+        // Its error colour does not dim by itself when disabled.
+        findViewById<View>(R.id.detail_delete).alpha = if (exporting == null) 1f else 0.38f
+        if (exporting != null) {
+            val percent = (100 * exporting).toInt()
+            findViewById<LinearProgressIndicator>(R.id.detail_export_progress).setProgressCompat(percent, false)
+            findViewById<TextView>(R.id.detail_export_text).text = getString(R.string.export_progress, percent)
+        }
+        state.share?.let {
+            model.shareStarted()
+            try {
+                startActivity(it)
+            } catch (e: ActivityNotFoundException) {
+                model.message(getString(R.string.export_failed, e.message))
+            }
         }
     }
 
     /** Save as…: the system's document picker creates the zip's document, then it is written there. */
     private val saveAs = registerForActivityResult(ActivityResultContracts.CreateDocument(ExportProvider.MIME_ZIP)) { uri ->
         if (uri != null) {
-            export { dir ->
-                Exporter.toDocument(this, dir, uri)
-                getString(R.string.export_done_document)
+            export { app, dir, progress ->
+                Exporter.toDocument(app, dir, uri, progress)
+                app.getString(R.string.export_done_document)
             }
         }
     }

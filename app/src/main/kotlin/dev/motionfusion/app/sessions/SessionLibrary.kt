@@ -19,6 +19,9 @@ internal data class SessionSummary(
     val streams: List<StreamSummary>,
     val fusedRows: Long,
     val recovered: Boolean,
+    /** The session this one continues after a killed recording resumed (meta.json `continues`), and the gap between them, ns. */
+    val continues: String? = null,
+    val gapNs: Long? = null,
 ) {
     val totalRows: Long get() = streams.sumOf { it.rows }
 }

@@ -110,9 +110,16 @@ class SessionsActivity : AppCompatActivity() {
                 recordingNow -> activity.getString(R.string.session_recording_now)
                 s.recovered -> activity.getString(R.string.session_recovered)
                 else -> null
+            }.let { e ->
+                val continues = s.continues ?: return@let e
+                val tag = activity.getString(R.string.session_continues, continues, gapText(s.gapNs))
+                if (e == null) tag else "$e · $tag"
             }
             return if (extra == null) counts else "$counts · $extra"
         }
+
+        /** A gap between a recording's parts, "0:42" (unknown: "—"). */
+        fun gapText(gapNs: Long?): String = gapNs?.let { DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 
         /** Short labels for the list's rate line. */
         fun shortName(stream: String): String = when (stream.lowercase()) {

@@ -4,7 +4,13 @@ import androidx.lifecycle.ViewModel
 import androidx.lifecycle.ViewModelProvider
 import androidx.lifecycle.viewModelScope
 import dev.motionfusion.app.ui.PlotMarker
+import android.content.Intent
+import dev.motionfusion.app.export.Exporter
+import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.Job
+import kotlinx.coroutines.ensureActive
+import kotlinx.coroutines.flow.update
+import kotlinx.coroutines.job
 import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
@@ -78,6 +84,10 @@ internal data class SessionDetailUiState(
     val message: String? = null,
     /** The session was deleted: the screen closes. */
     val deleted: Boolean = false,
+    /** An export, save or share under way: how far, 0..1 (0 until the first bytes); null: none. */
+    val exporting: Float? = null,
+    /** A share's zip is ready: the screen starts this chooser once ([SessionDetailViewModel.shareStarted]). */
+    val share: Intent? = null,
 )
 
 /**
@@ -138,6 +148,57 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
     /** Shows [text] as the result of an action (export). */
     fun message(text: String?) {
         flow.value = flow.value.copy(message = text)
+    }
+
+    private var exportJob: Job? = null
+
+    /**
+     * Exports the session on the disk executor under its folder's lock: [action] writes it,
+     * reporting progress (shown as [SessionDetailUiState.exporting]) and returning the message to
+     * show or the share chooser to start. One at a time; [cancelExport] stops it at the next
+     * 64 KiB, and what it had begun is removed ([Exporter]). [failed] makes the message of a failure,
+     * [cancelled] is shown after a cancel. Kept across a rotation (the ViewModel's scope).
+     */
+    fun export(failed: (String?) -> String, cancelled: String, action: (File, Exporter.Progress) -> Any) {
+        if (exportJob?.isActive == true) return
+        flow.value = flow.value.copy(exporting = 0f, message = null)
+        exportJob = viewModelScope.launch {
+            val result = try {
+                withContext(deps.io) {
+                    val job = coroutineContext.job
+                    var shown = -1
+                    folder().let { dir ->
+                        deps.sessions.locks.withFolder(dir) {
+                            action(dir) { done, total ->
+                                job.ensureActive()
+                                val percent = if (total > 0) (100 * done / total).toInt() else 0
+                                if (percent != shown) {
+                                    shown = percent
+                                    flow.update { it.copy(exporting = percent / 100f) }
+                                }
+                            }
+                        }
+                    }
+                }
+            } catch (e: CancellationException) {
+                flow.value = flow.value.copy(exporting = null, message = cancelled)
+                throw e
+            } catch (e: Exception) {
+                failed(e.message)
+            }
+            flow.value = if (result is Intent) flow.value.copy(exporting = null, share = result)
+            else flow.value.copy(exporting = null, message = result.toString())
+        }
+    }
+
+    /** Stops the export under way; its partial output is removed. */
+    fun cancelExport() {
+        exportJob?.cancel()
+    }
+
+    /** The share chooser was started. */
+    fun shareStarted() {
+        flow.value = flow.value.copy(share = null)
     }
 
     class Factory(private val deps: SessionsDependencies, private val name: String) : ViewModelProvider.Factory {

@@ -13,12 +13,18 @@ import java.io.RandomAccessFile
  */
 internal class LineFormat(private val failAfterBytes: Long = Long.MAX_VALUE) : SessionFormat {
     @Volatile var created: File? = null
+    /** The metadata of the last session created. */
+    @Volatile var metadata: dev.motionfusion.core.session.SessionMetadata? = null
 
     override fun create(dir: File, metadata: dev.motionfusion.core.session.SessionMetadata): SessionSink {
         created = dir
+        this.metadata = metadata
         File(dir, "meta.txt").writeText("sensors=${metadata.sensors.joinToString(",") { it.stream.key }}\n")
         return LineSink(dir, failAfterBytes)
     }
+
+    /** The last row's timestamp (the second field). */
+    override fun endNs(dir: File): Long? = rows(dir).lastOrNull()?.split(',')?.get(1)?.toLong()
 
     override fun isInterrupted(dir: File) = !File(dir, "finished").exists() && !File(dir, "recovered").exists()
 

@@ -36,6 +36,13 @@ import org.robolectric.shadows.SensorEventBuilder
 import org.robolectric.shadows.ShadowPowerManager
 import org.robolectric.shadows.ShadowSensorManager
 import java.io.File
+import android.app.Service
+import android.widget.TextView
+import dev.motionfusion.app.Screenshots
+import dev.motionfusion.app.sessions.SessionsActivity
+import org.junit.Assert.assertNotEquals
+import org.junit.Assert.assertNull
+import org.robolectric.annotation.GraphicsMode
 
 /** The recording service with the sensors ShadowSensorManager provides and a test double of the session format. */
 @RunWith(RobolectricTestRunner::class)
@@ -121,6 +128,29 @@ class RecordingServiceTest {
         assertTrue(sensors.listeners.isEmpty())
         assertTrue(service.isForegroundStopped)
         assertTrue(service.isStoppedBySelf)
+    }
+
+    @Test
+    fun `the wake lock is taken when Record is pressed, before the recording is prepared, and let go when it is refused`() {
+        val c = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START))
+            .create().startCommand(0, 1)
+        shadowOf(Looper.getMainLooper()).idle()
+        // Preparation (repair, the new session's files) still waits on the recording's queue.
+        assertTrue(graph.recordingDisk.pending > 0)
+        assertTrue(state is RecordingState.Preparing)
+        val lock = ShadowPowerManager.getLatestWakeLock()
+        assertNotNull("a wake lock from the press", lock)
+        assertTrue(lock.isHeld)
+        idle()
+        assertTrue(state is RecordingState.Active)
+        assertTrue(lock.isHeld)
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+        assertFalse(lock.isHeld)
+        refusal = IllegalStateException("startForeground() not allowed due to mAllowStartForeground false")
+        startService()
+        assertTrue(state is RecordingState.NotStarted)
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
     }
 
     @Test
@@ -254,8 +284,8 @@ class RecordingServiceTest {
         val c = Robolectric.buildService(RecordingService::class.java, Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_START))
             .create().startCommand(0, 1)
         val pressNs = graph.clock.elapsedNs - pressedNs
-        // The press returned at once: nothing was repaired on the main thread, the work waits on the disk executor.
-        assertTrue(graph.disk.pending > 0)
+        // The press returned at once: nothing was repaired on the main thread, the work waits on the recording's disk queue.
+        assertTrue(graph.recordingDisk.pending > 0)
         assertTrue(repairThreads.isEmpty())
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
         assertEquals(app.getString(R.string.record_preparing), status.text.toString())
@@ -273,6 +303,155 @@ class RecordingServiceTest {
         assertEquals(app.getString(R.string.record_stop), main.findViewById<Button>(R.id.record_toggle).text.toString())
         c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
         awaitEnded()
+    }
+
+
+    /** The process dies: its sensor listeners go with it; the next graph is a new process's (only the files stay). */
+    private fun kill() {
+        val sm = app.getSystemService(SensorManager::class.java)
+        sensors.listeners.toList().forEach { sm.unregisterListener(it) }
+        graph = graph(format)
+    }
+
+    /** The system restarts the sticky service in the new process: onStartCommand with a null intent. */
+    private fun restart(): ServiceController<RecordingService> {
+        val c = Robolectric.buildService(RecordingService::class.java, null).create()
+        assertEquals(Service.START_STICKY, c.get().onStartCommand(null, Service.START_FLAG_RETRY, 1))
+        return c
+    }
+
+    private fun sessions(): List<File> = offMainThread { File(app.filesDir, "sessions").listFiles()?.sortedBy { it.name } ?: emptyList() }
+
+    private fun inProgressFile() = File(app.filesDir, RecordingInProgress.FILE_NAME)
+
+    // A recording the system kills and restarts (START_STICKY, a null intent): it resumes as a linked
+    // continuation and the user is told; one the user stopped does not; a refused restart is told. The
+    // "kill" drops the process's state: the sensor listeners go, a new object graph is made (a new
+    // process), and only what is on storage remains.
+
+    @Test
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
+    @GraphicsMode(GraphicsMode.Mode.NATIVE)
+    fun `a killed recording resumes in a linked session with the gap, told in the notification and the app`() {
+        startService()
+        for (i in 0 until 200) sendRound(3_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        val before = (state as RecordingState.Active).session
+        assertTrue("kept for a resumption", offMainThread { inProgressFile().isFile })
+        // The process dies with a partial row at the end of the file.
+        offMainThread { File(before, "rows.txt").appendText("GYROSCOPE,99,3,0.") }
+        kill()
+        assertEquals(RecordingState.Idle, state)
+        graph.clock.elapsedNs += 41_000_000_000L // the last sample before was at 3.995 s, the new process's clock reads 5 s
+        val resumedAt = graph.clock.elapsedNs
+        val c = restart()
+        // The restart holds the wake lock and is in the foreground at once, as a start is.
+        assertTrue(ShadowPowerManager.getLatestWakeLock().isHeld)
+        assertTrue(state.toString(), (state as RecordingState.Preparing).resuming)
+        assertNotNull(shadowOf(c.get()).lastForegroundNotification)
+        if (Build.VERSION.SDK_INT >= 29) {
+            assertEquals(if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE else 0, c.get().foregroundServiceType)
+        }
+        assertEquals(
+            app.getString(R.string.record_resuming),
+            shadowOf(c.get()).lastForegroundNotification.extras.getCharSequence(Notification.EXTRA_SUB_TEXT).toString(),
+        )
+        graph.settle()
+        val active = state as? RecordingState.Active ?: error("not resumed: $state")
+        val after = active.session
+        assertNotEquals(before, after)
+        // The earlier part is repaired (its partial row cut) and named by the new one with the gap.
+        assertTrue(offMainThread { File(before, "recovered").isFile })
+        val lastBefore = offMainThread { LineFormat.rows(before).last().split(',')[1].toLong() }
+        val continues = format.metadata!!.continues!!
+        assertEquals(before.name, continues.previousSession)
+        assertEquals(lastBefore, continues.gapStartElapsedRealtimeNs)
+        assertEquals(resumedAt, continues.gapEndElapsedRealtimeNs)
+        assertEquals(continues, active.continues)
+        // The same recording: its start time (limits and chronometer count from it) is kept.
+        assertEquals(5_000L, active.startedElapsedMs)
+        // It records.
+        for (i in 0 until 100) sendRound(50_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        assertEquals(100L * SensorStreams.all.size, active.rows())
+        // Told: the notification, the record bar, the banner of the other screens.
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
+        val gap = RecordingService.gapText(continues)
+        assertEquals("00:42", gap)
+        val n = shadowOf(app.getSystemService(NotificationManager::class.java)).getNotification(RecordingService.NOTIFICATION_ID)
+        assertEquals(app.getString(R.string.record_resumed_short, gap), n.extras.getCharSequence(Notification.EXTRA_SUB_TEXT).toString())
+        if (Build.VERSION.SDK_INT == Sdks.MAX) {
+            graph.graph.setNotificationsAnswered()
+            val main = Robolectric.buildActivity(MainActivity::class.java).setup()
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+            val status = main.get().findViewById<TextView>(R.id.record_status).text.toString()
+            assertTrue(status, status.contains(app.getString(R.string.record_resumed, gap)))
+            Screenshots.assertLaidOut(main.get(), "resumed-live")
+            Screenshots.captureWhole(main.get(), "resumed-live")
+            main.pause().stop().destroy()
+            val list = Robolectric.buildActivity(SessionsActivity::class.java).setup()
+            graph.settle()
+            val banner = list.get().findViewById<TextView>(R.id.recording_banner_text).text.toString()
+            assertTrue(banner, banner.contains(app.getString(R.string.record_resumed_short, gap)))
+            Screenshots.captureScreen(list.get(), "resumed-sessions-banner")
+            list.pause().stop().destroy()
+        }
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+        assertFalse("nothing left to resume", offMainThread { inProgressFile().exists() })
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
+        assertTrue(shadowOf(c.get()).isStoppedBySelf)
+    }
+
+    @Test
+    fun `a recording the user stopped is not resumed, even when the process dies while it is being finished`() {
+        val c = startService()
+        for (i in 0 until 50) sendRound(1_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        // Stop: forgotten on the recording's queue before the session is finished; then the process dies.
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        graph.recordingDisk.runAll()
+        assertFalse(offMainThread { inProgressFile().exists() })
+        val count = sessions().size
+        kill()
+        val r = restart()
+        graph.settle()
+        assertEquals(RecordingState.Idle, state)
+        assertTrue(shadowOf(r.get()).isStoppedBySelf)
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
+        assertEquals(count, sessions().size)
+        assertNull(format.metadata!!.continues)
+    }
+
+    @Test
+    fun `a restart with no recording in progress stops at once`() {
+        val r = restart()
+        graph.settle()
+        assertEquals(RecordingState.Idle, state)
+        assertTrue(shadowOf(r.get()).isStoppedBySelf)
+        assertTrue(sessions().isEmpty())
+    }
+
+    @Test
+    fun `a restart the system refuses to bring to the foreground is told, and the session before is kept for repair`() {
+        startService()
+        for (i in 0 until 50) sendRound(1_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        val before = (state as RecordingState.Active).session
+        kill()
+        refusal = IllegalStateException("startForeground() not allowed due to mAllowStartForeground false")
+        val r = restart()
+        graph.settle()
+        assertEquals(RecordingState.NotStarted(refusal!!.message!!), state)
+        assertTrue(shadowOf(r.get()).isStoppedBySelf)
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
+        val text = shadowOf(app.getSystemService(NotificationManager::class.java)).getNotification(RecordingService.END_NOTIFICATION_ID)
+            .extras.getCharSequence(Notification.EXTRA_TEXT).toString()
+        assertEquals(app.getString(R.string.record_resume_failed, refusal!!.message), text)
+        assertFalse("forgotten", offMainThread { inProgressFile().exists() })
+        assertEquals(listOf(before), sessions())
+        // The next listing repairs it as any interrupted session.
+        assertTrue(offMainThread { graph.graph.sessions.interrupted() } == listOf(before))
     }
 
     @Test

@@ -28,6 +28,7 @@ import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.Continuation
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionReader
 import dev.motionfusion.core.event.SessionStream
@@ -69,9 +70,9 @@ class SessionsScreensTest {
     private fun idle() = graph.settle()
 
     /** A real session of [seconds] of simulated motion at 200 Hz, recorded through the capture; left unfinished if [kill]. */
-    private fun record(name: String, seconds: Double, wallMs: Long, seed: Long, kill: Boolean = false): File {
+    private fun record(name: String, seconds: Double, wallMs: Long, seed: Long, kill: Boolean = false, continues: Continuation? = null): File {
         val dir = offMainThread { File(File(app.filesDir, "sessions"), name) }
-        val meta = SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(wallMs, 1_000_000_000L), filterSettings = FilterSettings())
+        val meta = SessionMetadata(appVersion = "0.1.0", startAnchor = ClockAnchor(wallMs, 1_000_000_000L), filterSettings = FilterSettings(), continues = continues)
         val c = TestCapture()
         val recorder = Recorder(CoreSessionFormat.create(dir, meta), onEnd = {}, flushIntervalNs = 50_000_000L)
         c.record(recorder)
@@ -118,6 +119,22 @@ class SessionsScreensTest {
         assertTrue(line1, line1.contains("00:07") && line1.contains("recovered") && line1.contains("samples"))
         assertTrue(row.findViewById<TextView>(R.id.session_line2).text.contains("gyr\u00A0200\u00A0Hz"))
         Screenshots.capture(a, "sessions-list")
+    }
+
+    @Test
+    fun `a recording resumed after a kill is listed as two parts, the second naming the first and the gap`() {
+        val first = record("session_2026-11-26_09-15-00", 10.0, 1_795_684_500_000L, 1, kill = true)
+        record(
+            "session_2026-11-26_09-16-02", 6.0, 1_795_684_562_000L, 2,
+            continues = Continuation(first.name, 10_995_000_000L, 52_995_000_000L),
+        )
+        val a = sessions() as SessionsActivity
+        val list = a.findViewById<ListView>(R.id.sessions_list)
+        val second = list.adapter.getView(0, null, list).findViewById<TextView>(R.id.session_line1).text.toString()
+        assertTrue(second, second.endsWith(a.getString(R.string.session_continues, first.name, "00:42")))
+        val earlier = list.adapter.getView(1, null, list).findViewById<TextView>(R.id.session_line1).text.toString()
+        assertTrue(earlier, earlier.endsWith(a.getString(R.string.session_recovered)))
+        Screenshots.capture(a, "sessions-list-resumed")
     }
 
     @Test

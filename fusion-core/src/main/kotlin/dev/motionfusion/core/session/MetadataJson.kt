@@ -89,6 +89,13 @@ internal object MetadataJson {
     ).also { map ->
         // Written only when set: sessions without them stay as they were.
         if (m.stillRecording) map["still_recording"] = true
+        m.continues?.let {
+            map["continues"] = linkedMapOf(
+                "session" to it.previousSession,
+                "gap_start_elapsed_realtime_ns" to it.gapStartElapsedRealtimeNs,
+                "gap_end_elapsed_realtime_ns" to it.gapEndElapsedRealtimeNs,
+            )
+        }
         m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
     }
 
@@ -156,6 +163,9 @@ internal object MetadataJson {
             markers = r.objOrNull("streams")?.objOrNull(SessionMarkers.KEY)?.let(::parseStats),
             calibration = r.objOrNull("calibration")?.let { SessionCalibration(CalibrationJson.parse(it), it.bool(APPLIED_IN_LIVE_FILTER, false)) },
             stillRecording = r.bool("still_recording", false),
+            continues = r.objOrNull("continues")?.let {
+                Continuation(it.string("session"), it.longOrNull("gap_start_elapsed_realtime_ns"), it.long("gap_end_elapsed_realtime_ns", 0L))
+            },
         )
     }
 

@@ -29,20 +29,35 @@ public object SessionArchive {
         AtomicFiles().write(zipFile) { zip(dir, it, entryTimeMs) }
     }
 
-    /** As [zip], to a stream (e.g. a content:// URI's output stream on Android); does not close [out]. */
+    /**
+     * As [zip], to a stream (e.g. a content:// URI's output stream on Android); does not close [out].
+     * [progress], when given, is called with the bytes of the session's files read so far and their
+     * total, after every 64 KiB and at the end; an exception it throws stops the zip there (a
+     * cancelled export) and is thrown on.
+     */
     @JvmStatic
     @JvmOverloads
-    public fun zip(dir: Path, out: OutputStream, entryTimeMs: Long? = null) {
+    public fun zip(dir: Path, out: OutputStream, entryTimeMs: Long? = null, progress: ((Long, Long) -> Unit)? = null) {
         val folder = dir.toAbsolutePath().normalize().fileName?.toString() ?: "session"
         val z = ZipOutputStream(BufferedOutputStream(out, 1 shl 16))
-        val names = SessionRecovery.SESSION_FILES
-        for (name in names) {
-            val f = dir.resolve(name)
-            if (!Files.isRegularFile(f)) continue
-            val e = ZipEntry("$folder/$name")
+        val files = SessionRecovery.SESSION_FILES.map { dir.resolve(it) }.filter { Files.isRegularFile(it) }
+        val total = files.sumOf { Files.size(it) }
+        var done = 0L
+        val buf = ByteArray(1 shl 16)
+        progress?.invoke(0L, total)
+        for (f in files) {
+            val e = ZipEntry("$folder/${f.fileName}")
             e.time = entryTimeMs ?: Files.getLastModifiedTime(f).toMillis()
             z.putNextEntry(e)
-            Files.copy(f, z)
+            Files.newInputStream(f).use { input ->
+                while (true) {
+                    val n = input.read(buf)
+                    if (n < 0) break
+                    z.write(buf, 0, n)
+                    done += n
+                    progress?.invoke(done, maxOf(total, done))
+                }
+            }
             z.closeEntry()
         }
         z.finish()

@@ -74,6 +74,17 @@ public data class SensorInfo(
  */
 public data class SessionCalibration(val calibration: Calibration, val appliedInLiveFilter: Boolean)
 
+/**
+ * A session that continues an earlier one of the same recording, after the recording's process was
+ * killed and the system restarted it: [previousSession] is the earlier session's folder name; no
+ * sample was recorded from [gapStartElapsedRealtimeNs] (the earlier session's last sample, null
+ * when it had none) to [gapEndElapsedRealtimeNs] (when recording resumed), both on the sensor clock.
+ */
+public data class Continuation(val previousSession: String, val gapStartElapsedRealtimeNs: Long?, val gapEndElapsedRealtimeNs: Long) {
+    /** The gap's length, ns; null when the earlier session had no sample. */
+    public val gapNs: Long? get() = gapStartElapsedRealtimeNs?.let { gapEndElapsedRealtimeNs - it }
+}
+
 /** A pause of the recording from [startElapsedRealtimeNs] to [endElapsedRealtimeNs] (null while paused). */
 public data class Pause(val startElapsedRealtimeNs: Long, val endElapsedRealtimeNs: Long?)
 
@@ -116,6 +127,7 @@ public data class StreamStats(
  * @property source who made the session, e.g. "Motion Fusion 0.1.0" or "fusion simulate --seed 1".
  * @property calibration the phone's stored calibration at the start, and whether the live filter used it; null: none stored.
  * @property stillRecording true for the app's still recording (the phone left untouched, for `fusion allan`).
+ * @property continues the earlier session this one continues after a killed recording resumed; null: none.
  */
 public data class SessionMetadata(
     val formatVersion: Int = FORMAT_VERSION,
@@ -135,6 +147,7 @@ public data class SessionMetadata(
     val markers: StreamStats? = null,
     val calibration: SessionCalibration? = null,
     val stillRecording: Boolean = false,
+    val continues: Continuation? = null,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */
