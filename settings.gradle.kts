@@ -36,5 +36,6 @@ rootProject.name = "motion-fusion"
 // a JVM module: run it with Maven. android-libs and android-test-libs are the Maven build's way of
 // resolving AARs; Gradle resolves them itself from the app's dependencies.
 include(":fusion-core")
+include(":fusion-stream")
 include(":fusion-cli")
 include(":app")

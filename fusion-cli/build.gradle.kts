@@ -22,6 +22,8 @@ application {
 
 dependencies {
     implementation(project(":fusion-core"))
+    implementation(project(":fusion-stream"))
+    runtimeOnly(libs.slf4j.nop)
     implementation(libs.kotlin.stdlib)
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)

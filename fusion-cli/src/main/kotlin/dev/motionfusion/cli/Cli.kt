@@ -24,6 +24,7 @@ internal class Cli(
     private val commands: List<Command> = listOf(
         ReplayCommand(err, outputs), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
         SimulateCommand(outputs), RecoverCommand(), SummaryCommand(), CalibrateCommand(err, outputs), AllanCommand(err, outputs),
+        ListenCommand(err),
     )
 
     fun run(args: List<String>): Int {

@@ -21,7 +21,7 @@ import java.util.zip.ZipFile
  * Compares the Android Studio project (settings.gradle.kts, the build.gradle.kts files,
  * gradle.properties, gradle/libs.versions.toml, the wrapper) with the Maven build of record under
  * [root] and lists what would make `./gradlew assembleDebug assembleRelease testDebugUnitTest
- * :fusion-core:test :fusion-cli:test` fail or run differently from `mvn verify`: missing modules,
+ * :fusion-core:test :fusion-stream:test :fusion-cli:test` fail or run differently from `mvn verify`: missing modules,
  * dependencies or versions; Surefire system properties, JVM flags and filtered resources without a
  * Gradle counterpart; test sources importing what only Maven puts on the test class path; Kotlin
  * compiler arguments; the debug key; the R8 that the release build runs against the Kotlin version
@@ -52,7 +52,6 @@ internal class GradleMirror(
             "android.libraries" to "the AARs android-libs unpacks for the Maven build; the Android Gradle Plugin merges libraries itself",
             "maven.repo.local" to "the local Maven repository whose POMs the tests of the Maven build read",
         )
-        val MODULES = listOf("fusion-core", "fusion-cli", "app")
         private const val LAUNCHER = "org.junit.platform:junit-platform-launcher"
         private const val FOOJAY = "org.gradle.toolchains.foojay-resolver-convention"
     }
@@ -85,6 +84,12 @@ internal class GradleMirror(
         child("properties")?.children()?.associate { it.tagName to it.textContent.trim() }.orEmpty()
 
     private val rootPom by lazy { pom(null) }
+
+    /** The modules both builds have: the root pom's, without the Maven-only ones (a new module is checked without naming it here). */
+    private val sharedModules: List<String> by lazy { rootPom.child("modules")!!.children("module").map { it.textContent.trim() } - mavenOnlyModules.keys }
+
+    /** The plain JVM modules (all but the app). */
+    private val jvmModules: List<String> get() = sharedModules - "app"
     private val rootProperties by lazy { rootPom.properties() + mapOf("project.version" to rootPom.text("version")!!) }
 
     private fun props(module: String) = rootProperties + pom(module).properties()
@@ -124,6 +129,7 @@ internal class GradleMirror(
             val configuration = when {
                 d.text("type") == "signature" -> "apiSignature"
                 scope == "test" -> "testImplementation"
+                scope == "runtime" -> "runtimeOnly"
                 else -> "implementation"
             }
             if (ga.startsWith("dev.motionfusion:android-")) {
@@ -252,9 +258,9 @@ internal class GradleMirror(
         .values.map { "org.robolectric:android-all-instrumented:$it" }.toSet()
 
     private fun dependencies() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val gradle = gradleDependencies(module)
-            val compared = gradle.filter { it.configuration in setOf("implementation", "testImplementation", "apiSignature") }.toSet()
+            val compared = gradle.filter { it.configuration in setOf("implementation", "runtimeOnly", "testImplementation", "apiSignature") }.toSet()
             val maven = mavenDependencies(module)
             for (d in maven - compared) problem("$module: Maven has $d, build.gradle.kts does not")
             for (d in compared - maven) problem("$module: build.gradle.kts has $d, Maven does not")
@@ -275,7 +281,7 @@ internal class GradleMirror(
         if (kotlin != rootProperties.getValue("kotlin.version")) problem("the Kotlin plugin is $kotlin in libs.versions.toml, Maven's kotlin.version is ${rootProperties["kotlin.version"]}")
         val target = rootProperties.getValue("kotlin.compiler.jvmTarget")
         var toolchains = false
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val tc = calls(moduleScript(module)).filter { it.first.name == "jvmToolchain" }
             if (tc.isEmpty()) problem("$module/build.gradle.kts: no jvmToolchain($target) (Maven compiles for JVM $target)")
             for ((c, _) in tc) {
@@ -340,7 +346,7 @@ internal class GradleMirror(
                 if (!maven) problem("app/build.gradle.kts:${c.line}: app/pom.xml does not use app/$dir")
             }
         }
-        for (module in listOf("fusion-core", "fusion-cli")) {
+        for (module in jvmModules) {
             val dirs = calls(moduleScript(module)).filter { it.first.name == "srcDirs" }.flatMap { it.first.args }.mapNotNull { literal(it.value) }.toSet()
             if (dirs != setOf("src/main/kotlin", "src/test/kotlin")) problem("$module/build.gradle.kts: source folders $dirs")
         }
@@ -363,7 +369,7 @@ internal class GradleMirror(
     }
 
     private fun junitLauncher() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val deps = gradleDependencies(module)
             val platform = calls(moduleScript(module)).any { (c, outer) -> c.name == "useJUnitPlatform" && (outer.inTestTask() || path(c.callee).startsWith("it.")) }
             if (!platform) problem("$module/build.gradle.kts: its test task does not useJUnitPlatform()")
@@ -430,7 +436,7 @@ internal class GradleMirror(
     }
 
     private fun testTasks() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val (system, argLine) = surefire(module)
             val g = testConfig(module)
             val where = "$module/build.gradle.kts"
@@ -478,7 +484,7 @@ internal class GradleMirror(
     }
 
     private fun testSourceImports() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val gradle = gradleDependencies(module).map { it.coordinates }.toSet()
             val missing = mavenDependencies(module).filter { it.coordinates !in gradle } +
                 pom(module).child("dependencies")!!.children("dependency")
@@ -508,7 +514,7 @@ internal class GradleMirror(
 
     /** Files of Maven's filtered resource folders that hold `${…}` and what stands for them under Gradle. */
     private fun filteredResources() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val build = pom(module).child("build") ?: continue
             val filtered = (build.child("resources")?.children("resource").orEmpty().map { "main" to it } +
                 build.child("testResources")?.children("testResource").orEmpty().map { "test" to it })
@@ -555,7 +561,7 @@ internal class GradleMirror(
     }
 
     private fun kotlinArguments() {
-        for (module in MODULES) {
+        for (module in sharedModules) {
             val maven = LinkedHashSet<String>()
             val plugins = listOfNotNull(rootPlugin("kotlin-maven-plugin"), modulePlugin(module, "kotlin-maven-plugin"))
             for (p in plugins) {
@@ -641,7 +647,7 @@ internal class GradleMirror(
         val f = File(root, ".github/workflows/gradle.yml")
         if (!f.isFile) return problem(".github/workflows/gradle.yml is missing: nothing runs the Gradle build")
         val text = f.readText()
-        for (needed in listOf("actions/setup-java", "java-version: ${rootProperties["maven.compiler.release"]}", "gradle/actions/setup-gradle", "assembleDebug", "assembleRelease", "testDebugUnitTest", ":fusion-core:test", ":fusion-cli:test")) {
+        for (needed in listOf("actions/setup-java", "java-version: ${rootProperties["maven.compiler.release"]}", "gradle/actions/setup-gradle", "assembleDebug", "assembleRelease", "testDebugUnitTest") + jvmModules.map { ":$it:test" }) {
             if (!text.contains(needed)) problem(".github/workflows/gradle.yml does not have $needed")
         }
     }

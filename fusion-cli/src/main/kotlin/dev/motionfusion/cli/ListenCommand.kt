@@ -1,0 +1,196 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.SessionWriter
+import dev.motionfusion.core.stream.StreamCodec
+import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.stream.StreamClient
+import java.io.PrintStream
+import java.net.URI
+import java.nio.file.Files
+import java.nio.file.Path
+import java.time.Instant
+import java.util.Locale
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+
+/**
+ * `fusion listen ws://HOST:PORT --code CODE`: receives a phone's live stream (docs/STREAMING.md) and
+ * prints the orientation, writes a session folder (`-o DIR`, the app's format: `fusion replay` reads
+ * it) or writes the orientation as CSV to standard output (`--csv`). [wallClockMs] is the laptop's
+ * clock in ms since the epoch (latency through the phone's clock anchor).
+ */
+internal class ListenCommand(
+    private val err: PrintStream,
+    private val wallClockMs: () -> Double = { Instant.now().let { it.epochSecond * 1e3 + it.nano / 1e6 } },
+) : Command {
+    override val name = "listen"
+    override val summary = "receive a phone's live stream: print the orientation, write a session (-o DIR) or CSV"
+    override val help = """
+        |Usage: fusion listen ws://HOST:PORT --code CODE [-o DIR | --csv] [--streams NAME,...] [--rate HZ] [--duration S]
+        |
+        |Connects to the app's stream (Stream switch on the phone; over USB: adb forward tcp:PORT tcp:PORT and
+        |ws://127.0.0.1:PORT) with the pairing code the phone shows, and until the phone stops streaming, --duration S
+        |seconds of sample time have passed, or Ctrl-C:
+        |  (default)   prints the orientation ten times per second of sample time: azimuth, pitch, roll in degrees
+        |  -o DIR      writes a session folder in the recording format (docs/SESSION_FORMAT.md), so that
+        |              'fusion replay DIR' reads it; DIR must not exist or be empty
+        |  --csv       writes every orientation to standard output: t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg
+        |              (sensor -> ENU; t_s the sensor timestamp in s)
+        |--streams     the streams to receive (default all the phone offers): accelerometer, gyroscope, magnetometer,
+        |              gyroscope_uncalibrated, magnetometer_uncalibrated, accelerometer_uncalibrated, rotation_vector,
+        |              game_rotation_vector, orientation, filter_diagnostics
+        |--rate HZ     at most HZ messages per stream per second
+        |At the end a summary goes to standard error: messages per stream, the rate, what the phone dropped because this
+        |client did not keep up, and the latency (the phone's sensor clock put on the wall clock through its clock anchor,
+        |against this computer's clock: it includes the difference between the two clocks).
+        |""".trimMargin()
+
+    override fun run(args: List<String>, out: PrintStream): Int {
+        val o = Options(args, setOf("--code", "-o", "--streams", "--rate", "--duration"), setOf("--csv"))
+        val url = o.positional.singleOrNull() ?: throw UsageException(
+            if (o.positional.isEmpty()) "listen needs the phone's address, ws://HOST:PORT" else "listen takes one address, got ${o.positional.size}",
+        )
+        val uri = runCatching { URI(url) }.getOrNull()?.takeIf { it.scheme == "ws" && it.host != null && it.port in 1..65535 }
+            ?: throw UsageException("'$url' is not an address ws://HOST:PORT")
+        val code = o.value("--code") ?: throw UsageException("listen needs --code, the pairing code the phone shows")
+        val dir = o.value("-o")?.let { InputOptions.path(it) }
+        if (dir != null && o.has("--csv")) throw UsageException("-o and --csv exclude each other")
+        if (dir != null && Files.exists(dir) && (!Files.isDirectory(dir) || Files.list(dir).use { it.findAny().isPresent })) {
+            throw UsageException("'${o.value("-o")}' exists and is not an empty folder")
+        }
+        val streams = o.value("--streams")?.split(',')?.map { name ->
+            SessionStream.ofKey(name.trim())?.takeIf { it in StreamCodec.STREAMABLE } ?: throw UsageException("--streams: unknown stream '$name'")
+        }
+        val rate = o.double("--rate")?.also { if (it <= 0.0) throw UsageException("--rate must be positive") }
+        val durationNs = o.double("--duration")?.let { if (it <= 0.0) throw UsageException("--duration must be positive"); (it * 1e9).toLong() }
+
+        val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
+        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::take)
+        val hello = client.connect()
+        receiver.begin(hello)
+        val hook = Thread { receiver.finish("interrupted") }
+        Runtime.getRuntime().addShutdownHook(hook)
+        try {
+            while (!receiver.done.await(200, TimeUnit.MILLISECONDS)) {
+                if (client.awaitClose(0)) break
+            }
+        } finally {
+            client.close()
+            receiver.finish(if (receiver.done.count == 0L) "duration reached" else client.endReason ?: "closed")
+            runCatching { Runtime.getRuntime().removeShutdownHook(hook) }
+        }
+        err.print(receiver.summary())
+        return ExitCode.OK
+    }
+
+    /** Everything after the hello, on the connection's reading thread. */
+    private inner class Receiver(
+        private val out: PrintStream,
+        private val dir: Path?,
+        private val csv: Boolean,
+        private val durationNs: Long?,
+        private val source: String,
+    ) {
+        val done = CountDownLatch(1)
+        private var writer: SessionWriter? = null
+        private var hello: StreamMessage.Hello? = null
+        private val counts = LongArray(SessionStream.entries.size)
+        private var firstT = Long.MIN_VALUE
+        private var lastT = Long.MIN_VALUE
+        private var lastPrintT = Long.MIN_VALUE
+        private var dropped = 0L
+        private val latencies = DoubleArray(MAX_LATENCIES)
+        private var latencyCount = 0
+        private var finished = false
+        private val angles = DoubleArray(6)
+        private val q = DoubleArray(4)
+
+        @Synchronized
+        fun begin(h: StreamMessage.Hello) {
+            hello = h
+            if (dir != null) {
+                writer = SessionWriter.create(dir, h.metadata.copy(source = "fusion listen $source", complete = false, streams = emptyMap()))
+            }
+            if (csv) out.println("t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg")
+        }
+
+        @Synchronized
+        fun take(m: StreamMessage) {
+            if (finished) return
+            val t = when (m) {
+                is StreamMessage.Sample -> m.timestampNs
+                is StreamMessage.Orientation -> m.timestampNs
+                is StreamMessage.Status -> { dropped = m.dropped; return }
+                else -> return
+            }
+            if (firstT == Long.MIN_VALUE) firstT = t
+            if (durationNs != null && t - firstT >= durationNs) {
+                done.countDown()
+                return
+            }
+            lastT = maxOf(lastT, t)
+            when (m) {
+                is StreamMessage.Sample -> {
+                    counts[m.stream.ordinal]++
+                    writer?.write(m.stream, m.timestampNs, m.values, 0, m.values.size, if (m.stream.hasAccuracy) m.accuracy else -1)
+                }
+                is StreamMessage.Orientation -> {
+                    counts[SessionStream.ORIENTATION.ordinal]++
+                    hello?.metadata?.startAnchor?.let { a ->
+                        if (latencyCount < MAX_LATENCIES) latencies[latencyCount++] = wallClockMs() - a.toWallClockMs(t)
+                    }
+                    writer?.orientation(t, m.qw, m.qx, m.qy, m.qz)
+                    if (writer == null) show(m)
+                }
+                else -> Unit
+            }
+        }
+
+        private fun show(m: StreamMessage.Orientation) {
+            q[0] = m.qw; q[1] = m.qx; q[2] = m.qy; q[3] = m.qz
+            dev.motionfusion.core.Orientations.androidAndAerospaceAngles(q, angles, 0)
+            val az = Math.toDegrees(angles[0]); val pitch = Math.toDegrees(angles[1]); val roll = Math.toDegrees(angles[2])
+            if (csv) {
+                out.println("${m.timestampNs / 1e9},${m.qw},${m.qx},${m.qy},${m.qz},$az,$pitch,$roll")
+            } else if (lastPrintT == Long.MIN_VALUE || m.timestampNs - lastPrintT >= 100_000_000L) {
+                lastPrintT = m.timestampNs
+                out.println(String.format(Locale.ROOT, "t %10.3f s  azimuth %7.2f°  pitch %7.2f°  roll %7.2f°", m.timestampNs / 1e9, az, pitch, roll))
+            }
+        }
+
+        @Synchronized
+        fun finish(reason: String) {
+            if (finished) return
+            finished = true
+            writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
+            out.flush()
+        }
+
+        @Synchronized
+        fun summary(): String = buildString {
+            val seconds = if (firstT == Long.MIN_VALUE) 0.0 else (lastT - firstT) / 1e9
+            appendLine(String.format(Locale.ROOT, "%.1f s of sample time from %s", seconds, source))
+            for (s in SessionStream.entries) {
+                val n = counts[s.ordinal]
+                if (n > 0) appendLine(String.format(Locale.ROOT, "  %-28s %9d messages  %8.1f Hz", s.key, n, if (seconds > 0) n / seconds else 0.0))
+            }
+            appendLine("  dropped by the phone (this client did not keep up): $dropped")
+            if (latencyCount > 0) {
+                val sorted = latencies.copyOf(latencyCount).also { it.sort() }
+                appendLine(
+                    String.format(
+                        Locale.ROOT, "  latency of the orientation: median %.1f ms, p99 %.1f ms (phone clock anchor against this clock)",
+                        sorted[latencyCount / 2], sorted[minOf(latencyCount - 1, (latencyCount * 0.99).toInt())],
+                    ),
+                )
+            }
+            writer?.let { appendLine("  session written to ${it.directory}") }
+        }
+    }
+
+    private companion object {
+        const val MAX_LATENCIES = 1_000_000
+    }
+}

@@ -1,0 +1,74 @@
+/*
+ * The live stream's messages (docs/STREAMING.md): what the phone sends to a laptop while it
+ * captures, and what a laptop asks for. One JSON object per WebSocket text frame; the values are
+ * those of the session format (docs/SESSION_FORMAT.md): the same stream names, columns, units and
+ * frames, SensorEvent.timestamp in ns, the orientation sensor → ENU [w, x, y, z].
+ */
+package dev.motionfusion.core.stream
+
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.SessionMetadata
+
+/** A message of the streaming schema, version [StreamCodec.SCHEMA_VERSION]. */
+public sealed class StreamMessage {
+    /**
+     * Client → phone, the first message of a connection: the pairing [code] shown on the phone,
+     * the [streams] wanted (null: every stream the phone offers) and the highest rate per stream
+     * in Hz ([rateHz], null: every sample).
+     */
+    public data class Pair(
+        val code: String,
+        val streams: List<SessionStream>? = null,
+        val rateHz: Double? = null,
+        val schema: Int = StreamCodec.SCHEMA_VERSION,
+    ) : StreamMessage()
+
+    /**
+     * Phone → client, once the pairing code was right: the session metadata as meta.json holds it
+     * ([metadata]: device, sensors, the clock anchor read when capture started, the live filter's
+     * settings), the [streams] this client gets and its [rateHz] (null: every sample).
+     */
+    public data class Hello(
+        val source: String,
+        val metadata: SessionMetadata,
+        val streams: List<SessionStream>,
+        val rateHz: Double?,
+        val schema: Int = StreamCodec.SCHEMA_VERSION,
+    ) : StreamMessage()
+
+    /**
+     * One sensor sample: [values] as SensorEvent.values (the session format's columns, without the
+     * accuracy), [accuracy] the SensorEvent accuracy (−1…3; [NO_ACCURACY] for streams without one).
+     */
+    public class Sample(
+        public val stream: SessionStream,
+        public val timestampNs: Long,
+        public val values: FloatArray,
+        public val accuracy: Int,
+    ) : StreamMessage() {
+        override fun equals(other: Any?): Boolean = other is Sample && stream == other.stream &&
+            timestampNs == other.timestampNs && values.contentEquals(other.values) && accuracy == other.accuracy
+
+        override fun hashCode(): Int = ((stream.hashCode() * 31 + timestampNs.hashCode()) * 31 + values.contentHashCode()) * 31 + accuracy
+
+        override fun toString(): String = "Sample($stream, $timestampNs, ${values.contentToString()}, $accuracy)"
+
+        public companion object {
+            /** The accuracy of a sample whose stream has none. */
+            public const val NO_ACCURACY: Int = Int.MIN_VALUE
+        }
+    }
+
+    /** The fused orientation at [timestampNs]: sensor → ENU, Hamilton, [w, x, y, z] (the screen's and the recording's filter). */
+    public data class Orientation(val timestampNs: Long, val qw: Double, val qx: Double, val qy: Double, val qz: Double) : StreamMessage()
+
+    /**
+     * Phone → client about once a second of sample time: messages [sent] to this client so far,
+     * [dropped] because it did not keep up (its queue was full) or because the phone's own hand-off
+     * queue overflowed, and the rate it got over the last second, messages per second.
+     */
+    public data class Status(val timestampNs: Long, val sent: Long, val dropped: Long, val rateHz: Double) : StreamMessage()
+
+    /** Phone → client before it closes the connection: why ("pairing code wrong", "unknown stream …"). */
+    public data class Error(val reason: String) : StreamMessage()
+}

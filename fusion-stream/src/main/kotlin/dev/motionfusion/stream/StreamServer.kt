@@ -1,0 +1,291 @@
+package dev.motionfusion.stream
+
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.stream.StreamCodec
+import dev.motionfusion.core.stream.StreamMessage
+import org.java_websocket.WebSocket
+import org.java_websocket.WebSocketImpl
+import org.java_websocket.handshake.ClientHandshake
+import org.java_websocket.server.WebSocketServer
+import java.io.IOException
+import java.net.Inet6Address
+import java.net.InetAddress
+import java.net.InetSocketAddress
+import java.security.MessageDigest
+import java.util.concurrent.ArrayBlockingQueue
+import java.util.concurrent.CopyOnWriteArrayList
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
+import java.util.concurrent.atomic.AtomicLong
+
+/**
+ * What a phone offers to the clients it streams to: the session [metadata] (device, sensors, the clock
+ * anchor read when capture started, the live filter's settings), the [streams] it captures, and the
+ * [source] name ("Motion Fusion 0.1.0").
+ */
+public data class StreamOffer(val source: String, val metadata: SessionMetadata, val streams: List<SessionStream>)
+
+/**
+ * Limits of a [StreamServer]: at most [maxClients] connections; each client's queue of frames not yet
+ * written to its socket holds at most [clientQueueFrames] (beyond that its messages are dropped and
+ * counted); the hand-off from the capture thread holds [handOffCapacity] messages; a status message
+ * every [statusIntervalNs] of sample time.
+ */
+public data class StreamServerSettings(
+    val maxClients: Int = 8,
+    val clientQueueFrames: Int = 2048,
+    val handOffCapacity: Int = 16384,
+    val statusIntervalNs: Long = 1_000_000_000L,
+) {
+    init {
+        require(maxClients in 1..64) { "maxClients must be 1 to 64" }
+        require(clientQueueFrames in 16..1_000_000) { "clientQueueFrames must be 16 to 1,000,000" }
+        require(handOffCapacity in 16..1_000_000) { "handOffCapacity must be 16 to 1,000,000" }
+        require(statusIntervalNs > 0) { "statusIntervalNs must be positive" }
+    }
+}
+
+/** One connected client as the phone's screen shows it. */
+public data class StreamClientInfo(
+    val address: String,
+    val paired: Boolean,
+    val streams: List<SessionStream>,
+    val rateHz: Double?,
+    val sent: Long,
+    val dropped: Long,
+    /** Messages per second this client got over the last status interval. */
+    val achievedRateHz: Double,
+)
+
+/**
+ * The phone side of the live stream (docs/STREAMING.md): a WebSocket server (Java-WebSocket) that sends
+ * each paired client the samples and orientations handed to [publishSample] and [publishOrientation].
+ *
+ * Capture never waits for the network: the publish methods only offer a message to a bounded hand-off
+ * queue and return (a full queue drops the message and counts it); one sender thread encodes each
+ * message once and gives it to every client that asked for it, unless that client's unsent frames
+ * already fill its queue (then it is dropped for that client alone, counted, and reported to it in the
+ * next status message). A client must send the pairing code first; one from outside the local network
+ * (not loopback, link-local, site-local or unique-local), a wrong code or a malformed first message is
+ * refused and closed.
+ */
+public class StreamServer(
+    address: InetSocketAddress,
+    pairingCode: String,
+    private val offer: () -> StreamOffer,
+    private val settings: StreamServerSettings = StreamServerSettings(),
+) {
+    private val code = pairingCode.toByteArray(Charsets.UTF_8)
+    private val clients = CopyOnWriteArrayList<Client>()
+    private val handOff = ArrayBlockingQueue<StreamMessage>(settings.handOffCapacity)
+    private val handOffDropped = AtomicLong()
+    private val started = CountDownLatch(1)
+
+    @Volatile private var startError: Exception? = null
+
+    @Volatile private var running = false
+    private val sender = Thread(::sendLoop, "stream-sender").apply { isDaemon = true }
+
+    private val server = object : WebSocketServer(address) {
+        override fun onStart() = started.countDown()
+
+        override fun onOpen(conn: WebSocket, handshake: ClientHandshake) {
+            val remote = conn.remoteSocketAddress?.address
+            when {
+                remote == null || !isLocalNetwork(remote) -> conn.close(CLOSE_NOT_LOCAL, "only the local network and USB")
+                clients.size >= settings.maxClients -> conn.close(CLOSE_TOO_MANY, "too many clients (${settings.maxClients})")
+                else -> Client(conn as WebSocketImpl, remote.hostAddress).also { conn.setAttachment(it); clients.add(it) }
+            }
+        }
+
+        override fun onClose(conn: WebSocket, code: Int, reason: String?, remote: Boolean) {
+            conn.getAttachment<Client>()?.let { clients.remove(it) }
+        }
+
+        override fun onMessage(conn: WebSocket, message: String) {
+            val client = conn.getAttachment<Client>() ?: return
+            if (client.paired) return // later requests are not part of schema 1
+            pair(client, message)
+        }
+
+        override fun onError(conn: WebSocket?, ex: Exception) {
+            if (conn == null) {
+                startError = ex
+                started.countDown()
+            }
+        }
+    }.apply {
+        isReuseAddr = true
+        isTcpNoDelay = true
+        connectionLostTimeout = 10
+    }
+
+    /** The port the server listens on (the one chosen by the system when it was given 0), once [start] returned. */
+    public val port: Int get() = server.port
+
+    /** Messages the capture thread handed over that the sender could not take in time (all clients missed them). */
+    public val handOffDroppedCount: Long get() = handOffDropped.get()
+
+    /** Starts listening; returns once the server accepts connections. @throws IOException when it cannot (port taken). */
+    public fun start() {
+        check(!running) { "already started" }
+        running = true
+        server.start()
+        if (!started.await(10, TimeUnit.SECONDS)) throw IOException("the stream server did not start within 10 s")
+        startError?.let { running = false; throw IOException("cannot listen on port ${server.address.port}: ${it.message}", it) }
+        sender.start()
+    }
+
+    /** Closes every connection and stops; waits at most [timeoutMs] for the connections to close. */
+    public fun stop(timeoutMs: Int = 1000) {
+        running = false
+        sender.interrupt()
+        server.stop(timeoutMs, "the phone stopped streaming")
+        sender.join(timeoutMs.toLong())
+        clients.clear()
+    }
+
+    /** Hands a sensor sample to the sender; never blocks. [values] is copied. */
+    public fun publishSample(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
+        if (clients.isEmpty()) return
+        offer(StreamMessage.Sample(stream, timestampNs, values.copyOf(stream.valueCount.coerceAtMost(values.size)), accuracy))
+    }
+
+    /** Hands the fused orientation (sensor → ENU, [w, x, y, z]) to the sender; never blocks. */
+    public fun publishOrientation(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double) {
+        if (clients.isEmpty()) return
+        offer(StreamMessage.Orientation(timestampNs, qw, qx, qy, qz))
+    }
+
+    /** The clients connected now. */
+    public fun clients(): List<StreamClientInfo> = clients.map { it.info() }
+
+    private fun offer(m: StreamMessage) {
+        if (!handOff.offer(m)) handOffDropped.incrementAndGet()
+    }
+
+    private fun pair(client: Client, text: String) {
+        val request = try {
+            StreamCodec.decode(text, "client ${client.address}")
+        } catch (e: DataFormatException) {
+            return refuse(client, e.message ?: "malformed request")
+        }
+        if (request !is StreamMessage.Pair) return refuse(client, "the first message must be of type \"pair\"")
+        if (!MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code)) return refuse(client, "pairing code wrong")
+        val offered = offer()
+        val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
+        request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
+        client.subscribe(streams, request.rateHz)
+        client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
+        client.paired = true
+    }
+
+    private fun refuse(client: Client, reason: String) {
+        client.conn.send(StreamCodec.encode(StreamMessage.Error(reason)))
+        client.conn.close(CLOSE_REFUSED, reason.take(100))
+    }
+
+    private fun sendLoop() {
+        val sb = StringBuilder(256)
+        while (running) {
+            val m = try {
+                handOff.take()
+            } catch (_: InterruptedException) {
+                return
+            }
+            val stream = when (m) {
+                is StreamMessage.Sample -> m.stream
+                is StreamMessage.Orientation -> SessionStream.ORIENTATION
+                else -> continue
+            }
+            val t = when (m) {
+                is StreamMessage.Sample -> m.timestampNs
+                is StreamMessage.Orientation -> m.timestampNs
+                else -> continue
+            }
+            var text: String? = null
+            for (c in clients) {
+                if (!c.paired || !c.due(stream, t)) continue
+                if (text == null) {
+                    sb.setLength(0)
+                    StreamCodec.encodeTo(sb, m)
+                    text = sb.toString()
+                }
+                c.send(text, t)
+            }
+        }
+    }
+
+    private inner class Client(val conn: WebSocketImpl, val address: String) {
+        @Volatile var paired = false
+        @Volatile private var streams: List<SessionStream> = emptyList()
+        @Volatile private var rateHz: Double? = null
+        private val wanted = BooleanArray(SessionStream.entries.size)
+        private val nextDue = LongArray(SessionStream.entries.size) { Long.MIN_VALUE }
+        private var periodNs = 0L
+
+        @Volatile var sent = 0L
+        @Volatile var dropped = 0L
+        private var lastStatusT = Long.MIN_VALUE
+        private var sentAtStatus = 0L
+        private var droppedHandOffAtPairing = 0L
+
+        @Volatile var achievedRateHz = 0.0
+
+        fun subscribe(s: List<SessionStream>, rate: Double?) {
+            streams = s
+            rateHz = rate
+            for (x in s) wanted[x.ordinal] = true
+            periodNs = rate?.let { (1e9 / it).toLong() } ?: 0L
+            droppedHandOffAtPairing = handOffDropped.get()
+        }
+
+        /** Whether this client asked for [stream] and, under its rate, the sample at [t] is due. */
+        fun due(stream: SessionStream, t: Long): Boolean {
+            val i = stream.ordinal
+            if (!wanted[i]) return false
+            if (periodNs == 0L) return true
+            val next = nextDue[i]
+            if (next != Long.MIN_VALUE && t < next) return false
+            // Keep the average rate; after a gap, start again from this sample.
+            nextDue[i] = if (next == Long.MIN_VALUE || t - next > periodNs) t + periodNs else next + periodNs
+            return true
+        }
+
+        fun send(text: String, t: Long) {
+            if (!conn.isOpen) return
+            if (conn.outQueue.size >= settings.clientQueueFrames) {
+                dropped++
+            } else {
+                conn.send(text)
+                sent++
+            }
+            if (lastStatusT == Long.MIN_VALUE) lastStatusT = t
+            if (t - lastStatusT >= settings.statusIntervalNs) {
+                achievedRateHz = (sent - sentAtStatus) * 1e9 / (t - lastStatusT)
+                sentAtStatus = sent
+                lastStatusT = t
+                val lost = dropped + (handOffDropped.get() - droppedHandOffAtPairing)
+                // A client that does not keep up gets its status once its queue has room again, with the drops so far.
+                if (conn.outQueue.size < settings.clientQueueFrames) conn.send(StreamCodec.encode(StreamMessage.Status(t, sent, lost, achievedRateHz)))
+            }
+        }
+
+        fun info() = StreamClientInfo(address, paired, streams, rateHz, sent, dropped, achievedRateHz)
+    }
+
+    public companion object {
+        /** Close codes (4000–4999 are the application's): refused request, not from the local network, too many clients. */
+        public const val CLOSE_REFUSED: Int = 4001
+        public const val CLOSE_NOT_LOCAL: Int = 4003
+        public const val CLOSE_TOO_MANY: Int = 4008
+
+        /** Loopback, link-local, site-local (10/8, 172.16/12, 192.168/16) or IPv6 unique-local (fc00::/7). */
+        @JvmStatic
+        public fun isLocalNetwork(a: InetAddress): Boolean =
+            a.isLoopbackAddress || a.isLinkLocalAddress || a.isSiteLocalAddress ||
+                (a is Inet6Address && (a.address[0].toInt() and 0xfe) == 0xfc)
+    }
+}
