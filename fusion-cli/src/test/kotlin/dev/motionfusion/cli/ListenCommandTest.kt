@@ -68,7 +68,7 @@ class ListenCommandTest {
         val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
         while (s.clients().none { it.paired }) {
             check(System.nanoTime() < deadline) { "fusion listen did not pair" }
-            Thread.onSpinWait()
+            java.util.concurrent.locks.LockSupport.parkNanos(100_000)
         }
     }
 
