@@ -180,22 +180,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val wz = z - bias.z
 
         // Which readings enter.
-        var useAcc = accOk
-        if (useAcc && accRejection != null) {
-            val n = sqrt(ax * ax + ay * ay + az * az)
-            useAcc = accRejection.accept(dt, n, (ax * ux + ay * uy + az * uz) / n)
-            if (!useAcc) accRejections++
-        }
-        var useMag = magOk
-        if (useMag && magDetector != null) {
-            val n2 = mx * mx + my * my + mz * mz
-            val inv = invSqrt(n2)
-            val sinDip = -(mx * ux + my * uy + mz * uz) * inv
-            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
-            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw, wx * wx + wy * wy + wz * wz)
-            if (!useMag) magRejections++
-            if (magDetector.newReference && !magResume) heading.newReference()
-        }
+        val useAcc = accOk && accelerometerEnters(dt, ux, uy, uz)
+        val useMag = magOk && magnetometerEnters(dt, accOk, ux, uy, uz, wx * wx + wy * wy + wz * wz)
         if (recovery.stillError(dt, wx, wy, wz, accOk, ax, ay, az, ux, uy, uz)) {
             stillRecoveries++
             lowPass.restart()
@@ -222,6 +208,33 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             heading.observe(sinDelta)
             if (bias.inMotion) bias.motion(dt * f, sinDelta, upX(), upY(), upZ())
         }
+    }
+
+    /** Accelerometer rejection (when on): whether the held reading enters this step; ([ux], [uy], [uz]) the estimated up. */
+    private fun accelerometerEnters(dt: Double, ux: Double, uy: Double, uz: Double): Boolean {
+        if (accRejection == null) return true
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        val use = accRejection.accept(dt, n, (ax * ux + ay * uy + az * uz) / n)
+        if (!use) accRejections++
+        return use
+    }
+
+    /**
+     * Magnetic disturbance rejection (when on): whether the held reading enters this step, its dip measured
+     * against the estimated up ([ux], [uy], [uz]), or the accelerometer's when [accOk] and a new reference
+     * is taken; [rate2] the squared bias-corrected rate. A new reference starts the heading's fast convergence
+     * again (without the resume ramp).
+     */
+    private fun magnetometerEnters(dt: Double, accOk: Boolean, ux: Double, uy: Double, uz: Double, rate2: Double): Boolean {
+        val detector = magDetector ?: return true
+        val n2 = mx * mx + my * my + mz * mz
+        val inv = invSqrt(n2)
+        val sinDip = -(mx * ux + my * uy + mz * uz) * inv
+        val sinDipRaw = if (accOk && detector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
+        val use = detector.accept(dt, n2 * inv, sinDip, sinDipRaw, rate2)
+        if (!use) magRejections++
+        if (detector.newReference && !magResume) heading.newReference()
+        return use
     }
 
     /**
