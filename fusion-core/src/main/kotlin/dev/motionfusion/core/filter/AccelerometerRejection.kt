@@ -41,6 +41,12 @@ internal class AccelerometerRejection(settings: FilterSettings) {
         return !rejected
     }
 
+    fun reset() {
+        rejectedTime = 0.0
+        recovering = false
+        rejected = false
+    }
+
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = rejectedTime
         d[at + 1] = if (recovering) 1.0 else 0.0
@@ -57,6 +63,5 @@ internal class AccelerometerRejection(settings: FilterSettings) {
 
     companion object {
         const val STATE_SIZE = 3
-
     }
 }

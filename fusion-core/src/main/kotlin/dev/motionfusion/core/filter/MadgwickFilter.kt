@@ -18,16 +18,26 @@
  *
  * Steps. With a usable magnetometer: the MARG update; with only an accelerometer: the IMU update;
  * with neither: gyroscope integration. The report's equations hold exactly with
- * FilterSettings.report(). The additions decide which readings enter (magnetic disturbance,
- * accelerometer rejection, the accelerometer low-passed in a quasi-inertial frame), what bias is removed
- * (rest and motion bias estimates) and the gain of a step (inclination recovery at the start and after
- * a saturated gyroscope reading); with headingGain > 0 the magnetometer corrects heading in a step of its
- * own after the IMU step, instead of entering the report's MARG gradient.
+ * FilterSettings.report().
+ *
+ * Composition. Each mechanism beyond the report is a unit of its own (internal class, its settings
+ * taken from FilterSettings, its own state, reset(), and its part of the snapshot, in this order):
+ *   GyroBiasEstimate      the bias ω_b: rest detection (RestDetector) and the rest and motion estimates
+ *   MagneticDisturbanceDetector   whether the magnetometer enters, and the heading gain's resume ramp
+ *   AccelerometerRejection        whether the accelerometer enters
+ *   AccelerometerLowPass  the accelerometer low-passed in a quasi-inertial frame, what the steps use
+ *   InclinationRecovery   the step gain β: armed at the start, by a saturated gyroscope reading and
+ *                         by a still error; trusts the accelerometer again, then acts until re-converged
+ *   HeadingCorrection     the heading step's gain (headingGain > 0) with its fast convergence
+ * The filter itself holds q̂, the flux reference b, the held readings and the counters. One gyroscope
+ * step (updateGyroscope) reads as: saturation → bias (rest) → which readings enter → still error →
+ * low-pass → gain → gradient step (MARG, IMU or gyroscope only) → heading step → bias (motion).
+ * snapshot()/restore() hold all of it (the filter's own doubles, then each unit's), so a run stopped
+ * and resumed continues bit for bit (StopResumeTest).
  */
 package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
-import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.WorldFrame
 import kotlin.math.abs
@@ -48,58 +58,19 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val beta = settings.beta
     private val zeta = settings.zeta
     private val maxGapNs = (settings.maxGap * 1e9).toLong()
-    private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
-    private val restBiasTime = settings.restBiasTime
-    private val restMinTime = settings.restMinTime
+    private val gyroSaturation = settings.gyroSaturation
+
+    // The mechanisms beyond the report, each with its own settings and state (see the file header).
+    private val bias = GyroBiasEstimate(settings)
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val magResume = magDetector != null && settings.magResumeTime > 0.0
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
-    private val headingGain = settings.headingGain
-    private val motionBiasGain = settings.motionBiasGain
-    private val biasLimit = settings.motionBiasLimit
-
-    private val headingRecoveryTime = settings.headingRecoveryTime
-    private val motionBiasRestTime = settings.motionBiasRestTime
-    private val recoveryBeta = settings.inclinationRecoveryBeta
-    private val accTrustTime = settings.accTrustTime
-    private val accNormTolerance = settings.accNormTolerance
-    private val accLowPassTime = settings.accLowPassTime
-    private val gyroSaturation = settings.gyroSaturation
-    private val cosRecoveryAngle = if (settings.recoveryAngle > 0.0 && recoveryBeta > 0.0) kotlin.math.cos(settings.recoveryAngle) else 2.0
-    private val recoveryGyro2 = settings.recoveryGyroThreshold * settings.recoveryGyroThreshold
-    private val recoveryStillTime = settings.recoveryStillTime
-    private val stillAccThreshold = settings.restAccThreshold
-
-    // How long the phone has been near-still with a trustworthy accelerometer, s (recovery after any large error).
-    private var stillTime = 0.0
-
-    // Set at the start and by a saturated gyroscope reading, cleared once inclination has re-converged.
-    private var inclinationOff = false
-
-    // The accelerometer low-passed in a frame that turns with the gyroscope only (sensor-frame
-    // coordinates, m/s²), the reading the correction steps use when accLowPassTime > 0.
-    private var lpx = 0.0
-    private var lpy = 0.0
-    private var lpz = 0.0
-    private var lpFresh = true
-
-    // Time since the low-pass started, s: until it reaches accLowPassTime the value is the mean since then.
-    private var lpTime = 0.0
+    private val lowPass = AccelerometerLowPass(settings)
+    private val recovery = InclinationRecovery(settings)
+    private val heading = HeadingCorrection(settings)
 
     // β of the current step (β, or inclinationRecoveryBeta while inclination re-converges).
     private var stepBeta = beta
-
-    // How long the accelerometer magnitude has stayed near gravity, s (inclination recovery).
-    private var accTrusted = 0.0
-
-    // Time since the rest estimate last acted, s (infinite before it has).
-    private var sinceRest = Double.POSITIVE_INFINITY
-
-    // Time since the start or the last new magnetic reference, s (fast heading convergence).
-    private var headingClock = 0.0
-
-    // Whether the fast convergence acts: from a heading error above 2° until it is below 0.5°.
-    private var headingOff = true
     private val scratch = DoubleArray(4)
 
     // c, the change from the report's NWU to the output frame: q_out = c ⊗ q̂.
@@ -114,11 +85,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     // Reference direction of flux in the earth frame, b = [0, bx, 0, bz] (eq. 46); the report starts at [0, 1, 0, 0].
     private var bx = 1.0
     private var bz = 0.0
-
-    // Gyroscope bias ω_b (rad/s, device frame).
-    private var wbx = 0.0
-    private var wby = 0.0
-    private var wbz = 0.0
 
     // Held accelerometer and magnetometer samples.
     private var ax = 0.0
@@ -202,62 +168,73 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         steps++
         if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
         if (gyroSaturation != 0.0 && (abs(x) >= gyroSaturation || abs(y) >= gyroSaturation || abs(z) >= gyroSaturation)) saturated()
+        // The estimated up in the sensor frame before the step, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
+        val ux = upX()
+        val uy = upY()
+        val uz = upZ()
 
-        if (rest != null && rest.update(dt, x, y, z, accOk, ax, ay, az)) {
-            // Mean of the readings since rest began, then a moving average over restBiasTime.
-            val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
-            wbx += k * (x - wbx); wby += k * (y - wby); wbz += k * (z - wbz)
-            sinceRest = 0.0
-        } else if (motionBiasGain != 0.0) {
-            sinceRest += dt
-        }
+        // Bias: the rest estimate (the motion estimate follows the heading step).
+        bias.update(dt, x, y, z, accOk, ax, ay, az)
+        val wx = x - bias.x
+        val wy = y - bias.y
+        val wz = z - bias.z
 
-        var useAcc = accOk
-        if (useAcc && accRejection != null) {
-            val n = sqrt(ax * ax + ay * ay + az * az)
-            useAcc = accRejection.accept(dt, n, (ax * upX() + ay * upY() + az * upZ()) / n)
-            if (!useAcc) accRejections++
-        }
-        var useMag = magOk
-        if (useMag && magDetector != null) {
-            val n2 = mx * mx + my * my + mz * mz
-            val inv = invSqrt(n2)
-            val sinDip = -(mx * upX() + my * upY() + mz * upZ()) * inv
-            val sinDipRaw = if (accOk && magDetector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
-            val rx = x - wbx
-            val ry = y - wby
-            val rz = z - wbz
-            useMag = magDetector.accept(dt, n2 * inv, sinDip, sinDipRaw, rx * rx + ry * ry + rz * rz)
-            if (!useMag) magRejections++
-            if (magDetector.newReference && !magResume) headingClock = 0.0
+        // Which readings enter.
+        val useAcc = accOk && accelerometerEnters(dt, ux, uy, uz)
+        val useMag = magOk && magnetometerEnters(dt, accOk, ux, uy, uz, wx * wx + wy * wy + wz * wz)
+        if (recovery.stillError(dt, wx, wy, wz, accOk, ax, ay, az, ux, uy, uz)) {
+            stillRecoveries++
+            lowPass.restart()
         }
         var cx = ax
         var cy = ay
         var cz = az
-        if (cosRecoveryAngle <= 1.0 && !inclinationOff) checkStillError(dt, x - wbx, y - wby, z - wbz, accOk)
-        if (accLowPassTime != 0.0) {
-            lowPassAcc(dt, x - wbx, y - wby, z - wbz, accOk)
-            cx = lpx; cy = lpy; cz = lpz
+        if (lowPass.enabled) {
+            lowPass.update(dt, wx, wy, wz, accOk, ax, ay, az)
+            cx = lowPass.x; cy = lowPass.y; cz = lowPass.z
         }
-        if (recoveryBeta != 0.0) stepBeta = if (inclinationOff) recoveringBeta(dt, useAcc, cx, cy, cz) else beta
+
+        // Gain, then the gradient step (the heading step after it).
+        stepBeta = recovery.beta(dt, useAcc, ax, ay, az, cx, cy, cz, ux, uy, uz)
         when {
-            useMag && headingGain == 0.0 -> margStep(dt, x, y, z, useAcc, cx, cy, cz)
+            useMag && !heading.enabled -> margStep(dt, x, y, z, useAcc, cx, cy, cz)
             useAcc -> imuStep(dt, x, y, z, cx, cy, cz)
             else -> gyroStep(dt, x, y, z)
         }
-        if (useMag && headingGain != 0.0) {
-            // Fast convergence (headingRecoveryTime): for that long after the start and after a new
-            // magnetic reference, while the heading is off, the gain is at least 1/t, t the time since
-            // then (the mean of the errors).
-            headingClock += dt
-            var k = if (headingClock < headingRecoveryTime && headingOff) maxOf(headingGain, 1.0 / headingClock) else headingGain
+        if (useMag && heading.enabled) {
             // After a disturbance the gain comes back as a ramp (magResumeTime), the bias estimate with it.
             val f = if (magResume) magDetector!!.gainFactor else 1.0
-            k *= f
-            val sinDelta = headingStep(dt * k)
-            headingOff = abs(sinDelta) > (if (headingOff) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
-            if (motionBiasGain != 0.0) motionBias(dt * f, sinDelta)
+            val sinDelta = headingStep(dt * heading.gain(dt, f))
+            heading.observe(sinDelta)
+            if (bias.inMotion) bias.motion(dt * f, sinDelta, upX(), upY(), upZ())
         }
+    }
+
+    /** Accelerometer rejection (when on): whether the held reading enters this step; ([ux], [uy], [uz]) the estimated up. */
+    private fun accelerometerEnters(dt: Double, ux: Double, uy: Double, uz: Double): Boolean {
+        if (accRejection == null) return true
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        val use = accRejection.accept(dt, n, (ax * ux + ay * uy + az * uz) / n)
+        if (!use) accRejections++
+        return use
+    }
+
+    /**
+     * Magnetic disturbance rejection (when on): whether the held reading enters this step, its dip measured
+     * against the estimated up ([ux], [uy], [uz]), or the accelerometer's when [accOk] and a new reference
+     * is taken; [rate2] the squared bias-corrected rate. A new reference starts the heading's fast convergence
+     * again (without the resume ramp).
+     */
+    private fun magnetometerEnters(dt: Double, accOk: Boolean, ux: Double, uy: Double, uz: Double, rate2: Double): Boolean {
+        val detector = magDetector ?: return true
+        val n2 = mx * mx + my * my + mz * mz
+        val inv = invSqrt(n2)
+        val sinDip = -(mx * ux + my * uy + mz * uz) * inv
+        val sinDipRaw = if (accOk && detector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
+        val use = detector.accept(dt, n2 * inv, sinDip, sinDipRaw, rate2)
+        if (!use) magRejections++
+        if (detector.newReference && !magResume) heading.newReference()
+        return use
     }
 
     /**
@@ -311,8 +288,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** A copy of the current flags, bias estimate and counters (allocates; not for every sample). */
     public fun diagnostics(): FilterDiagnostics = FilterDiagnostics(
         initialised = initialised,
-        gyroBias = Vector3(wbx, wby, wbz),
-        atRest = rest?.atRest ?: false,
+        gyroBias = Vector3(bias.x, bias.y, bias.z),
+        atRest = bias.atRest,
         magneticDisturbance = magDetector?.disturbed ?: false,
         accelerometerRejected = accRejection?.rejected ?: false,
         gyroscopeSteps = steps,
@@ -330,13 +307,16 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
-        val d = DoubleArray(DOUBLES + RestDetector.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE + AccelerometerRejection.STATE_SIZE)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, wbx, wby, wbz, ax, ay, az, mx, my, mz, headingClock, sinceRest, accTrusted, if (headingOff) 1.0 else 0.0, lpx, lpy, lpz, if (lpFresh) 1.0 else 0.0, if (inclinationOff) 1.0 else 0.0, lpTime, stillTime)
+        val d = DoubleArray(STATE_DOUBLES)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, ax, ay, az, mx, my, mz)
         own.copyInto(d)
         var at = DOUBLES
-        at = rest?.writeState(d, at) ?: (at + RestDetector.STATE_SIZE)
+        at = bias.writeState(d, at)
         at = magDetector?.writeState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
-        accRejection?.writeState(d, at)
+        at = accRejection?.writeState(d, at) ?: (at + AccelerometerRejection.STATE_SIZE)
+        at = lowPass.writeState(d, at)
+        at = recovery.writeState(d, at)
+        heading.writeState(d, at)
         val l = longArrayOf(
             accT, magT, lastT, firstAccT, flags(),
             steps, skippedBeforeInit, skippedNonFinite, skippedZero, skippedTimestamp, skippedGap, staleSamples, accRejections, magRejections, saturations, stillRecoveries, skippedOutOfRange,
@@ -352,14 +332,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         require(snapshot.settings == settings) { "snapshot taken under other settings" }
         val d = snapshot.doubles()
         q1 = d[0]; q2 = d[1]; q3 = d[2]; q4 = d[3]; bx = d[4]; bz = d[5]
-        wbx = d[6]; wby = d[7]; wbz = d[8]
-        ax = d[9]; ay = d[10]; az = d[11]; mx = d[12]; my = d[13]; mz = d[14]
-        headingClock = d[15]; sinceRest = d[16]; accTrusted = d[17]; headingOff = d[18] != 0.0
-        lpx = d[19]; lpy = d[20]; lpz = d[21]; lpFresh = d[22] != 0.0; inclinationOff = d[23] != 0.0; lpTime = d[24]; stillTime = d[25]
+        ax = d[6]; ay = d[7]; az = d[8]; mx = d[9]; my = d[10]; mz = d[11]
         var at = DOUBLES
-        at = rest?.readState(d, at) ?: (at + RestDetector.STATE_SIZE)
+        at = bias.readState(d, at)
         at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
-        accRejection?.readState(d, at)
+        at = accRejection?.readState(d, at) ?: (at + AccelerometerRejection.STATE_SIZE)
+        at = lowPass.readState(d, at)
+        at = recovery.readState(d, at)
+        heading.readState(d, at)
         val l = snapshot.longs()
         accT = l[0]; magT = l[1]; lastT = l[2]; firstAccT = l[3]
         val f = l[4]
@@ -369,6 +349,31 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         skippedOutOfRange = l[16]
     }
 
+    /** Back to the state of a new filter with the same settings (every unit's state and the counters included). */
+    internal fun reset() {
+        bias.reset()
+        magDetector?.reset()
+        accRejection?.reset()
+        lowPass.reset()
+        recovery.reset()
+        heading.reset()
+        stepBeta = beta
+        q1 = 1.0; q2 = 0.0; q3 = 0.0; q4 = 0.0
+        bx = 1.0; bz = 0.0
+        ax = 0.0; ay = 0.0; az = 0.0; accT = 0L; hasAcc = false
+        mx = 0.0; my = 0.0; mz = 0.0; magT = 0L; hasMag = false
+        initialised = false; lastT = 0L; firstAccT = 0L; waitingForMag = false
+        steps = 0L; skippedBeforeInit = 0L; skippedNonFinite = 0L; skippedOutOfRange = 0L; skippedZero = 0L
+        skippedTimestamp = 0L; skippedGap = 0L; staleSamples = 0L; accRejections = 0L; magRejections = 0L
+        saturations = 0L; stillRecoveries = 0L
+    }
+
+    /** Whether the inclination recovery acts (for tests that stop a run inside it). */
+    internal val inclinationRecovering: Boolean get() = recovery.active
+
+    /** The magnetic disturbance detector's resume ramp, 0…1 (1 without the detector). */
+    internal val magneticGainFactor: Double get() = magDetector?.gainFactor ?: 1.0
+
     /**
      * Turns the filter round in time, for a pass over the same samples backward (the offline estimate,
      * replay/Offline.kt): the gyroscope readings of such a pass are negated, so the bias estimate and the
@@ -377,8 +382,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * clock, of the last step taken: the held readings count as taken then.
      */
     internal fun turnAround(timestampNs: Long) {
-        wbx = -wbx; wby = -wby; wbz = -wbz
-        rest?.reverse()
+        bias.reverse()
         lastT = timestampNs
         accT = timestampNs
         magT = timestampNs
@@ -440,7 +444,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             }
         }
         initialised = true
-        inclinationOff = true
+        recovery.start()
         lastT = t
     }
 
@@ -530,125 +534,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      */
     private fun saturated() {
         saturations++
-        lpFresh = true
-        inclinationOff = true
-        accTrusted = 0.0
-        headingClock = 0.0
-        headingOff = true
-    }
-
-    /**
-     * Recovery after any large error (recoveryAngle > 0): while the phone is near-still (bias-corrected
-     * rate [wx], [wy], [wz] below recoveryGyroThreshold) and the accelerometer's magnitude is within
-     * restAccThreshold of standard gravity, the reading is gravity within a fraction of a degree. Once
-     * that has held for recoveryStillTime, an estimated up further than recoveryAngle from the reading
-     * means the estimate was put off (an impact, a shake, a fall: motions that need not reach the
-     * gyroscope's range): the low-passed accelerometer, which went through the same motion, starts
-     * again from the still readings and the inclination recovery acts at once. Costs a few
-     * multiplications and one square root per step; nothing while a recovery runs.
-     */
-    private fun checkStillError(dt: Double, wx: Double, wy: Double, wz: Double, accOk: Boolean) {
-        if (!accOk || wx * wx + wy * wy + wz * wz >= recoveryGyro2) {
-            stillTime = 0.0
-            return
-        }
-        val n = sqrt(ax * ax + ay * ay + az * az)
-        if (abs(n - STANDARD_GRAVITY) >= stillAccThreshold) {
-            stillTime = 0.0
-            return
-        }
-        stillTime += dt
-        if (stillTime >= recoveryStillTime && ax * upX() + ay * upY() + az * upZ() < cosRecoveryAngle * n) {
-            stillRecoveries++
-            inclinationOff = true
-            lpFresh = true
-            accTrusted = accTrustTime
-            stillTime = 0.0
-        }
-    }
-
-    /**
-     * Inclination recovery after violent motion (inclinationRecoveryBeta > 0, armed at the start and by a
-     * saturated gyroscope reading): the accelerometer is trusted again once its magnitude has stayed
-     * within accNormTolerance of standard gravity for accTrustTime; then the step gain is
-     * inclinationRecoveryBeta until the reading the step uses (c, low-passed with accLowPassTime) is
-     * within 1° of the estimated up, for at most 10 s (linear acceleration may keep it further); then β
-     * again and the recovery is over.
-     */
-    private fun recoveringBeta(dt: Double, withAcc: Boolean, cx: Double, cy: Double, cz: Double): Double {
-        if (!withAcc) {
-            accTrusted = 0.0
-            return beta
-        }
-        val n = sqrt(ax * ax + ay * ay + az * az)
-        if (abs(n - STANDARD_GRAVITY) > accNormTolerance) {
-            accTrusted = 0.0
-            return beta
-        }
-        accTrusted += dt
-        if (accTrusted < accTrustTime) return beta
-        if (accTrusted < accTrustTime + MAX_RECOVERY_TIME && cx * upX() + cy * upY() + cz * upZ() < COS_RECOVERY_DONE * sqrt(cx * cx + cy * cy + cz * cz)) return recoveryBeta
-        inclinationOff = false
-        return beta
-    }
-
-    /**
-     * Gyroscope bias estimation during motion (beyond the report; motionBiasGain > 0 with
-     * headingGain > 0): the heading error the heading step removes, as a rotation rate about the
-     * estimated up in the sensor frame, e = −sin δ·v̂, is integrated into the bias, as the integral
-     * term of a PI observer: ω_b −= k·e·Δt, each axis limited to ±motionBiasLimit. (The same with
-     * the accelerometer's error, â × v̂, was measured and hurts: linear acceleration leaks into it.)
-     */
-    private fun motionBias(dt: Double, sinDelta: Double) {
-        // After a rest estimate, the gain ramps up from 0 over motionBiasRestTime: the rest estimate
-        // is the better one until the bias may have drifted away from it.
-        val ramp = if (sinceRest < motionBiasRestTime) sinceRest / motionBiasRestTime else 1.0
-        val k = motionBiasGain * ramp * dt * sinDelta
-        wbx = (wbx + k * upX()).coerceIn(-biasLimit, biasLimit)
-        wby = (wby + k * upY()).coerceIn(-biasLimit, biasLimit)
-        wbz = (wbz + k * upZ()).coerceIn(-biasLimit, biasLimit)
-    }
-
-    /**
-     * The accelerometer low-passed in a quasi-inertial frame (beyond the report; accLowPassTime > 0):
-     * the held value, a vector fixed in a frame that turns with the bias-corrected gyroscope
-     * (w_x, w_y, w_z), is first turned with it, v ← R(−ωΔt) v (Rodrigues' formula to fourth order in
-     * |ω|Δt), then moved towards the reading with the time constant accLowPassTime. Gravity is fixed in
-     * that frame and passes unchanged; linear acceleration, whose integral is a bounded velocity,
-     * averages out. A reading the accelerometer rejection leaves out still enters the low-pass (the steps
-     * then do without it). Without a fresh reading the low-pass stops; the next reading starts it again, and
-     * until accLowPassTime has passed since then the value is the mean of the readings since (turned
-     * alike), so a start in motion is not held for long.
-     */
-    private fun lowPassAcc(dt: Double, wx: Double, wy: Double, wz: Double, withAcc: Boolean) {
-        if (!withAcc) {
-            lpFresh = true
-            return
-        }
-        if (lpFresh) {
-            lpx = ax; lpy = ay; lpz = az
-            lpFresh = false
-            lpTime = 0.0
-            return
-        }
-        val rx = wx * dt
-        val ry = wy * dt
-        val rz = wz * dt
-        val t2 = rx * rx + ry * ry + rz * rz
-        val s1 = 1.0 - t2 * (1.0 / 6.0) // sin θ / θ
-        val s2 = 0.5 - t2 * (1.0 / 24.0) // (1 − cos θ) / θ²
-        // r × v and r × (r × v), turned by −θ: v' = v − s1 (r × v) + s2 r × (r × v).
-        val cx = ry * lpz - rz * lpy
-        val cy = rz * lpx - rx * lpz
-        val cz = rx * lpy - ry * lpx
-        val vx = lpx - s1 * cx + s2 * (ry * cz - rz * cy)
-        val vy = lpy - s1 * cy + s2 * (rz * cx - rx * cz)
-        val vz = lpz - s1 * cz + s2 * (rx * cy - ry * cx)
-        val k = dt / (minOf(lpTime, accLowPassTime) + dt)
-        lpTime += dt
-        lpx = vx + k * (ax - vx)
-        lpy = vy + k * (ay - vy)
-        lpz = vz + k * (az - vz)
+        lowPass.restart()
+        recovery.arm()
+        heading.restart()
     }
 
     /** Gyroscope integration only (no usable accelerometer): eq. 12 with the bias removed. */
@@ -670,9 +558,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         // The gyroscope term with the previous bias does not depend on the gradient: computed first,
         // it overlaps with the gradient's normalisation.
         val h = 0.5 * dt
-        val wx = gx - wbx // (eq. 49)
-        val wy = gy - wby
-        val wz = gz - wbz
+        val wx = gx - bias.x // (eq. 49)
+        val wy = gy - bias.y
+        val wz = gz - bias.z
         val p1 = q1 + h * (-q2 * wx - q3 * wy - q4 * wz)
         val p2 = q2 + h * (q1 * wx + q3 * wz - q4 * wy)
         val p3 = q3 + h * (q1 * wy - q2 * wz + q4 * wx)
@@ -690,9 +578,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             // ω_ε = 2 q̂* ⊗ q̇_ε (eq. 47); ω_b += ζ ω_ε Δt (eq. 48). The bias change Δω_b = ζΔt ω_ε enters
             // the rate as ½ q̂ ⊗ [0, −Δω_b] = −ζΔt (q̇_ε − (q̂·q̇_ε) q̂), because q̂ ⊗ (q̂* ⊗ q̇_ε) = q̇_ε.
             val k = z * dt
-            wbx += 2.0 * k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
-            wby += 2.0 * k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
-            wbz += 2.0 * k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
+            bias.x += 2.0 * k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
+            bias.y += 2.0 * k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
+            bias.z += 2.0 * k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
             val kdt = k * dt
             c1 += kdt
             c2 = kdt * (q1 * e1 + q2 * e2 + q3 * e3 + q4 * e4)
@@ -733,15 +621,10 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
 
     private companion object {
-        const val DOUBLES = 26
-
-        /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
-        val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)
-        val SIN_RECOVERY_DONE = kotlin.math.sin(0.5 * Math.PI / 180.0)
-
-        /** Inclination recovery ends within 1° of the accelerometer, or after 10 s of acting. */
-        val COS_RECOVERY_DONE = kotlin.math.cos(1.0 * Math.PI / 180.0)
-        const val MAX_RECOVERY_TIME = 10.0
+        /** The filter's own doubles in a snapshot (q̂, b, the held readings); the units' states follow. */
+        const val DOUBLES = 12
+        const val STATE_DOUBLES = DOUBLES + GyroBiasEstimate.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE +
+            AccelerometerRejection.STATE_SIZE + AccelerometerLowPass.STATE_SIZE + InclinationRecovery.STATE_SIZE + HeadingCorrection.STATE_SIZE
 
         /** 1/√x as √x · (1/x): the square root and the division run in parallel (shorter latency than 1/√x). */
         fun invSqrt(x: Double): Double = sqrt(x) * (1.0 / x)

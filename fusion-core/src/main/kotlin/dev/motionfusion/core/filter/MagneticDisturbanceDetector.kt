@@ -115,6 +115,19 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         kotlin.math.abs(norm - rNorm) <= normTolerance * rNorm &&
             sqrt((1.0 - sinDip * sinDip) * (1.0 - rSinDip * rSinDip)) + sinDip * rSinDip >= cosDipTolerance
 
+    fun reset() {
+        sinceDisturbed = Double.POSITIVE_INFINITY
+        candNorm = 0.0
+        candSinDip = 0.0
+        steadyTime = 0.0
+        hasReference = false
+        refNorm = 0.0
+        refSinDip = 0.0
+        disturbedTime = 0.0
+        disturbed = false
+        newReference = false
+    }
+
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = if (hasReference) 1.0 else 0.0
         d[at + 1] = refNorm

@@ -66,6 +66,14 @@ internal class RestDetector(settings: FilterSettings) {
         gx = -gx; gy = -gy; gz = -gz
     }
 
+    fun reset() {
+        started = false
+        gx = 0.0; gy = 0.0; gz = 0.0
+        ax = 0.0; ay = 0.0; az = 0.0
+        restTime = 0.0
+        atRest = false
+    }
+
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = if (started) 1.0 else 0.0
         d[at + 1] = gx; d[at + 2] = gy; d[at + 3] = gz

@@ -1,0 +1,135 @@
+/*
+ * Inclination recovery after a large error (beyond the report; inclinationRecoveryBeta > 0).
+ *
+ * Armed at the start, by a saturated gyroscope reading, and by a still phone whose accelerometer
+ * disagrees with the estimate: once armed, the accelerometer is trusted again when its magnitude has
+ * stayed within accNormTolerance of standard gravity for accTrustTime; then the step gain is
+ * inclinationRecoveryBeta until the reading the step uses (low-passed with accLowPassTime) is within 1°
+ * of the estimated up, for at most 10 s (linear acceleration may keep it further); then β again and the
+ * recovery is over. Sensor frame, SI units, s. Allocation-free.
+ */
+package dev.motionfusion.core.filter
+
+import dev.motionfusion.core.STANDARD_GRAVITY
+import kotlin.math.abs
+import kotlin.math.sqrt
+
+internal class InclinationRecovery(settings: FilterSettings) {
+    private val beta = settings.beta
+    private val recoveryBeta = settings.inclinationRecoveryBeta
+    private val accTrustTime = settings.accTrustTime
+    private val accNormTolerance = settings.accNormTolerance
+    private val cosRecoveryAngle = if (settings.recoveryAngle > 0.0 && recoveryBeta > 0.0) kotlin.math.cos(settings.recoveryAngle) else 2.0
+    private val recoveryGyro2 = settings.recoveryGyroThreshold * settings.recoveryGyroThreshold
+    private val recoveryStillTime = settings.recoveryStillTime
+    private val stillAccThreshold = settings.restAccThreshold
+
+    // How long the phone has been near-still with a trustworthy accelerometer, s (recovery after any large error).
+    private var stillTime = 0.0
+
+    /** Set at the start and by a saturated gyroscope reading or a still error, cleared once inclination has re-converged. */
+    var active = false
+        private set
+
+    // How long the accelerometer magnitude has stayed near gravity, s.
+    private var accTrusted = 0.0
+
+    /** The start: inclination may be anything (an identity start, or a first reading taken in motion). */
+    fun start() {
+        active = true
+    }
+
+    /** A saturated gyroscope reading: the estimate may be off in any direction; trust is learnt again. */
+    fun arm() {
+        active = true
+        accTrusted = 0.0
+    }
+
+    /**
+     * Recovery after any large error (recoveryAngle > 0), checked while no recovery runs: while the phone
+     * is near-still (bias-corrected rate [wx], [wy], [wz] below recoveryGyroThreshold) and the reading
+     * [ax], [ay], [az] has a magnitude within restAccThreshold of standard gravity, the reading is gravity
+     * within a fraction of a degree. Once that has held for recoveryStillTime, an estimated up ([upX],
+     * [upY], [upZ], unit) further than recoveryAngle from the reading means the estimate was put off (an
+     * impact, a shake, a fall: motions that need not reach the gyroscope's range): the recovery acts at
+     * once (the accelerometer counts as trusted) and true is returned, so the caller starts the low-passed
+     * accelerometer, which went through the same motion, again. A few multiplications and one square root.
+     */
+    fun stillError(
+        dt: Double, wx: Double, wy: Double, wz: Double, accOk: Boolean,
+        ax: Double, ay: Double, az: Double, upX: Double, upY: Double, upZ: Double,
+    ): Boolean {
+        if (cosRecoveryAngle > 1.0 || active) return false
+        if (!accOk || wx * wx + wy * wy + wz * wz >= recoveryGyro2) {
+            stillTime = 0.0
+            return false
+        }
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        if (abs(n - STANDARD_GRAVITY) >= stillAccThreshold) {
+            stillTime = 0.0
+            return false
+        }
+        stillTime += dt
+        if (stillTime >= recoveryStillTime && ax * upX + ay * upY + az * upZ < cosRecoveryAngle * n) {
+            active = true
+            accTrusted = accTrustTime
+            stillTime = 0.0
+            return true
+        }
+        return false
+    }
+
+    /**
+     * The step gain β for a step of [dt] s: inclinationRecoveryBeta while the recovery acts, else β.
+     * [withAcc]: the step uses the accelerometer, raw reading [ax], [ay], [az]; [cx], [cy], [cz] the
+     * reading the step uses; [upX], [upY], [upZ] the estimated up.
+     */
+    fun beta(
+        dt: Double, withAcc: Boolean, ax: Double, ay: Double, az: Double,
+        cx: Double, cy: Double, cz: Double, upX: Double, upY: Double, upZ: Double,
+    ): Double {
+        if (recoveryBeta == 0.0 || !active) return beta
+        if (!withAcc) {
+            accTrusted = 0.0
+            return beta
+        }
+        val n = sqrt(ax * ax + ay * ay + az * az)
+        if (abs(n - STANDARD_GRAVITY) > accNormTolerance) {
+            accTrusted = 0.0
+            return beta
+        }
+        accTrusted += dt
+        if (accTrusted < accTrustTime) return beta
+        if (accTrusted < accTrustTime + MAX_RECOVERY_TIME && cx * upX + cy * upY + cz * upZ < COS_RECOVERY_DONE * sqrt(cx * cx + cy * cy + cz * cz)) return recoveryBeta
+        active = false
+        return beta
+    }
+
+    fun reset() {
+        stillTime = 0.0
+        active = false
+        accTrusted = 0.0
+    }
+
+    fun writeState(d: DoubleArray, at: Int): Int {
+        d[at] = stillTime
+        d[at + 1] = if (active) 1.0 else 0.0
+        d[at + 2] = accTrusted
+        return at + STATE_SIZE
+    }
+
+    fun readState(d: DoubleArray, at: Int): Int {
+        stillTime = d[at]
+        active = d[at + 1] != 0.0
+        accTrusted = d[at + 2]
+        return at + STATE_SIZE
+    }
+
+    companion object {
+        const val STATE_SIZE = 3
+
+        /** The recovery ends within 1° of the accelerometer, or after 10 s of acting. */
+        val COS_RECOVERY_DONE = kotlin.math.cos(1.0 * Math.PI / 180.0)
+        const val MAX_RECOVERY_TIME = 10.0
+    }
+}
