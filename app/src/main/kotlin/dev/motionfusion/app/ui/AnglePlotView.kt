@@ -298,8 +298,8 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
 
     private fun drawTimeAxis(canvas: Canvas, left: Float, right: Float, spanS: Float, live: Boolean) {
         val y = height - 2 * density
-        val first = if (live) String.format(Locale.ROOT, "−%.0f s", spanS) else "0 s"
-        val last = if (live) context.getString(R.string.plot_now) else String.format(Locale.ROOT, "%.1f s", spanS)
+        val first = if (live) context.getString(R.string.axis_seconds_ago, spanS) else context.getString(R.string.axis_seconds, 0f)
+        val last = if (live) context.getString(R.string.plot_now) else context.getString(R.string.axis_seconds_fraction, spanS)
         canvas.drawText(first, left, y, label)
         canvas.drawText(last, right - label.measureText(last), y, label)
     }

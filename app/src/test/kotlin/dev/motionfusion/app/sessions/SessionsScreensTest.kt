@@ -172,7 +172,7 @@ class SessionsScreensTest {
         idle()
         val rates = c.get().findViewById<dev.motionfusion.app.ui.RatePlotView>(R.id.detail_rate_plot)
         assertEquals(4, rates.laneCount) // accelerometer, gyroscope, magnetometer, game rotation vector
-        assertTrue(rates.contentDescription.toString(), rates.contentDescription.contains("acc 200 Hz"))
+        assertTrue(rates.contentDescription.toString(), rates.contentDescription.contains("acc at most 200 Hz"))
         val points = c.get().findViewById<AnglePlotView>(R.id.detail_plot).pointCount
         assertTrue(points > 100)
         c.recreate()
