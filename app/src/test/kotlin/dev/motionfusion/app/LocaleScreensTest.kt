@@ -36,7 +36,7 @@ import javax.xml.parsers.DocumentBuilderFactory
  * The screens in the second language the app ships (German), rendered to
  * target/screenshots/de-*.png with the layout and accessibility checks of every screen: every text
  * comes from the German resources (no word of the English texts that German lacks is on screen),
- * numbers have the German decimal comma; and the live screen's instruments at twice the font size.
+ * numbers have the German decimal comma; and the live screen's instruments and plot at twice the font size.
  */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
@@ -135,7 +135,7 @@ class LocaleScreensTest {
 
     @Test
     fun `the instruments' texts follow the font size`() {
-        fun instruments(scale: Float, png: String): Pair<Float, Float> {
+        fun instruments(scale: Float, png: String): Triple<Float, Float, Int> {
             RuntimeEnvironment.setQualifiers(phone)
             RuntimeEnvironment.setFontScale(scale)
             val a = Robolectric.buildActivity(MainActivity::class.java).setup().get()
@@ -143,13 +143,15 @@ class LocaleScreensTest {
             LiveStates.sway(LiveScreen(a, graph.capture.sensorInfo))
             Screenshots.captureWhole(a, png) // unrolled: the instruments lie below the fold at twice the font size
             Screenshots.assertAccessible(a, png)
-            return a.findViewById<CompassView>(R.id.compass).labelTextPx to a.findViewById<AttitudeIndicatorView>(R.id.attitude).labelTextPx
+            return Triple(a.findViewById<CompassView>(R.id.compass).labelTextPx, a.findViewById<AttitudeIndicatorView>(R.id.attitude).labelTextPx, a.findViewById<View>(R.id.plot).height)
         }
         val normal = instruments(1f, "live-moving-phone-font1")
         val large = instruments(2f, "live-moving-phone-font2")
         // Android 14+ scales large text less than linearly; 16 sp at 2× is still well over 1.5×.
         assertTrue("compass $normal → $large", large.first >= 1.5f * normal.first)
         assertTrue("attitude $normal → $large", large.second >= 1.5f * normal.second)
+        // The plot grows with its axis labels, so that they do not overlap.
+        assertTrue("plot $normal → $large", large.third > normal.third)
     }
 
     private companion object {

@@ -218,7 +218,9 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
 
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize((200 * density).toInt(), heightMeasureSpec))
+        // At least its layout's height; taller with large text, so the five angle labels of the axis never overlap.
+        val wanted = maxOf(suggestedMinimumHeight.takeIf { it > 0 } ?: (200 * density).toInt(), (9.5f * textPx).toInt())
+        setMeasuredDimension(w, resolveSize(wanted, heightMeasureSpec))
     }
 
     override fun onDraw(canvas: Canvas) {
