@@ -8,6 +8,7 @@ import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.Fit
+import dev.motionfusion.core.calib.RefusalKind
 import dev.motionfusion.core.calib.SensorCorrection
 import java.util.Locale
 
@@ -59,7 +60,7 @@ internal object CalibrationText {
                     lines += c.getString(R.string.calibration_result_field, m.fieldStrength, m.residualRms)
                     lines += c.getString(R.string.calibration_result_coverage, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
                 }
-                is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_magnetometer), f.reason)
+                is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_magnetometer), refusal(c, f))
                 null -> Unit
             }
             CalibrationStep.STILL -> Unit
@@ -71,7 +72,7 @@ internal object CalibrationText {
                         lines += rows(l, c.getString(R.string.calibration_result_scale), a.correction)
                         lines += c.getString(R.string.calibration_result_acc_residual, a.residualRms, a.gravity)
                     }
-                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_accelerometer), f.reason)
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_accelerometer), refusal(c, f))
                     null -> Unit
                 }
                 when (val f = s.gyroFit) {
@@ -81,13 +82,38 @@ internal object CalibrationText {
                         lines += c.getString(R.string.calibration_result_bias_error, vec(l, g.biasStdError, "%.5f"))
                         lines += c.getString(R.string.calibration_result_noise, vec(l, g.noiseStd, "%.4f"), g.stillTimeS)
                     }
-                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_gyroscope), f.reason)
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_gyroscope), refusal(c, f))
                     null -> Unit
                 }
             }
         }
         s.saveError?.let { lines += c.getString(R.string.calibration_save_failed, it) }
         return lines.joinToString("\n")
+    }
+
+    /** Why a fit was refused, in the resources' words with fusion-core's figures; a reason of another kind as fusion-core says it. */
+    fun refusal(c: Context, f: Fit.Refused): String {
+        val n = f.figures
+        fun axis() = c.getString(
+            when (n[0].toInt()) {
+                0 -> R.string.calibration_axis_x
+                1 -> R.string.calibration_axis_y
+                else -> R.string.calibration_axis_z
+            },
+        )
+        return when (f.kind) {
+            RefusalKind.FEW_SAMPLES -> c.getString(R.string.calibration_refusal_few_samples, n[0].toInt())
+            RefusalKind.NO_ELLIPSOID -> c.getString(R.string.calibration_refusal_no_ellipsoid)
+            RefusalKind.FIELD_OUT_OF_RANGE -> c.getString(R.string.calibration_refusal_field_out_of_range, n[0], n[1], n[2])
+            RefusalKind.FEW_DIRECTIONS -> c.getString(R.string.calibration_refusal_few_directions, n[0], n[1])
+            RefusalKind.DISTURBED -> c.getString(R.string.calibration_refusal_disturbed, n[0], n[1], n[2])
+            RefusalKind.NOT_STILL -> c.getString(R.string.calibration_refusal_not_still, n[0], n[1])
+            RefusalKind.FEW_POSES -> c.resources.getQuantityString(R.plurals.calibration_refusal_few_poses, n[0].toInt(), n[0].toInt(), n[1])
+            RefusalKind.AXIS_NEVER_UP -> c.getString(R.string.calibration_refusal_axis_up, axis(), n[1])
+            RefusalKind.AXIS_NEVER_DOWN -> c.getString(R.string.calibration_refusal_axis_down, axis(), n[1])
+            RefusalKind.POSES_NO_ELLIPSOID -> c.getString(R.string.calibration_refusal_poses_no_ellipsoid)
+            RefusalKind.OTHER -> f.reason
+        }
     }
 
     fun stored(c: Context, cal: Calibration?, usedLive: Boolean): String {

@@ -140,7 +140,7 @@ class SessionsScreensTest {
         val a = detail(dir)
         val streams = a.findViewById<TextView>(R.id.detail_streams).text.toString()
         assertTrue(streams, streams.contains("accelerometer · 6,000 · 200.0 Hz"))
-        assertTrue(streams, streams.contains("game_rotation_vector · 6,000"))
+        assertTrue(streams, streams.contains("game rotation vector · 6,000"))
         assertTrue(streams, streams.contains("Fused orientation · 6,000 rows"))
         val plot = a.findViewById<AnglePlotView>(R.id.detail_plot)
         assertEquals(a.getString(R.string.session_plot_title), plot.contentDescription)
