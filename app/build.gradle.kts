@@ -101,6 +101,7 @@ dependencies {
     testImplementation(libs.junit.vintage.engine)
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.kotlinx.coroutines.test)
+    testImplementation(libs.accessibility.test.framework)
     testRuntimeOnly(libs.junit.platform.launcher)
 
     apiSignature(variantOf(libs.gummy.bears.api26) { artifactType("signature") })

@@ -276,7 +276,7 @@ class MainActivityTest {
         val a = c.get()
         a.assertAngles(0.0, 0.0, 0.0) // the relative heading starts at 0
         assertEquals(a.getString(R.string.mode_imu_no_mag), a.text(R.id.mode_explanation))
-        assertEquals(a.getString(R.string.compass_relative_description, "0.0°"), a.findViewById<View>(R.id.compass).contentDescription)
+        assertEquals(a.getString(R.string.compass_relative_description, "0°"), a.findViewById<View>(R.id.compass).contentDescription)
         assertTrue(a.text(R.id.convention_note).contains(a.getString(R.string.convention_relative_heading)))
         assertEquals(FilterMode.IMU, engine().filterSettingsInUse().mode)
         Screenshots.capture(a, "live-no-magnetometer")

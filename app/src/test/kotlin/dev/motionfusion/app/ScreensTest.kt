@@ -102,37 +102,11 @@ class ScreensTest {
 
     // ---- The live screen ----
 
-    private fun stats(rate: Double, accuracy: Int, x: Float, y: Float, z: Float, w: Float = Float.NaN) =
-        SensorStats(samples = 3000, rateHz = rate, jitterMs = 0.21, duplicates = 0, backwards = 0, accuracy = accuracy, x = x, y = y, z = z, w = w)
-
-    /** The orientation at [t] s of a phone held in the hand and swayed: heading about 40°, pitch and roll a few tens of degrees. */
-    private fun swaying(t: Double): Quaternion =
-        Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(-40.0 - 25.0 * sin(0.5 * t))) *
-            Quaternion.fromAxisAngle(Vector3.UNIT_X, Math.toRadians(35.0 + 20.0 * sin(0.8 * t))) *
-            Quaternion.fromAxisAngle(Vector3(0.0, 1.0, 0.0), Math.toRadians(-15.0 + 12.0 * sin(1.1 * t)))
-
     private fun state(
-        tNs: Long,
-        q: Quaternion?,
-        rv: Quaternion?,
+        tNs: Long, q: Quaternion?, rv: Quaternion?,
         mode: EffectiveMode = EffectiveMode(FusionMode.MARG, ModeReason.AS_CHOSEN),
-        magAccuracy: Int = SensorManager.SENSOR_STATUS_ACCURACY_HIGH,
-        fieldUt: Double? = 47.3,
-        disturbed: Boolean = false,
-    ): FusionState {
-        val sensors = HashMap<SensorKind, SensorStats>()
-        sensors[SensorKind.ACCELEROMETER] = stats(200.1, 3, 1.52f, 5.61f, 7.84f)
-        sensors[SensorKind.GYROSCOPE] = stats(200.0, 3, 0.012f, -0.031f, 0.004f)
-        if (mode.mode.hasMagneticHeading) sensors[SensorKind.MAGNETOMETER] = stats(100.0, magAccuracy, 12.4f, 28.9f, -34.2f)
-        if (rv != null) sensors[SensorKind.ROTATION_VECTOR] = stats(100.0, 3, rv.x.toFloat(), rv.y.toFloat(), rv.z.toFloat(), rv.w.toFloat())
-        return FusionState(
-            mode = mode, settings = LiveSettings(), orientation = q, rotationVector = rv,
-            rotationVectorHeadingAccuracyRad = rv?.let { Math.toRadians(4.0) }, gameRotationVector = null,
-            sensors = sensors, magneticFieldUt = if (mode.mode.hasMagneticHeading) fieldUt else null,
-            atRest = false, magneticDisturbance = disturbed, accelerometerRejected = false,
-            gyroBiasRadS = doubleArrayOf(0.0012, -0.0004, 0.0007), filterSteps = 2400, timestampNs = tNs,
-        )
-    }
+        magAccuracy: Int = SensorManager.SENSOR_STATUS_ACCURACY_HIGH, fieldUt: Double? = 47.3, disturbed: Boolean = false,
+    ) = LiveStates.state(tNs, q, rv, mode, magAccuracy, fieldUt, disturbed)
 
     /** The live screen after 12 s of swaying at 60 frames/s, the rotation vector 3° off in heading. */
     private fun live(
@@ -145,15 +119,7 @@ class ScreensTest {
         configure(shape, dark)
         val a = Robolectric.buildActivity(MainActivity::class.java).setup().get()
         idle()
-        val screen = LiveScreen(a, graph.capture.sensorInfo)
-        val t0 = 1_000_000_000L
-        for (frame in 0..720) {
-            val t = frame / 60.0
-            val q = swaying(t)
-            val rv = if (ghost) Quaternion.fromAxisAngle(Vector3.UNIT_Z, Math.toRadians(-3.0)) * swaying(t - 0.15) else null
-            val tNs = t0 + (t * 1e9).toLong()
-            screen.show(if (frame == 720) last(tNs, q, rv) else state(tNs, q, rv), 0, markers)
-        }
+        LiveStates.sway(LiveScreen(a, graph.capture.sensorInfo), markers, ghost, last)
         return a
     }
 
@@ -462,7 +428,7 @@ class ScreensTest {
             Screenshots.captureScreen(a, png)
             assertPlotReadable(a, R.id.detail_plot, png)
             assertEquals(4, a.findViewById<RatePlotView>(R.id.detail_rate_plot).laneCount)
-            assertTrue(a.findViewById<RatePlotView>(R.id.detail_rate_plot).contentDescription.contains("mag 100 Hz"))
+            assertTrue(a.findViewById<RatePlotView>(R.id.detail_rate_plot).contentDescription.contains("mag at most 100 Hz"))
         }
     }
 }

@@ -128,6 +128,7 @@ object Screenshots {
         val d = activity.resources.displayMetrics.density
         val bitmap = capture(activity, name, width = (c.screenWidthDp * d).toInt(), height = (c.screenHeightDp * d).toInt())
         assertLaidOut(activity, name)
+        assertAccessible(activity, name)
         return bitmap
     }
 
@@ -188,6 +189,11 @@ object Screenshots {
             val overlap = common.setIntersect(ra, rb) && minOf(common.width(), common.height()) > border
             assertFalse("$name: '${a.text.take(30)}' $ra overlaps '${b.text.take(30)}' $rb", overlap)
         }
+    }
+
+    /** [A11yChecks] on the screen as rendered: labels, touch targets and text contrast. */
+    fun assertAccessible(activity: Activity, name: String) {
+        assertEquals("$name: accessibility", "", A11yChecks.problems(activity).joinToString("\n"))
     }
 
     private fun distinctColours(b: Bitmap): Int {

@@ -125,7 +125,7 @@ class SettingsActivityTest {
         a.row("acc_rejection").findViewById<CompoundButton>(R.id.setting_switch).isChecked = true
         a.choose("mode", "IMU")
         a.choose("rate", "hz:400")
-        assertEquals("1 h", Setting.ALL.first { it.key == Setting.MAX_DURATION }.label("3600"))
+        assertEquals("1 h", dev.motionfusion.app.settings.SettingText.label(a, Setting.ALL.first { it.key == Setting.MAX_DURATION }, "3600"))
         a.choose(Setting.MAX_DURATION, "3600")
         a.choose(Setting.STOP_BATTERY, "15")
         assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())

@@ -49,10 +49,10 @@ internal class CaptureSampleSource(private val capture: Capture) : CalibrationSa
             if (stream in streams) trySend(CalibrationSample(stream, t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble()))
         }
         capture.listen(listener)
-        capture.acquire()
+        capture.acquire(onScreen = true)
         awaitClose {
             capture.unlisten(listener)
-            capture.release()
+            capture.release(onScreen = true)
         }
     }.buffer(Channel.UNLIMITED).flowOn(Dispatchers.Main.immediate)
 }

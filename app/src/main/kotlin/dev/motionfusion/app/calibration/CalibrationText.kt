@@ -4,16 +4,18 @@ import android.content.Context
 import android.text.format.DateUtils
 import dev.motionfusion.app.R
 import dev.motionfusion.app.record.RecordingState
+import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.Fit
+import dev.motionfusion.core.calib.RefusalKind
 import dev.motionfusion.core.calib.SensorCorrection
 import java.util.Locale
 
 /** The calibration screen's words and figures for a [CalibrationUiState]. */
 internal object CalibrationText {
     fun instruction(c: Context, s: CalibrationUiState): String {
-        s.unavailable?.let { return c.getString(R.string.calibration_unavailable, it) }
+        s.unavailable?.let { return c.getString(R.string.calibration_unavailable, c.getString(it)) }
         return when (s.step) {
             CalibrationStep.MAGNETOMETER -> when (s.stage) {
                 CalibrationStage.READY -> c.getString(R.string.calibration_mag_ready)
@@ -44,42 +46,43 @@ internal object CalibrationText {
         )
     }
 
-    /** The fitted values with their quality figures; refusals with their reasons. */
+    /** The fitted values with their quality figures; refusals with their reasons (fusion-core's words, as the detail). */
     fun result(c: Context, s: CalibrationUiState): String {
         if (s.stage != CalibrationStage.RESULT) return ""
+        val l = Formats.locale(c)
         val lines = ArrayList<String>()
         when (s.step) {
             CalibrationStep.MAGNETOMETER -> when (val f = s.magFit) {
                 is Fit.Done -> f.value.let { m ->
-                    lines += "magnetometer (${m.stream.key}, ${m.model})"
-                    lines += "hard iron  " + vec(m.correction.offset, "%.1f") + " µT"
-                    if (m.model.name != "SPHERE") lines += rows("soft iron  ", m.correction)
-                    lines += "field %.1f µT · residual %.2f µT".format(Locale.ROOT, m.fieldStrength, m.residualRms)
-                    lines += "coverage %.0f %% · |B| spread %.1f → %.2f µT".format(Locale.ROOT, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
+                    lines += c.getString(R.string.calibration_result_mag, m.stream.key, m.model.name)
+                    lines += c.getString(R.string.calibration_result_hard_iron, vec(l, m.correction.offset, "%.1f"))
+                    if (m.model.name != "SPHERE") lines += rows(l, c.getString(R.string.calibration_result_soft_iron), m.correction)
+                    lines += c.getString(R.string.calibration_result_field, m.fieldStrength, m.residualRms)
+                    lines += c.getString(R.string.calibration_result_coverage, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
                 }
-                is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "magnetometer", f.reason)
+                is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_magnetometer), refusal(c, f))
                 null -> Unit
             }
             CalibrationStep.STILL -> Unit
             CalibrationStep.POSES -> {
                 when (val f = s.accFit) {
                     is Fit.Done -> f.value.let { a ->
-                        lines += "accelerometer (${a.model}, ${a.poses} poses)"
-                        lines += "offset  " + vec(a.correction.offset, "%.3f") + " m/s²"
-                        lines += rows("scale   ", a.correction)
-                        lines += "residual %.4f m/s² at g = %.5f m/s²".format(Locale.ROOT, a.residualRms, a.gravity)
+                        lines += c.resources.getQuantityString(R.plurals.calibration_result_acc, a.poses, a.model.name, a.poses)
+                        lines += c.getString(R.string.calibration_result_offset, vec(l, a.correction.offset, "%.3f"))
+                        lines += rows(l, c.getString(R.string.calibration_result_scale), a.correction)
+                        lines += c.getString(R.string.calibration_result_acc_residual, a.residualRms, a.gravity)
                     }
-                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "accelerometer", f.reason)
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_accelerometer), refusal(c, f))
                     null -> Unit
                 }
                 when (val f = s.gyroFit) {
                     is Fit.Done -> f.value.let { g ->
-                        lines += "gyroscope bias (${g.stream.key})"
-                        lines += "bias  " + vec(g.bias, "%.5f") + " rad/s"
-                        lines += "±     " + vec(g.biasStdError, "%.5f") + " (standard error)"
-                        lines += "noise " + vec(g.noiseStd, "%.4f") + " rad/s · still %.0f s".format(Locale.ROOT, g.stillTimeS)
+                        lines += c.getString(R.string.calibration_result_gyro, g.stream.key)
+                        lines += c.getString(R.string.calibration_result_bias, vec(l, g.bias, "%.5f"))
+                        lines += c.getString(R.string.calibration_result_bias_error, vec(l, g.biasStdError, "%.5f"))
+                        lines += c.getString(R.string.calibration_result_noise, vec(l, g.noiseStd, "%.4f"), g.stillTimeS)
                     }
-                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, "gyroscope", f.reason)
+                    is Fit.Refused -> lines += c.getString(R.string.calibration_refused, c.getString(R.string.kind_gyroscope), refusal(c, f))
                     null -> Unit
                 }
             }
@@ -88,14 +91,40 @@ internal object CalibrationText {
         return lines.joinToString("\n")
     }
 
+    /** Why a fit was refused, in the resources' words with fusion-core's figures; a reason of another kind as fusion-core says it. */
+    fun refusal(c: Context, f: Fit.Refused): String {
+        val n = f.figures
+        fun axis() = c.getString(
+            when (n[0].toInt()) {
+                0 -> R.string.calibration_axis_x
+                1 -> R.string.calibration_axis_y
+                else -> R.string.calibration_axis_z
+            },
+        )
+        return when (f.kind) {
+            RefusalKind.FEW_SAMPLES -> c.getString(R.string.calibration_refusal_few_samples, n[0].toInt())
+            RefusalKind.NO_ELLIPSOID -> c.getString(R.string.calibration_refusal_no_ellipsoid)
+            RefusalKind.FIELD_OUT_OF_RANGE -> c.getString(R.string.calibration_refusal_field_out_of_range, n[0], n[1], n[2])
+            RefusalKind.FEW_DIRECTIONS -> c.getString(R.string.calibration_refusal_few_directions, n[0], n[1])
+            RefusalKind.DISTURBED -> c.getString(R.string.calibration_refusal_disturbed, n[0], n[1], n[2])
+            RefusalKind.NOT_STILL -> c.getString(R.string.calibration_refusal_not_still, n[0], n[1])
+            RefusalKind.FEW_POSES -> c.resources.getQuantityString(R.plurals.calibration_refusal_few_poses, n[0].toInt(), n[0].toInt(), n[1])
+            RefusalKind.AXIS_NEVER_UP -> c.getString(R.string.calibration_refusal_axis_up, axis(), n[1])
+            RefusalKind.AXIS_NEVER_DOWN -> c.getString(R.string.calibration_refusal_axis_down, axis(), n[1])
+            RefusalKind.POSES_NO_ELLIPSOID -> c.getString(R.string.calibration_refusal_poses_no_ellipsoid)
+            RefusalKind.OTHER -> f.reason
+        }
+    }
+
     fun stored(c: Context, cal: Calibration?, usedLive: Boolean): String {
         val names = listOfNotNull(
-            cal?.magnetometer?.let { "magnetometer" }, cal?.accelerometer?.let { "accelerometer" }, cal?.gyroscope?.let { "gyroscope" },
-        )
+            cal?.magnetometer?.let { R.string.stream_magnetometer }, cal?.accelerometer?.let { R.string.stream_accelerometer }, cal?.gyroscope?.let { R.string.stream_gyroscope },
+        ).map { c.getString(it) }
+        val list = names.joinToString(c.getString(R.string.list_separator))
         return when {
             names.isEmpty() -> c.getString(R.string.calibration_stored_none)
-            usedLive -> c.getString(R.string.calibration_stored_applied, names.joinToString(", "))
-            else -> c.getString(R.string.calibration_stored, names.joinToString(", "))
+            usedLive -> c.getString(R.string.calibration_stored_applied, list)
+            else -> c.getString(R.string.calibration_stored, list)
         }
     }
 
@@ -125,10 +154,13 @@ internal object CalibrationText {
         )
     }
 
-    private fun vec(v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(Locale.ROOT, it) }
+    private fun vec(l: Locale, v: Vector3, f: String) = listOf(v.x, v.y, v.z).joinToString(" ") { f.format(l, it) }
 
     /** The correction's matrix after [label], a row a line, the rows aligned under the first. */
-    private fun rows(label: String, c: SensorCorrection) = label + (0 until 3).joinToString("\n" + " ".repeat(label.length)) { r ->
-        (0 until 3).joinToString(" ") { k -> "%6.3f".format(Locale.ROOT, c.matrix[r, k]) }
+    private fun rows(l: Locale, label: String, c: SensorCorrection): String {
+        val head = "$label  "
+        return head + (0 until 3).joinToString("\n" + " ".repeat(head.length)) { r ->
+            (0 until 3).joinToString(" ") { k -> "%6.3f".format(l, c.matrix[r, k]) }
+        }
     }
 }

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.calibration
 
+import dev.motionfusion.app.R
+import androidx.annotation.StringRes
 import androidx.lifecycle.ViewModel
 import androidx.lifecycle.viewModelScope
 import dev.motionfusion.core.Vector3
@@ -59,7 +61,8 @@ data class CalibrationUiState(
     val step: CalibrationStep = CalibrationStep.MAGNETOMETER,
     val stage: CalibrationStage = CalibrationStage.READY,
     /** Why the step cannot run on this device (a sensor it needs is missing), or null. */
-    val unavailable: String? = null,
+    /** Why the step cannot run here (a string resource), or null. */
+    @StringRes val unavailable: Int? = null,
     val magStream: SessionStream? = null,
     val cellHits: List<Int> = List(DirectionCoverage.CELLS) { 0 },
     val coverage: Double = 0.0,
@@ -120,14 +123,14 @@ class CalibrationViewModel(
     /** The collection is paused ([pause]): its readings are kept, [resume] goes on with them. */
     private var paused = false
 
-    private fun unavailable(step: CalibrationStep): String? = when (step) {
-        CalibrationStep.MAGNETOMETER -> if (magStream == null) "this device has no magnetometer" else null
+    private fun unavailable(step: CalibrationStep): Int? = when (step) {
+        CalibrationStep.MAGNETOMETER -> if (magStream == null) R.string.calibration_no_magnetometer else null
         CalibrationStep.POSES -> when {
-            SessionStream.ACCELEROMETER !in streams -> "this device has no accelerometer"
-            gyroStream == null -> "this device has no gyroscope, which tells when the phone is still"
+            SessionStream.ACCELEROMETER !in streams -> R.string.calibration_no_accelerometer
+            gyroStream == null -> R.string.calibration_no_gyroscope
             else -> null
         }
-        CalibrationStep.STILL -> if (SessionStream.ACCELEROMETER !in streams && gyroStream == null) "this device has no accelerometer or gyroscope" else null
+        CalibrationStep.STILL -> if (SessionStream.ACCELEROMETER !in streams && gyroStream == null) R.string.calibration_no_acc_gyro else null
     }
 
     /** Shows [step], not started; stops a collection in progress. */

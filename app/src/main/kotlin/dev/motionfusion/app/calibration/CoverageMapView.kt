@@ -1,5 +1,6 @@
 package dev.motionfusion.app.calibration
 
+import dev.motionfusion.app.R
 import android.content.Context
 import android.graphics.Canvas
 import android.graphics.Paint
@@ -23,12 +24,17 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
     private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply { textAlign = Paint.Align.CENTER }
     private val cell = RectF()
 
+    init {
+        // Read before the first readings too: an empty map.
+        contentDescription = context.getString(R.string.calibration_coverage_description, 0, DirectionCoverage.CELLS)
+    }
+
     /** Readings per cell, band-major as DirectionCoverage numbers them. */
     fun setCells(cells: List<Int>) {
         require(cells.size == DirectionCoverage.CELLS) { "expected ${DirectionCoverage.CELLS} cells" }
         if (cells == hits) return
         hits = cells
-        contentDescription = "${cells.count { it > 0 }} of ${DirectionCoverage.CELLS} direction cells covered"
+        contentDescription = context.getString(R.string.calibration_coverage_description, cells.count { it > 0 }, DirectionCoverage.CELLS)
         invalidate()
     }
 

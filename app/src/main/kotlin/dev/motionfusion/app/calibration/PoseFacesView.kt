@@ -20,11 +20,17 @@ class PoseFacesView @JvmOverloads constructor(context: Context, attrs: Attribute
     private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply { textAlign = Paint.Align.CENTER }
     private val r = RectF()
 
+    init {
+        // Read before the first pose too: none held.
+        contentDescription = resources.getQuantityString(R.plurals.calibration_faces_description, 0, 0)
+    }
+
     fun setFaces(held: Set<PoseFace>, asked: PoseFace?) {
         if (held == this.held && asked == this.asked) return
         this.held = held
         this.asked = asked
-        contentDescription = "${held.size} of 6 faces held" + (asked?.let { ", next: " + context.getString(faceName(it)) } ?: "")
+        val heldText = resources.getQuantityString(R.plurals.calibration_faces_description, held.size, held.size)
+        contentDescription = asked?.let { context.getString(R.string.calibration_faces_next, heldText, context.getString(faceName(it))) } ?: heldText
         invalidate()
     }
 

@@ -8,12 +8,15 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
+import dev.motionfusion.app.sensor.label
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.AngleTrace
 import dev.motionfusion.app.ui.AttitudeIndicatorView
 import dev.motionfusion.app.ui.CompassView
+import dev.motionfusion.app.ui.DescriptionThrottle
 import dev.motionfusion.app.ui.PhoneModelView
 import dev.motionfusion.app.ui.PlotMarker
+import dev.motionfusion.app.ui.setTextIfChanged
 import java.util.EnumMap
 
 /**
@@ -47,6 +50,14 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
     private val sensorList: LinearLayout = activity.findViewById(R.id.sensor_list)
     private val sensorRows = EnumMap<SensorKind, TextView>(SensorKind::class.java)
 
+    // Descriptions in whole degrees, given to the views at most every 2 s of sample time (TalkBack reads each new one).
+    private val anglesDescription = DescriptionThrottle(DescriptionThrottle.LIVE_INTERVAL_NS)
+    private val attitudeDescription = DescriptionThrottle(DescriptionThrottle.LIVE_INTERVAL_NS)
+    private val compassDescription = DescriptionThrottle(DescriptionThrottle.LIVE_INTERVAL_NS)
+
+    /** Descriptions given to the angles, the attitude indicator and the compass so far (tests count them). */
+    internal val descriptionUpdates: Int get() = anglesDescription.updates + attitudeDescription.updates + compassDescription.updates
+
     init {
         sensorList.removeAllViews()
         for (kind in SensorKind.entries) {
@@ -64,39 +75,44 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         val ui = LiveUiState.of(s, displayRotation)
         val convention = s.settings.convention
         val yawName = activity.getString(if (convention == AngleConvention.ANDROID) R.string.azimuth else R.string.yaw)
-        yawLabel.text = yawName
+        yawLabel.setTextIfChanged(yawName)
         plot.setYawName(yawName)
         model.setOrientation(ui.orientation, ui.rotationVector)
         val a = ui.angles
         if (a != null) {
-            yaw.text = heading(a.yaw)
-            pitch.text = deg(a.pitch)
-            roll.text = deg(a.roll)
-            anglesRow.contentDescription = activity.getString(R.string.angles_description, yawName, yaw.text, pitch.text, roll.text)
+            yaw.setTextIfChanged(heading(a.yaw))
+            pitch.setTextIfChanged(deg(a.pitch))
+            roll.setTextIfChanged(deg(a.roll))
+            anglesDescription.update(anglesRow, activity.getString(R.string.angles_description, yawName, wholeHeading(a.yaw), wholeDeg(a.pitch), wholeDeg(a.roll)), s.timestampNs, yawName)
         } else {
-            for (v in listOf(yaw, pitch, roll)) v.setText(R.string.angle_unknown)
-            anglesRow.contentDescription = null
+            val unknown = activity.getString(R.string.angle_unknown)
+            for (v in listOf(yaw, pitch, roll)) v.setTextIfChanged(unknown)
+            anglesDescription.update(anglesRow, null, s.timestampNs)
         }
-        modeText.text = activity.getString(modeText(s.mode))
-        conventionNote.text = buildString {
+        modeText.setTextIfChanged(activity.getString(modeText(s.mode)))
+        conventionNote.setTextIfChanged(buildString {
             append(activity.getString(if (convention == AngleConvention.ANDROID) R.string.convention_android_note else R.string.convention_aerospace_note))
             if (ui.headingQuality == HeadingQuality.RELATIVE) append(' ').append(activity.getString(R.string.convention_relative_heading))
-        }
+        })
 
         val att = ui.attitude
         attitude.setAttitude(att?.pitch ?: 0.0, att?.roll ?: 0.0, att != null)
-        attitude.contentDescription = if (att != null) {
-            activity.getString(R.string.attitude_description, deg(att.pitch), deg(att.roll))
-        } else {
-            activity.getString(R.string.attitude_unknown_description)
-        }
+        attitudeDescription.update(
+            attitude,
+            if (att != null) activity.getString(R.string.attitude_description, wholeDeg(att.pitch), wholeDeg(att.roll)) else activity.getString(R.string.attitude_unknown_description),
+            s.timestampNs, att != null,
+        )
         val h = ui.headingDeg
         compass.setHeading(h ?: 0.0, CompassView.State.valueOf(ui.headingQuality.name))
-        compass.contentDescription = when {
-            h == null -> activity.getString(R.string.compass_unknown_description)
-            ui.headingQuality == HeadingQuality.RELATIVE -> activity.getString(R.string.compass_relative_description, heading(h))
-            else -> activity.getString(R.string.compass_description, heading(h))
-        }
+        compassDescription.update(
+            compass,
+            when {
+                h == null -> activity.getString(R.string.compass_unknown_description)
+                ui.headingQuality == HeadingQuality.RELATIVE -> activity.getString(R.string.compass_relative_description, wholeHeading(h))
+                else -> activity.getString(R.string.compass_description, wholeHeading(h))
+            },
+            s.timestampNs, ui.headingQuality,
+        )
         if (a != null) {
             val g = ui.rotationVectorAngles
             plot.append(s.timestampNs, a.yaw, a.pitch, a.roll, g?.yaw ?: Double.NaN, g?.pitch ?: Double.NaN, g?.roll ?: Double.NaN)
@@ -106,17 +122,17 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         showRotationVector(s, ui, yawName)
         showMagnetometer(s, ui)
         showFilter(s)
-        for (kind in SensorKind.entries) sensorRows[kind]!!.text = sensorText(kind, s)
+        for (kind in SensorKind.entries) sensorRows[kind]!!.setTextIfChanged(sensorText(kind, s))
     }
 
     private fun showRotationVector(s: FusionState, ui: LiveUiState, yawName: String) {
         val rva = ui.rotationVectorAngles
-        rvAngles.text = when {
+        rvAngles.setTextIfChanged(when {
             SensorKind.ROTATION_VECTOR !in sensorInfo -> activity.getString(R.string.rv_missing)
             rva == null -> activity.getString(R.string.rv_waiting)
             else -> activity.getString(R.string.rv_angles, yawName, heading(rva.yaw), deg(rva.pitch), deg(rva.roll)) +
                 (s.rotationVectorHeadingAccuracyRad?.let { activity.getString(R.string.rv_heading_accuracy, Math.toDegrees(it)) } ?: "")
-        }
+        })
         val lines = ArrayList<String>(2)
         val d = ui.differenceDeg
         val t = ui.tiltDifferenceDeg
@@ -128,18 +144,18 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
             }
         }
         ui.gameTiltDifferenceDeg?.let { lines += activity.getString(R.string.grv_difference, it) }
-        rvDifference.text = lines.joinToString("\n")
+        rvDifference.setTextIfChanged(lines.joinToString("\n"))
         rvDifference.visibility = if (lines.isEmpty()) View.GONE else View.VISIBLE
     }
 
     private fun showMagnetometer(s: FusionState, ui: LiveUiState) {
         val mag = s.sensors[SensorKind.MAGNETOMETER]
         val field = s.magneticFieldUt
-        magStatus.text = when {
+        magStatus.setTextIfChanged(when {
             SensorKind.MAGNETOMETER !in sensorInfo -> activity.getString(R.string.sensor_missing, activity.getString(R.string.kind_magnetometer))
             mag == null || field == null -> activity.getString(R.string.sensor_no_data)
             else -> activity.getString(R.string.mag_status, field, accuracy(mag.accuracy))
-        }
+        })
         val warnings = ui.magWarnings.map {
             when (it) {
                 MagWarning.LOW_ACCURACY -> activity.getString(R.string.mag_warning_accuracy, accuracy(mag!!.accuracy))
@@ -147,16 +163,16 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
                 MagWarning.DISTURBED -> activity.getString(R.string.mag_warning_disturbed)
             }
         }
-        magWarning.text = warnings.joinToString("\n")
+        magWarning.setTextIfChanged(warnings.joinToString("\n"))
         magWarning.visibility = if (warnings.isEmpty()) View.GONE else View.VISIBLE
         figure8.visibility = if (ui.showCalibrationHint) View.VISIBLE else View.GONE
     }
 
     private fun showFilter(s: FusionState) {
         fun flag(b: Boolean) = activity.getString(if (b) R.string.flag_yes else R.string.flag_no)
-        filterFlags.text = activity.getString(R.string.filter_flags, flag(s.atRest), flag(s.magneticDisturbance), flag(s.accelerometerRejected))
+        filterFlags.setTextIfChanged(activity.getString(R.string.filter_flags, flag(s.atRest), flag(s.magneticDisturbance), flag(s.accelerometerRejected)))
         val b = s.gyroBiasRadS
-        filterBias.text = if (b != null) activity.getString(R.string.filter_bias, b[0], b[1], b[2], s.filterSteps) else ""
+        filterBias.setTextIfChanged(if (b != null) activity.getString(R.string.filter_bias, b[0], b[1], b[2], s.filterSteps) else "")
         filterBias.visibility = if (b != null) View.VISIBLE else View.GONE
     }
 
@@ -181,10 +197,12 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         return "$head\n$rates\n$values"
     }
 
-    private fun requested(r: SamplingRate): String = r.label
+    private fun requested(r: SamplingRate): String = r.label(activity)
 
     private fun deg(v: Double): String = activity.getString(R.string.angle_deg, displayDegrees(v))
     private fun heading(v: Double): String = activity.getString(R.string.angle_deg, displayHeading(v))
+    private fun wholeDeg(v: Double): String = activity.getString(R.string.angle_deg_whole, Math.rint(displayDegrees(v)).let { if (it == -0.0) 0.0 else it })
+    private fun wholeHeading(v: Double): String = activity.getString(R.string.angle_deg_whole, Math.rint(displayHeading(v)) % 360.0)
 
     private fun accuracy(a: Int): String = activity.getString(
         when (a) {

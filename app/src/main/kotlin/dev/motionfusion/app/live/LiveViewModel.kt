@@ -28,14 +28,14 @@ class LiveViewModel(private val capture: Capture) : ViewModel() {
     fun onVisible() {
         if (visible) return
         visible = true
-        capture.acquire()
+        capture.acquire(onScreen = true)
     }
 
     /** The screen was hidden. */
     fun onHidden() {
         if (!visible) return
         visible = false
-        capture.release()
+        capture.release(onScreen = true)
     }
 
     override fun onCleared() = onHidden()

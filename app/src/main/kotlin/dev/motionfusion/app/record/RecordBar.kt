@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.ui.setTextIfChanged
 import dev.motionfusion.app.live.RecordingLimits
 import android.Manifest
 import android.content.Context
@@ -46,6 +47,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     private val handler = Handler(Looper.getMainLooper())
     private val deps = (activity.application as RecordingDependencies.Provider).recordingDependencies
     private val recordings = deps.recordings
+    private val announcer = RecordingAnnouncer { root.announceForAccessibility(it) }
 
     /** The dialog on screen (notification explanation or marker note), for tests. */
     internal var dialog: AlertDialog? = null
@@ -153,12 +155,14 @@ internal class RecordBar private constructor(private val activity: ComponentActi
 
     fun refresh() {
         markButton.visibility = if (recordings.state.value is RecordingState.Active) View.VISIBLE else View.GONE
-        when (val s = recordings.state.value) {
+        val state = recordings.state.value
+        announcer.update(state) { RecordingAnnouncer.text(activity, it) }
+        when (val s = state) {
             is RecordingState.Preparing -> {
                 toggle.setText(R.string.record_stop)
                 toggle.contentDescription = activity.getString(R.string.record_stop_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_active))
-                status.text = s.line(activity)
+                status.setTextIfChanged(s.line(activity))
             }
             is RecordingState.Active -> {
                 val elapsed = s.elapsedS(deps.clock.elapsedRealtimeNanos() / 1_000_000)
@@ -173,17 +177,19 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                     limitsText(s.limits),
                     if (notificationsAllowed()) null else activity.getString(R.string.record_notifications_off),
                 )
-                status.text = lines.joinToString("\n")
+                status.setTextIfChanged(lines.joinToString("\n"))
             }
             else -> {
                 toggle.setText(R.string.record_start)
                 toggle.contentDescription = activity.getString(R.string.record_start_desc)
                 toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_idle))
-                status.text = when (s) {
-                    is RecordingState.Ended -> RecordingService.endMessage(activity, s.result)
-                    is RecordingState.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
-                    else -> activity.getString(R.string.record_idle)
-                }
+                status.setTextIfChanged(
+                    when (s) {
+                        is RecordingState.Ended -> RecordingService.endMessage(activity, s.result)
+                        is RecordingState.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
+                        else -> activity.getString(R.string.record_idle)
+                    },
+                )
             }
         }
     }

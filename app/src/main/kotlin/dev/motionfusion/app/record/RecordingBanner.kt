@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.ui.setTextIfChanged
 import android.content.Context
 import android.content.Intent
 import android.text.format.DateUtils
@@ -33,6 +34,7 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
     private val deps = (context.applicationContext as? RecordingDependencies.Provider)?.recordingDependencies
     private lateinit var text: TextView
     private var watching: Job? = null
+    private val announcer = RecordingAnnouncer { announceForAccessibility(it) }
 
     override fun onFinishInflate() {
         super.onFinishInflate()
@@ -70,6 +72,7 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
     }
 
     private fun show(s: RecordingState) {
+        announcer.update(s) { RecordingAnnouncer.text(context, it) }
         val line = when (s) {
             is RecordingState.Active -> {
                 val elapsed = DateUtils.formatElapsedTime(s.elapsedS(deps!!.clock.elapsedRealtimeNanos() / 1_000_000))
@@ -81,7 +84,7 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
             else -> null
         }
         visibility = if (line == null) View.GONE else View.VISIBLE
-        if (line != null) text.text = line
+        if (line != null) text.setTextIfChanged(line)
     }
 
     /** The live screen: the launcher activity, named by the manifest (record does not depend on the screens), brought back rather than started anew. */

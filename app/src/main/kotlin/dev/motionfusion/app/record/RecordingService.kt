@@ -80,7 +80,7 @@ class RecordingService : Service() {
                 stopRecording()
                 return
             }
-            notificationManager().notify(NOTIFICATION_ID, ongoingNotification())
+            if (ticks++ % NOTIFICATION_UPDATE_TICKS == 0L) updateNotification()
             if (now - wakeLockRenewedNs >= WAKE_LOCK_RENEW_NS) {
                 wakeLock?.acquire(WAKE_LOCK_TIMEOUT_MS)
                 wakeLockRenewedNs = now
@@ -411,27 +411,45 @@ class RecordingService : Service() {
         )
     }
 
+    /** Ticks of the recording so far (the notification is updated every [NOTIFICATION_UPDATE_TICKS]). */
+    private var ticks = 0L
+
+    /** The ongoing notification's builder: made once with its PendingIntents; an update only sets the text. */
+    private var ongoing: NotificationCompat.Builder? = null
+
+    /** Notifications posted by the updates (for tests: a few a minute, not one a second). */
+    internal var notificationUpdates = 0
+        private set
+
+    private fun updateNotification() {
+        notificationUpdates++
+        notificationManager().notify(NOTIFICATION_ID, ongoingNotification())
+    }
+
     private fun ongoingNotification(): Notification {
         val elapsedS = if (startedElapsedMs == 0L) 0 else (deps.clock.elapsedRealtimeNanos() / 1_000_000 - startedElapsedMs) / 1000
         val rows = recorder?.rowCount ?: 0L
-        val stop = PendingIntent.getService(
-            this, 1, Intent(this, RecordingService::class.java).setAction(ACTION_STOP),
-            PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
-        )
-        return NotificationCompat.Builder(this, CHANNEL_RECORDING)
+        val builder = ongoing ?: NotificationCompat.Builder(this, CHANNEL_RECORDING)
             .setSmallIcon(R.drawable.ic_record)
             .setContentTitle(getString(R.string.record_notification_title))
-            .setContentText(getString(R.string.record_notification_text, DateUtils.formatElapsedTime(elapsedS), rows))
-            .setSubText(continues?.let { getString(R.string.record_resumed_short, gapText(it)) } ?: if (resuming) getString(R.string.record_resuming) else null)
             .setOngoing(true)
             .setOnlyAlertOnce(true)
             .setShowWhen(true)
-            .setWhen(startedWallMs)
             .setUsesChronometer(true)
             .setCategory(NotificationCompat.CATEGORY_SERVICE)
             .setForegroundServiceBehavior(NotificationCompat.FOREGROUND_SERVICE_IMMEDIATE)
             .setContentIntent(openApp())
-            .addAction(0, getString(R.string.record_stop), stop)
+            .addAction(
+                0, getString(R.string.record_stop),
+                PendingIntent.getService(this, 1, Intent(this, RecordingService::class.java).setAction(ACTION_STOP), PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT),
+            )
+            .also { ongoing = it }
+        // The chronometer counts the time on the shade by itself; the text's time and count are as of this update.
+        return builder
+            .setWhen(startedWallMs)
+            .setContentText(getString(R.string.record_notification_text, DateUtils.formatElapsedTime(elapsedS), rows))
+            // A resumed recording says so (the state changes from resuming to resumed, so it is set on every update).
+            .setSubText(continues?.let { getString(R.string.record_resumed_short, gapText(it)) } ?: if (resuming) getString(R.string.record_resuming) else null)
             .build()
     }
 
@@ -477,6 +495,9 @@ class RecordingService : Service() {
             SessionStream.ACCELEROMETER, SessionStream.ACCELEROMETER_UNCALIBRATED, SessionStream.GYROSCOPE, SessionStream.GYROSCOPE_UNCALIBRATED,
             SessionStream.MAGNETOMETER, SessionStream.MAGNETOMETER_UNCALIBRATED,
         )
+
+        /** The ongoing notification's text is updated every 5 ticks (5 s): the chronometer shows the time meanwhile. */
+        internal const val NOTIFICATION_UPDATE_TICKS = 5L
 
         /** The wake lock times out after 10 minutes unless renewed, every minute while recording. */
         internal const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.sensor
 
+import java.util.concurrent.locks.LockSupport
+
 import dev.motionfusion.core.event.SessionStream
 import java.util.concurrent.atomic.AtomicLong
 
@@ -62,8 +64,22 @@ internal class EventRing(capacity: Int) {
         val n = minOf(count, stream.valueCount, src.size)
         System.arraycopy(src, 0, values, base, n)
         for (i in n until SensorStreams.maxValues) values[base + i] = Float.NaN
-        head.lazySet(h + 1)
+        // A volatile write, then the volatile read of the sleeper: a consumer that saw the ring empty is woken.
+        head.set(h + 1)
+        sleeper?.let { sleeper = null; LockSupport.unpark(it) }
         return true
+    }
+
+    @Volatile private var sleeper: Thread? = null
+
+    /**
+     * Consumer: blocks the calling thread until an event is offered, it is unparked, or [maxNs]
+     * pass; returns at once when events are queued. No polling: the producer wakes it.
+     */
+    fun awaitEvent(maxNs: Long) {
+        sleeper = Thread.currentThread()
+        if (head.get() == tail.get()) LockSupport.parkNanos(this, maxNs)
+        sleeper = null
     }
 
     /** Refuses all later offers; queued events stay drainable. */

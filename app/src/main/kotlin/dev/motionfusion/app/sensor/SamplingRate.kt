@@ -1,5 +1,8 @@
 package dev.motionfusion.app.sensor
 
+import android.content.Context
+import dev.motionfusion.app.R
+
 /**
  * The rate requested from Android for each sensor: one of Android's delays or a rate in Hz.
  * A request is a hint: devices deliver faster or slower, in quantised steps, and Android 12+
@@ -12,18 +15,15 @@ sealed interface SamplingRate {
     /** The nominal period, µs (0 for "as fast as possible"). */
     val nominalPeriodUs: Int
 
-    /** A stable text for storage ("fastest", "game", "ui", "normal" or "hz:123"). */
+    /** A stable text for storage ("fastest", "game", "ui", "normal" or "hz:123"); the screens' words are [label]'s. */
     val key: String
 
-    /** What the screens call it: "Game (50 Hz)", "100 Hz". */
-    val label: String
-
     /** Android's named delays with their SENSOR_DELAY_* constants and nominal periods. */
-    enum class Delay(override val registerArgument: Int, override val nominalPeriodUs: Int, override val key: String, override val label: String) : SamplingRate {
-        FASTEST(0, 0, "fastest", "Fastest"),
-        GAME(1, 20_000, "game", "Game (50 Hz)"),
-        UI(2, 66_667, "ui", "UI (15 Hz)"),
-        NORMAL(3, 200_000, "normal", "Normal (5 Hz)"),
+    enum class Delay(override val registerArgument: Int, override val nominalPeriodUs: Int, override val key: String) : SamplingRate {
+        FASTEST(0, 0, "fastest"),
+        GAME(1, 20_000, "game"),
+        UI(2, 66_667, "ui"),
+        NORMAL(3, 200_000, "normal"),
     }
 
     /** A rate in Hz, [MIN_HZ]..[MAX_HZ], requested as the period 10⁶/hz µs. */
@@ -35,7 +35,6 @@ sealed interface SamplingRate {
         override val registerArgument: Int get() = 1_000_000 / hz
         override val nominalPeriodUs: Int get() = 1_000_000 / hz
         override val key: String get() = "hz:$hz"
-        override val label: String get() = "$hz Hz"
     }
 
     companion object {
@@ -50,4 +49,13 @@ sealed interface SamplingRate {
             return if (hz in MIN_HZ..MAX_HZ) Hz(hz) else null
         }
     }
+}
+
+/** What the screens call [this] in the language of [c]: "Game (50 Hz)", "100 Hz". */
+fun SamplingRate.label(c: Context): String = when (this) {
+    SamplingRate.Delay.FASTEST -> c.getString(R.string.rate_fastest)
+    SamplingRate.Delay.GAME -> c.getString(R.string.rate_game)
+    SamplingRate.Delay.UI -> c.getString(R.string.rate_ui)
+    SamplingRate.Delay.NORMAL -> c.getString(R.string.rate_normal)
+    is SamplingRate.Hz -> c.getString(R.string.rate_hz_label, hz)
 }

@@ -98,14 +98,14 @@ class SessionDetailActivity : AppCompatActivity() {
             s == null -> whenText.setText(R.string.session_loading)
             else -> {
                 whenText.text = SessionsActivity.describe(this, s, state.recordingNow)
-                val lines = s.streams.map { getString(R.string.session_stream_line, it.name.lowercase(), it.rows, it.rateHz) } +
+                val lines = s.streams.map { getString(R.string.session_stream_line, SessionsActivity.streamName(this, it.name), it.rows, it.rateHz) } +
                     getString(R.string.session_fused_line, s.fusedRows)
                 findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
-                findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(it.name), it.rateHz) })
+                findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(this, it.name), it.rateHz) })
             }
         }
         state.rates?.let { r ->
-            findViewById<RatePlotView>(R.id.detail_rate_plot).setLanes(r.ratesHz.map { (name, rates) -> RatePlotView.Lane(SessionsActivity.shortName(name), rates) }, r.binSeconds)
+            findViewById<RatePlotView>(R.id.detail_rate_plot).setLanes(r.ratesHz.map { (name, rates) -> RatePlotView.Lane(SessionsActivity.shortName(this, name), rates) }, r.binSeconds)
         }
         val angles = state.angles
         findViewById<AnglePlotView>(R.id.detail_plot).apply {
@@ -180,7 +180,7 @@ class SessionDetailActivity : AppCompatActivity() {
         dialog = MaterialAlertDialogBuilder(this)
             .setMessage(getString(R.string.session_delete_confirm, model.name))
             .setNegativeButton(R.string.cancel, null)
-            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete() }
+            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete { getString(R.string.session_delete_failed, it) } }
             .show()
     }
 

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.ui.Formats
 import android.content.Context
 import android.content.Intent
 import android.os.Bundle
@@ -92,7 +93,7 @@ class SessionsActivity : AppCompatActivity() {
             } else {
                 line1.text = describe(this@SessionsActivity, s, item.recordingNow)
                 // A stream's name and rate never split over two lines (no-break spaces).
-                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { "${shortName(it.name)}\u00A0${"%.0f".format(java.util.Locale.ROOT, it.rateHz)}\u00A0Hz" }
+                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { getString(R.string.session_list_rate, shortName(this@SessionsActivity, it.name), it.rateHz) }
             }
             line2.visibility = if (line2.text.isEmpty()) View.GONE else View.VISIBLE
             return v
@@ -102,7 +103,7 @@ class SessionsActivity : AppCompatActivity() {
     internal companion object {
         /** "date · duration · size", then samples, and whether recovered or recording now. */
         fun describe(activity: Context, s: SessionSummary, recordingNow: Boolean): String {
-            val date = s.startWallClockMs?.let { DateFormat.getDateTimeInstance(DateFormat.MEDIUM, DateFormat.SHORT).format(Date(it)) } ?: "—"
+            val date = s.startWallClockMs?.let { DateFormat.getDateTimeInstance(DateFormat.MEDIUM, DateFormat.SHORT, Formats.locale(activity)).format(Date(it)) } ?: activity.getString(R.string.unknown)
             val duration = DateUtils.formatElapsedTime(s.durationNs / 1_000_000_000L)
             val size = Formatter.formatShortFileSize(activity, s.sizeBytes)
             val counts = activity.getString(R.string.session_list_counts, activity.getString(R.string.session_line1, date, duration, size), s.totalRows)
@@ -113,24 +114,33 @@ class SessionsActivity : AppCompatActivity() {
             }.let { e ->
                 val continues = s.continues ?: return@let e
                 val tag = activity.getString(R.string.session_continues, continues, gapText(s.gapNs))
-                if (e == null) tag else "$e · $tag"
+                if (e == null) tag else activity.getString(R.string.session_list_extra, e, tag)
             }
-            return if (extra == null) counts else "$counts · $extra"
+            return if (extra == null) counts else activity.getString(R.string.session_list_extra, counts, extra)
         }
 
         /** A gap between a recording's parts, "0:42" (unknown: "—"). */
         fun gapText(gapNs: Long?): String = gapNs?.let { DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 
-        /** Short labels for the list's rate line. */
-        fun shortName(stream: String): String = when (stream.lowercase()) {
-            "accelerometer" -> "acc"
-            "gyroscope" -> "gyr"
-            "magnetometer" -> "mag"
-            "gyroscope_uncalibrated" -> "gyrU"
-            "magnetometer_uncalibrated" -> "magU"
-            "rotation_vector" -> "rv"
-            "game_rotation_vector" -> "grv"
-            else -> stream
+        /** Short labels for the list's rate line and the detail's plots (the session format's stream names as data, else as they are). */
+        fun shortName(c: Context, stream: String): String = streamText(c, stream, short = true)
+
+        /** A stream's name in words. */
+        fun streamName(c: Context, stream: String): String = streamText(c, stream, short = false)
+
+        private fun streamText(c: Context, stream: String, short: Boolean): String {
+            val id = when (stream.lowercase()) {
+                "accelerometer" -> if (short) R.string.stream_short_accelerometer else R.string.stream_accelerometer
+                "accelerometer_uncalibrated" -> if (short) R.string.stream_short_accelerometer_uncalibrated else R.string.stream_accelerometer_uncalibrated
+                "gyroscope" -> if (short) R.string.stream_short_gyroscope else R.string.stream_gyroscope
+                "magnetometer" -> if (short) R.string.stream_short_magnetometer else R.string.stream_magnetometer
+                "gyroscope_uncalibrated" -> if (short) R.string.stream_short_gyroscope_uncalibrated else R.string.stream_gyroscope_uncalibrated
+                "magnetometer_uncalibrated" -> if (short) R.string.stream_short_magnetometer_uncalibrated else R.string.stream_magnetometer_uncalibrated
+                "rotation_vector" -> if (short) R.string.stream_short_rotation_vector else R.string.stream_rotation_vector
+                "game_rotation_vector" -> if (short) R.string.stream_short_game_rotation_vector else R.string.stream_game_rotation_vector
+                else -> return stream
+            }
+            return c.getString(id)
         }
     }
 }

@@ -134,13 +134,14 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
         }
     }
 
-    fun delete() {
+    /** Deletes the session; a failure is shown as [failed] makes it of the reason. */
+    fun delete(failed: (String) -> String) {
         viewModelScope.launch {
             flow.value = try {
                 withContext(deps.io) { folder().let { dir -> deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } } }
                 flow.value.copy(deleted = true)
             } catch (e: Exception) {
-                flow.value.copy(message = e.message)
+                flow.value.copy(message = failed(e.message ?: e.javaClass.simpleName))
             }
         }
     }

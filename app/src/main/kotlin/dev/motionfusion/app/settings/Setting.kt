@@ -29,6 +29,7 @@ enum class Section {
  * filter setting of fusion-core's table ([FilterSettingDescriptors], adapted by [of]) and the
  * app's own few ([APP]). Values are a Double, a Boolean or a choice's name (as in the core table);
  * [with] validates through the settings' own types and throws IllegalArgumentException on a refused value.
+ * [title] is the English name for messages; the screens show [SettingText]'s, from the resources.
  *
  * @property key the storage key (a filter setting's metadata member name).
  * @property range a number's slider ends, in [unit].
@@ -43,7 +44,6 @@ class Setting(
     val choices: List<String> = emptyList(),
     val range: ClosedFloatingPointRange<Double>? = null,
     val zeroDisables: Boolean = false,
-    private val choiceLabel: (String) -> String = ::humanise,
     private val read: (LiveSettings) -> Any,
     private val write: (LiveSettings, Any) -> LiveSettings,
 ) {
@@ -73,9 +73,6 @@ class Setting(
     fun text(s: LiveSettings): String = value(s).toString()
 
     val default: Any get() = read(LiveSettings())
-
-    /** The words shown for choice [c]. */
-    fun label(c: String): String = choiceLabel(c)
 
     /** The choices to offer with [s]: [choices], and the current one if it is none of them (a rate typed in another version). */
     fun choicesFor(s: LiveSettings): List<String> = value(s).toString().let { if (it in choices) choices else choices + it }
@@ -109,15 +106,15 @@ class Setting(
          * is added here (with its field in [LiveSettings]) and the screen and the store take it up.
          */
         val APP: List<Setting> = listOf(
-            Setting(RATE, "Requested sensor rate", Section.RECORDING, SettingKind.CHOICE, choices = RATES, choiceLabel = ::rateLabel,
+            Setting(RATE, "Requested sensor rate", Section.RECORDING, SettingKind.CHOICE, choices = RATES,
                 read = { it.rate.key }, write = { s, v -> s.copy(rate = requireNotNull(SamplingRate.parse(v as String)) { "no rate $v" }) }),
             Setting(MAX_DURATION, "Stop recording after", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.DURATION_CHOICES_S.map { it.toString() },
-                choiceLabel = ::durationLabel, read = { it.limits.maxDurationS.toString() },
+                read = { it.limits.maxDurationS.toString() },
                 write = { s, v -> s.copy(limits = s.limits.copy(maxDurationS = (v as String).toLong())) }),
             Setting(STOP_BATTERY, "Stop recording at battery", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.BATTERY_CHOICES.map { it.toString() },
-                choiceLabel = { if (it == "0") "Never" else "$it %" }, read = { it.limits.stopBatteryPercent.toString() },
+                read = { it.limits.stopBatteryPercent.toString() },
                 write = { s, v -> s.copy(limits = s.limits.copy(stopBatteryPercent = (v as String).toInt())) }),
-            Setting("convention", "Angles shown", Section.DISPLAY, SettingKind.CHOICE, choices = AngleConvention.entries.map { it.name }, choiceLabel = ::conventionLabel,
+            Setting("convention", "Angles shown", Section.DISPLAY, SettingKind.CHOICE, choices = AngleConvention.entries.map { it.name },
                 read = { it.convention.name }, write = { s, v -> s.copy(convention = AngleConvention.valueOf(v as String)) }),
         )
 
@@ -126,27 +123,5 @@ class Setting(
          * shows and records device → ENU; LiveSettings requires it), then the app's.
          */
         val ALL: List<Setting> = FilterSettingDescriptors.all.filter { it.name != "outputFrame" }.map(::of) + APP
-
-        /** "FIRST_SAMPLE" → "First sample"; MARG and IMU stay as they are. */
-        fun humanise(c: String): String = when (c) {
-            "MARG" -> "MARG (9D, with magnetometer)"
-            "IMU" -> "IMU (6D)"
-            else -> c.lowercase().replace('_', ' ').replaceFirstChar { it.uppercase() }
-        }
-
-        /** 0 → "No limit", 900 → "15 min", 7200 → "2 h". */
-        internal fun durationLabel(c: String): String {
-            val seconds = c.toLongOrNull() ?: return c
-            return when {
-                seconds == 0L -> "No limit"
-                seconds % 3600 == 0L -> "${seconds / 3600} h"
-                seconds % 60 == 0L -> "${seconds / 60} min"
-                else -> "$seconds s"
-            }
-        }
-
-        private fun rateLabel(key: String): String = SamplingRate.parse(key)?.label ?: key
-
-        private fun conventionLabel(c: String): String = if (c == AngleConvention.ANDROID.name) "Android azimuth, pitch, roll" else "Aerospace yaw, pitch, roll (Z-Y-X)"
     }
 }

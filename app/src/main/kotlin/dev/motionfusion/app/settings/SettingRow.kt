@@ -14,11 +14,11 @@ import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.GyroSaturation
+import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.filter.FilterSettingDescriptors
 import dev.motionfusion.core.filter.SettingKind
 import java.math.BigDecimal
 import java.math.RoundingMode
-import java.util.Locale
 import kotlin.math.ceil
 import kotlin.math.log10
 
@@ -58,14 +58,15 @@ internal class SettingRow(
         view.tag = setting.key
         // Every row has the same view ids: the draft in the ViewModel, not view state, survives a rotation.
         view.isSaveFromParentEnabled = false
-        view.findViewById<TextView>(R.id.setting_name)?.text = setting.title
+        val title = SettingText.title(context, setting)
+        view.findViewById<TextView>(R.id.setting_name)?.text = title
         when (setting.kind) {
             SettingKind.NUMBER -> {
                 val r = requireNotNull(setting.range) { "${setting.key} has no range" }
                 val s = slider!!
                 s.valueFrom = r.start.toFloat()
                 s.valueTo = r.endInclusive.toFloat()
-                s.contentDescription = setting.title
+                s.contentDescription = title
                 s.setLabelFormatter { withUnit(it.toDouble()) }
                 s.addOnChangeListener { _, v, _ -> if (!showing) onChange(setting, round(v.toDouble())) }
                 val d = setting.default as Double
@@ -77,20 +78,20 @@ internal class SettingRow(
                 val shownDefault = if (setting.zeroDisables && d == 0.0) context.getString(R.string.settings_off) else withUnit(d)
                 help.text = context.getString(helpText, shownDefault, Math.round(GyroSaturation.MARGIN * 100).toInt())
                 reset!!.setOnClickListener { onChange(setting, setting.default) }
-                reset.contentDescription = context.getString(R.string.settings_reset_one) + " " + setting.title
+                reset.contentDescription = context.getString(R.string.settings_reset_description, title)
                 if (setting.zeroDisables) {
                     switch!!.visibility = View.VISIBLE
-                    switch.contentDescription = setting.title
+                    switch.contentDescription = title
                     switch.setOnCheckedChangeListener { _, on -> if (!showing) onSwitch(setting, on) }
                 }
             }
             SettingKind.BOOLEAN -> {
-                switch!!.text = setting.title
+                switch!!.text = title
                 switch.setOnCheckedChangeListener { _, on -> if (!showing) onChange(setting, on) }
                 help.text = context.getString(R.string.settings_default, context.getString(if (setting.default == true) R.string.settings_on else R.string.settings_off))
             }
             SettingKind.CHOICE -> {
-                help.text = context.getString(R.string.settings_default, setting.label(setting.default as String))
+                help.text = context.getString(R.string.settings_default, SettingText.label(context, setting, setting.default as String))
                 chips!!.setOnCheckedStateChangeListener { group, ids ->
                     if (showing) return@setOnCheckedStateChangeListener
                     val chip = ids.firstOrNull()?.let { group.findViewById<Chip>(it) } ?: return@setOnCheckedStateChangeListener
@@ -100,7 +101,7 @@ internal class SettingRow(
         }
     }
 
-    /** Shows the value of this setting in [s] and [error] (null: none). */
+    /** Shows the value of this setting in [s] and [error] (null: none; else shown as refused, the detail in its words). */
     fun show(s: LiveSettings, error: String?) {
         showing = true
         try {
@@ -109,7 +110,7 @@ internal class SettingRow(
                 SettingKind.BOOLEAN -> switch!!.isChecked = setting.value(s) as Boolean
                 SettingKind.CHOICE -> showChoice(s)
             }
-            help.error = error
+            help.error = error?.let { context.getString(R.string.settings_refused, it) }
         } finally {
             showing = false
         }
@@ -138,7 +139,7 @@ internal class SettingRow(
                     setChipDrawable(ChipDrawable.createFromAttributes(context, null, 0, MaterialR.style.Widget_Material3_Chip_Filter))
                     id = View.generateViewId()
                     tag = c
-                    text = setting.label(c)
+                    text = SettingText.label(context, setting, c)
                     isCheckable = true
                     minHeight = (48 * context.resources.displayMetrics.density).toInt()
                 })
@@ -154,13 +155,13 @@ internal class SettingRow(
 
     private fun round(v: Double): Double = BigDecimal(v).setScale(decimals, RoundingMode.HALF_EVEN).toDouble()
 
-    /** "0.052 rad/s (3.0°/s)": the value at the row's precision with its unit; angles also in degrees. */
+    /** "0.052 rad/s (3.0°/s)": the value at the row's precision with its unit, in the locale's format; angles also in degrees. */
     fun withUnit(v: Double): String {
-        val text = BigDecimal(v).setScale(decimals, RoundingMode.HALF_EVEN).stripTrailingZeros().toPlainString()
+        val text = Formats.number(context, v, decimals)
         val unit = setting.unit
-        val plain = if (unit.isEmpty()) text else "$text $unit"
-        if (!unit.startsWith("rad")) return plain
-        return String.format(Locale.ROOT, "%s (%.1f°%s)", plain, Math.toDegrees(v), unit.removePrefix("rad"))
+        if (unit.isEmpty()) return text
+        if (!unit.startsWith("rad")) return context.getString(R.string.value_with_unit, text, unit)
+        return context.getString(R.string.value_with_degrees, text, unit, String.format(Formats.locale(context), "%.1f", Math.toDegrees(v)), unit.removePrefix("rad"))
     }
 }
 

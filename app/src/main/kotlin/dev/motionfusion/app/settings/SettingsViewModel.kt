@@ -53,7 +53,7 @@ class SettingsViewModel(private val repository: SettingsRepository) : ViewModel(
         flow.value = try {
             s.copy(draft = setting.with(s.draft, value), errors = s.errors - setting.key, justApplied = false)
         } catch (e: IllegalArgumentException) {
-            s.copy(errors = s.errors + (setting.key to (e.message ?: "refused")))
+            s.copy(errors = s.errors + (setting.key to (e.message ?: e.javaClass.simpleName)))
         }
     }
 

@@ -218,7 +218,9 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
 
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         val w = MeasureSpec.getSize(widthMeasureSpec)
-        setMeasuredDimension(w, resolveSize((200 * density).toInt(), heightMeasureSpec))
+        // At least its layout's height; taller with large text, so the five angle labels of the axis never overlap.
+        val wanted = maxOf(suggestedMinimumHeight.takeIf { it > 0 } ?: (200 * density).toInt(), (9.5f * textPx).toInt())
+        setMeasuredDimension(w, resolveSize(wanted, heightMeasureSpec))
     }
 
     override fun onDraw(canvas: Canvas) {
@@ -298,8 +300,8 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
 
     private fun drawTimeAxis(canvas: Canvas, left: Float, right: Float, spanS: Float, live: Boolean) {
         val y = height - 2 * density
-        val first = if (live) String.format(Locale.ROOT, "−%.0f s", spanS) else "0 s"
-        val last = if (live) context.getString(R.string.plot_now) else String.format(Locale.ROOT, "%.1f s", spanS)
+        val first = if (live) context.getString(R.string.axis_seconds_ago, spanS) else context.getString(R.string.axis_seconds, 0f)
+        val last = if (live) context.getString(R.string.plot_now) else context.getString(R.string.axis_seconds_fraction, spanS)
         canvas.drawText(first, left, y, label)
         canvas.drawText(last, right - label.measureText(last), y, label)
     }

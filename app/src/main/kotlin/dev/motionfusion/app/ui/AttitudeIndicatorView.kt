@@ -22,13 +22,16 @@ class AttitudeIndicatorView @JvmOverloads constructor(context: Context, attrs: A
     private val sky = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x2E, 0x6F, 0xB0) }
     private val ground = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.rgb(0x7A, 0x52, 0x30) }
     private val line = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.WHITE; strokeWidth = dp(2f); style = Paint.Style.STROKE }
-    private val ladder = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.WHITE; strokeWidth = dp(1.2f); textSize = dp(10f) }
+    private val ladder = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = Color.WHITE; strokeWidth = dp(1.2f); textSize = sp(11f) }
     private val symbol = Paint(Paint.ANTI_ALIAS_FLAG).apply {
         color = Color.rgb(0xFF, 0xC1, 0x07); strokeWidth = dp(4f); style = Paint.Style.STROKE; strokeCap = Paint.Cap.ROUND
     }
     private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorOutline, Color.GRAY); strokeWidth = dp(3f); style = Paint.Style.STROKE }
     private val dim = Paint().apply { color = themeColor(MaterialR.attr.colorSurface, Color.BLACK); alpha = 0xB0 }
     private val clip = Path()
+
+    /** The pitch ladder's text size, px (follows the font scale). */
+    internal val labelTextPx: Float get() = ladder.textSize
 
     /** Shows [pitchDeg] and [rollDeg] (aerospace signs), or "no attitude" when [valid] is false. */
     fun setAttitude(pitchDeg: Double, rollDeg: Double, valid: Boolean) {

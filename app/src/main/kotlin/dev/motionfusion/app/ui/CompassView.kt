@@ -31,10 +31,10 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
     private val rim = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = rimColour; strokeWidth = dp(3f); style = Paint.Style.STROKE }
     private val tick = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorOnSurfaceVariant, Color.GRAY); strokeWidth = dp(1.5f) }
     private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply {
-        color = themeColor(MaterialR.attr.colorOnSurface, Color.BLACK); textSize = dp(16f); textAlign = Paint.Align.CENTER
+        color = themeColor(MaterialR.attr.colorOnSurface, Color.BLACK); textSize = sp(16f); textAlign = Paint.Align.CENTER
     }
     private val north = Paint(Paint.ANTI_ALIAS_FLAG).apply {
-        color = context.getColor(R.color.compass_north); textSize = dp(18f); textAlign = Paint.Align.CENTER; isFakeBoldText = true
+        color = context.getColor(R.color.compass_north); textSize = sp(18f); textAlign = Paint.Align.CENTER; isFakeBoldText = true
     }
     private val lubber = Paint(Paint.ANTI_ALIAS_FLAG).apply { color = themeColor(MaterialR.attr.colorPrimary, Color.BLUE) }
     private val marker = Path()
@@ -62,7 +62,7 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
             canvas.drawLine(cx + s * inner, cy - c * inner, cx + s * r * 0.95f, cy - c * r * 0.95f, tick)
         }
         // A relative heading has no north: degrees instead of cardinal points.
-        val labels = if (state == State.RELATIVE) RELATIVE_LABELS else LABELS
+        val labels = if (state == State.RELATIVE) RELATIVE_LABELS else cardinals
         for (i in 0 until 4) {
             val a = Math.toRadians(i * 90.0)
             val lr = r * 0.64f
@@ -85,8 +85,12 @@ class CompassView @JvmOverloads constructor(context: Context, attrs: AttributeSe
     }
 
 
+    /** The cardinal points' text size, px (follows the font scale). */
+    internal val labelTextPx: Float get() = text.textSize
+
+    private val cardinals = cardinalPoints(context)
+
     private companion object {
-        val LABELS = arrayOf("N", "E", "S", "W")
         val RELATIVE_LABELS = arrayOf("0", "90", "180", "270")
     }
 }

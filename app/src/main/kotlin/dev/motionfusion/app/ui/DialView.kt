@@ -1,6 +1,8 @@
 package dev.motionfusion.app.ui
 
 import android.content.Context
+import android.util.TypedValue
+import dev.motionfusion.app.R
 import android.graphics.Canvas
 import android.util.AttributeSet
 import android.view.View
@@ -30,3 +32,11 @@ abstract class DialView(context: Context, attrs: AttributeSet?) : View(context, 
     /** [v] density-independent pixels in pixels. */
     protected fun dp(v: Float): Float = v * resources.displayMetrics.density
 }
+
+/** [v] scale-independent pixels in pixels: text that follows the user's font size (non-linearly from Android 14). */
+internal fun View.sp(v: Float): Float = TypedValue.applyDimension(TypedValue.COMPLEX_UNIT_SP, v, resources.displayMetrics)
+
+/** N, E, S, W in the resources' language. */
+internal fun cardinalPoints(c: Context): Array<String> = arrayOf(
+    c.getString(R.string.cardinal_north), c.getString(R.string.cardinal_east), c.getString(R.string.cardinal_south), c.getString(R.string.cardinal_west),
+)

@@ -45,12 +45,13 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
         color = themeColor(MaterialR.attr.colorOutline, Color.GRAY)
     }
     private val cardinal = Paint(Paint.ANTI_ALIAS_FLAG).apply {
-        textAlign = Paint.Align.CENTER; textSize = 13f * resources.displayMetrics.scaledDensity
+        textAlign = Paint.Align.CENTER; textSize = sp(13f)
         color = themeColor(MaterialR.attr.colorOnSurfaceVariant, Color.GRAY)
     }
     private val north = Paint(cardinal).apply { color = context.getColor(R.color.compass_north); isFakeBoldText = true }
     private val path = Path()
     private val p = FloatArray(2)
+    private val cardinals = cardinalPoints(context)
 
     private val bodyColour = themeColor(MaterialR.attr.colorPrimary, Color.DKGRAY)
     private val screenColour = Color.rgb(0x1C, 0x26, 0x36)
@@ -118,10 +119,10 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
         }
         canvas.drawPath(path, ring)
         val r = radius * 1.14f
-        label(canvas, "N", 0f, r, down, cx, cy, scale, north)
-        label(canvas, "E", r, 0f, down, cx, cy, scale, cardinal)
-        label(canvas, "S", 0f, -r, down, cx, cy, scale, cardinal)
-        label(canvas, "W", -r, 0f, down, cx, cy, scale, cardinal)
+        label(canvas, cardinals[0], 0f, r, down, cx, cy, scale, north)
+        label(canvas, cardinals[1], r, 0f, down, cx, cy, scale, cardinal)
+        label(canvas, cardinals[2], 0f, -r, down, cx, cy, scale, cardinal)
+        label(canvas, cardinals[3], -r, 0f, down, cx, cy, scale, cardinal)
     }
 
     private fun label(canvas: Canvas, text: String, e: Float, n: Float, u: Float, cx: Float, cy: Float, scale: Float, paint: Paint) {

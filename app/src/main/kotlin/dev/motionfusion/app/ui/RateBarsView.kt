@@ -1,5 +1,6 @@
 package dev.motionfusion.app.ui
 
+import dev.motionfusion.app.R
 import android.content.Context
 import android.graphics.Canvas
 import android.graphics.Color
@@ -8,7 +9,6 @@ import android.util.AttributeSet
 import android.util.TypedValue
 import android.view.View
 import com.google.android.material.R as MaterialR
-import java.util.Locale
 import kotlin.math.max
 
 /**
@@ -31,7 +31,7 @@ class RateBarsView @JvmOverloads constructor(context: Context, attrs: AttributeS
 
     fun setBars(bars: List<Bar>) {
         this.bars = bars
-        contentDescription = bars.joinToString("; ") { "${it.name} ${rate(it.rateHz)}" }
+        contentDescription = bars.joinToString(context.getString(R.string.description_separator)) { context.getString(R.string.rate_bar_description, it.name, rate(it.rateHz)) }
         requestLayout()
         invalidate()
     }
@@ -61,5 +61,5 @@ class RateBarsView @JvmOverloads constructor(context: Context, attrs: AttributeS
         }
     }
 
-    private fun rate(hz: Double) = String.format(Locale.ROOT, "%.1f Hz", hz)
+    private fun rate(hz: Double) = context.getString(R.string.rate_hz, hz)
 }

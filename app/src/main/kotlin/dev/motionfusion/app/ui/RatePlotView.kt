@@ -1,5 +1,6 @@
 package dev.motionfusion.app.ui
 
+import dev.motionfusion.app.R
 import android.content.Context
 import android.graphics.Canvas
 import android.graphics.Color
@@ -9,7 +10,6 @@ import android.util.AttributeSet
 import android.util.TypedValue
 import android.view.View
 import com.google.android.material.R as MaterialR
-import java.util.Locale
 
 /**
  * Each stream's rate over time as a lane of its own: the stream's name, a line of its events per
@@ -40,7 +40,7 @@ class RatePlotView @JvmOverloads constructor(context: Context, attrs: AttributeS
     fun setLanes(lanes: List<Lane>, binSeconds: Double) {
         this.lanes = lanes
         this.binSeconds = binSeconds
-        contentDescription = lanes.joinToString("; ") { "${it.name} ${rate(it.ratesHz.maxOrNull() ?: 0f)} at most" }
+        contentDescription = lanes.joinToString(context.getString(R.string.description_separator)) { context.getString(R.string.rate_lane_description, it.name, rate(it.ratesHz.maxOrNull() ?: 0f)) }
         requestLayout()
         invalidate()
     }
@@ -78,12 +78,12 @@ class RatePlotView @JvmOverloads constructor(context: Context, attrs: AttributeS
             canvas.drawText(rate(peak), right + 10 * density, baseline, text)
         }
         val y = lanes.size * laneHeight + axis.textSize * 1.2f
-        val end = String.format(Locale.ROOT, "%.0f s", bins * binSeconds)
-        canvas.drawText("0 s", left, y, axis)
-        val bin = String.format(Locale.ROOT, "%s-s bins", if (binSeconds % 1.0 == 0.0) "%.0f".format(Locale.ROOT, binSeconds) else "%.1f".format(Locale.ROOT, binSeconds))
+        val end = context.getString(R.string.axis_seconds, bins * binSeconds)
+        canvas.drawText(context.getString(R.string.axis_seconds, 0.0), left, y, axis)
+        val bin = if (binSeconds % 1.0 == 0.0) context.getString(R.string.rate_bins, binSeconds) else context.getString(R.string.rate_bins_fraction, binSeconds)
         canvas.drawText(bin, (left + right) / 2 - axis.measureText(bin) / 2, y, axis)
         canvas.drawText(end, right - axis.measureText(end), y, axis)
     }
 
-    private fun rate(hz: Float) = String.format(Locale.ROOT, "%.0f Hz", hz)
+    private fun rate(hz: Float) = context.getString(R.string.rate_hz_whole, hz)
 }

@@ -119,8 +119,8 @@ class CalibrationScreensTest {
     @Test
     fun `fit accepted`() = render("mag-accepted", readings.fullTurn, { click(it, R.id.primary_action); click(it, R.id.primary_action) }) { a, b ->
         val r = text(a, R.id.result)
-        assertTrue(r, r.startsWith("magnetometer (magnetometer_uncalibrated, FULL)\nhard iron  35.0 -20.0 60.0 µT"))
-        assertTrue(r, Regex("coverage \\d+ %").containsMatchIn(r))
+        assertTrue(r, r.startsWith("Magnetometer (magnetometer_uncalibrated, FULL)\nHard iron  35.0 -20.0 60.0 µT"))
+        assertTrue(r, Regex("Coverage \\d+ %").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
         assertEquals(a.getString(R.string.calibration_again), text(a, R.id.primary_action))
         assertTrue(filledCells(a, b, a.viewModel.state.value.cellHits.indexOfFirst { it == 0 }.coerceAtLeast(0)) > 64)
@@ -129,7 +129,7 @@ class CalibrationScreensTest {
     @Test
     fun `fit refused for poor coverage`() = render("mag-refused", readings.narrowTurn, { click(it, R.id.primary_action); click(it, R.id.primary_action) }) { a, _ ->
         assertEquals(a.getString(R.string.calibration_result_refused), text(a, R.id.instruction))
-        assertTrue(text(a, R.id.result), Regex("^magnetometer refused: the field directions cover 2\\d % of the sphere \\(at least 30 % needed\\)").containsMatchIn(text(a, R.id.result)))
+        assertTrue(text(a, R.id.result), Regex("^Magnetometer refused: the field directions cover 2\\d % of the sphere \\(at least 30 % needed\\)").containsMatchIn(text(a, R.id.result)))
         assertFalse(a.findViewById<Button>(R.id.save).isEnabled)
     }
 
@@ -145,8 +145,8 @@ class CalibrationScreensTest {
     @Test
     fun `poses fitted`() = render("poses-accepted", readings.sixPoses, { click(it, R.id.step_poses); click(it, R.id.primary_action); click(it, R.id.primary_action) }) { a, _ ->
         val r = text(a, R.id.result)
-        assertTrue(r, Regex("^accelerometer \\(AXIS_ALIGNED, 6 poses\\)\noffset  0\\.1[12]\\d -0\\.(199|200|201) 0\\.1(49|50|51) m/s²").containsMatchIn(r))
-        assertTrue(r, Regex("gyroscope bias \\(gyroscope_uncalibrated\\)\nbias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
+        assertTrue(r, Regex("^Accelerometer \\(AXIS_ALIGNED, 6 poses\\)\nOffset  0\\.1[12]\\d -0\\.(199|200|201) 0\\.1(49|50|51) m/s²").containsMatchIn(r))
+        assertTrue(r, Regex("Gyroscope bias \\(gyroscope_uncalibrated\\)\nBias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
         assertTrue(text(a, R.id.progress_text), Regex("^6 poses · \\d+ s$").matches(text(a, R.id.progress_text)))
     }

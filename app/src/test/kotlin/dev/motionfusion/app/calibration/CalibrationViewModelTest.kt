@@ -135,7 +135,7 @@ class CalibrationViewModelTest {
         assertEquals(SessionStream.MAGNETOMETER, vm.state.value.magStream)
         assertNull(vm.state.value.unavailable)
         vm.select(CalibrationStep.POSES)
-        assertTrue(vm.state.value.unavailable!!.contains("no gyroscope"))
+        assertEquals(dev.motionfusion.app.R.string.calibration_no_gyroscope, vm.state.value.unavailable)
         vm.start()
         assertEquals(CalibrationStage.READY, vm.state.value.stage)
     }

@@ -169,8 +169,8 @@ class RecordingServiceTest {
         assertEquals(300L * SensorStreams.all.size, rows())
         assertTrue("still recording", graph.graph.recordings.isRecording)
 
-        // The elapsed time and the sample count are in the notification, which has Stop.
-        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(2))
+        // The elapsed time and the sample count are in the notification, which has Stop; it is updated every 5 s.
+        shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(RecordingService.NOTIFICATION_UPDATE_TICKS))
         val nm = app.getSystemService(NotificationManager::class.java)
         val n: Notification = shadowOf(nm).getNotification(RecordingService.NOTIFICATION_ID)
         val text = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()

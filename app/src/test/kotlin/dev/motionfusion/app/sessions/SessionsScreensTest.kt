@@ -157,7 +157,7 @@ class SessionsScreensTest {
         val a = detail(dir)
         val streams = a.findViewById<TextView>(R.id.detail_streams).text.toString()
         assertTrue(streams, streams.contains("accelerometer · 6,000 · 200.0 Hz"))
-        assertTrue(streams, streams.contains("game_rotation_vector · 6,000"))
+        assertTrue(streams, streams.contains("game rotation vector · 6,000"))
         assertTrue(streams, streams.contains("Fused orientation · 6,000 rows"))
         val plot = a.findViewById<AnglePlotView>(R.id.detail_plot)
         assertEquals(a.getString(R.string.session_plot_title), plot.contentDescription)
@@ -189,7 +189,7 @@ class SessionsScreensTest {
         idle()
         val rates = c.get().findViewById<dev.motionfusion.app.ui.RatePlotView>(R.id.detail_rate_plot)
         assertEquals(4, rates.laneCount) // accelerometer, gyroscope, magnetometer, game rotation vector
-        assertTrue(rates.contentDescription.toString(), rates.contentDescription.contains("acc 200 Hz"))
+        assertTrue(rates.contentDescription.toString(), rates.contentDescription.contains("acc at most 200 Hz"))
         val points = c.get().findViewById<AnglePlotView>(R.id.detail_plot).pointCount
         assertTrue(points > 100)
         c.recreate()

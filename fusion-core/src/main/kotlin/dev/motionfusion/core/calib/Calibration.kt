@@ -11,10 +11,51 @@ import dev.motionfusion.core.event.SessionStream
 /** A fit that produced a result, or was refused with a reason. */
 public sealed class Fit<out T> {
     public data class Done<out T>(val value: T) : Fit<T>()
-    public data class Refused(val reason: String) : Fit<Nothing>()
+
+    /**
+     * Refused: [reason] in English words for a person; [kind] and its [figures] (in the order
+     * [RefusalKind] names them) for a program that says it in another language.
+     */
+    public data class Refused(val reason: String, val kind: RefusalKind = RefusalKind.OTHER, val figures: List<Double> = emptyList()) : Fit<Nothing>()
 
     /** The value, or null when refused. */
     public fun valueOrNull(): T? = (this as? Done<T>)?.value
+}
+
+/** Why a calibration fit was refused, and the figures its reason states ([Fit.Refused.figures], in this order). */
+public enum class RefusalKind {
+    /** Magnetometer: too few samples kept (samples kept). */
+    FEW_SAMPLES,
+
+    /** Magnetometer: the readings do not lie on an ellipsoid (no figures). */
+    NO_ELLIPSOID,
+
+    /** Magnetometer: the fitted field is outside the Earth's (fitted µT, lowest µT, highest µT). */
+    FIELD_OUT_OF_RANGE,
+
+    /** Magnetometer: the directions cover too little of the sphere (covered %, needed %). */
+    FEW_DIRECTIONS,
+
+    /** Magnetometer: the residual is too large a part of the field (residual µT, largest %, field µT). */
+    DISTURBED,
+
+    /** Gyroscope: still for too short a time (still s, needed s). */
+    NOT_STILL,
+
+    /** Accelerometer: too few distinct still poses (poses, seconds per pose). */
+    FEW_POSES,
+
+    /** Accelerometer: an axis never pointed up (axis 0 = x, 1 = y, 2 = z; seconds per pose). */
+    AXIS_NEVER_UP,
+
+    /** Accelerometer: an axis never pointed down (axis, seconds per pose). */
+    AXIS_NEVER_DOWN,
+
+    /** Accelerometer: the poses do not determine an ellipsoid (no figures). */
+    POSES_NO_ELLIPSOID,
+
+    /** Any other reason: only [Fit.Refused.reason] says it. */
+    OTHER,
 }
 
 /**

@@ -64,9 +64,9 @@ public class MagnetometerFitter(private val settings: CalibrationSettings = Cali
 
     /** Fits the ellipsoid; refused when the directions cover too little of the sphere or the fit is poor. */
     public fun fit(): Fit<MagnetometerCalibration> {
-        if (kept < 100) return Fit.Refused("only $kept magnetometer samples; turn the phone through many orientations for at least 30 s")
+        if (kept < 100) return Fit.Refused("only $kept magnetometer samples; turn the phone through many orientations for at least 30 s", RefusalKind.FEW_SAMPLES, listOf(kept.toDouble()))
         val e = EllipsoidFit.fit(xyz, kept, settings.magModel)
-            ?: return Fit.Refused("the readings do not lie on an ellipsoid (too few directions, or a disturbed field)")
+            ?: return Fit.Refused("the readings do not lie on an ellipsoid (too few directions, or a disturbed field)", RefusalKind.NO_ELLIPSOID)
         val radius = e.meanRadius
         val c = e.correction(radius)
         val coverage = DirectionCoverage()
@@ -88,6 +88,7 @@ public class MagnetometerFitter(private val settings: CalibrationSettings = Cali
             return Fit.Refused(
                 "the readings cover too few directions to locate the centre of the field (the fit gives %.1f µT, outside %.0f–%.0f µT): turn the phone through more orientations (figure eights, all faces up)"
                     .format(java.util.Locale.ROOT, radius, MIN_FIELD_UT, MAX_FIELD_UT),
+                RefusalKind.FIELD_OUT_OF_RANGE, listOf(radius, MIN_FIELD_UT, MAX_FIELD_UT),
             )
         }
         val result = MagnetometerCalibration(c, stream, settings.magModel, radius, residual, coverage.fraction, seen, before.std, after.std)
@@ -95,11 +96,13 @@ public class MagnetometerFitter(private val settings: CalibrationSettings = Cali
             return Fit.Refused(
                 "the field directions cover %.0f %% of the sphere (at least %.0f %% needed): turn the phone through more orientations (figure eights, all faces up)"
                     .format(java.util.Locale.ROOT, 100 * coverage.fraction, 100 * settings.minCoverage),
+                RefusalKind.FEW_DIRECTIONS, listOf(100 * coverage.fraction, 100 * settings.minCoverage),
             )
         }
         if (residual > settings.maxResidualFraction * radius) {
             return Fit.Refused("residual %.2f µT is over %.0f %% of the field (%.1f µT): the field was disturbed during the recording"
-                .format(java.util.Locale.ROOT, residual, 100 * settings.maxResidualFraction, radius))
+                .format(java.util.Locale.ROOT, residual, 100 * settings.maxResidualFraction, radius),
+                RefusalKind.DISTURBED, listOf(residual, 100 * settings.maxResidualFraction, radius))
         }
         return Fit.Done(result)
     }

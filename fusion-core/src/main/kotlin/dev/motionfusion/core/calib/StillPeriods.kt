@@ -129,7 +129,10 @@ public class StillPeriods(
         finish()
         val still = stillTimeNs * 1e-9
         if (stillWindows == 0 || still < settings.minStillS) {
-            return Fit.Refused("still for %.1f s (at least %.0f s needed): lay the phone on a table, untouched".format(java.util.Locale.ROOT, still, settings.minStillS))
+            return Fit.Refused(
+                "still for %.1f s (at least %.0f s needed): lay the phone on a table, untouched".format(java.util.Locale.ROOT, still, settings.minStillS),
+                RefusalKind.NOT_STILL, listOf(still, settings.minStillS),
+            )
         }
         val bias = Vector3(biasSum[0] / stillSamples, biasSum[1] / stillSamples, biasSum[2] / stillSamples)
         val w = stillWindows.toDouble()
@@ -176,11 +179,16 @@ public class StillPeriods(
         finish()
         val points = merged(poses)
         val need = "lay the phone still for ${settings.minPoseS.toInt()}+ s on each of its six faces"
-        if (points.size < 6) return Fit.Refused("${points.size} distinct still poses (at least 6 needed): $need")
+        if (points.size < 6) return Fit.Refused("${points.size} distinct still poses (at least 6 needed): $need", RefusalKind.FEW_POSES, listOf(points.size.toDouble(), settings.minPoseS))
         for ((k, axis) in listOf("x", "y", "z").withIndex()) {
             val up = points.any { it[k] > 0.5 * settings.gravity }
             val down = points.any { it[k] < -0.5 * settings.gravity }
-            if (!up || !down) return Fit.Refused("the $axis axis was never pointed ${if (!up) "up" else "down"}: $need")
+            if (!up || !down) {
+                return Fit.Refused(
+                    "the $axis axis was never pointed ${if (!up) "up" else "down"}: $need",
+                    if (!up) RefusalKind.AXIS_NEVER_UP else RefusalKind.AXIS_NEVER_DOWN, listOf(k.toDouble(), settings.minPoseS),
+                )
+            }
         }
         val xyz = DoubleArray(3 * points.size)
         points.forEachIndexed { i, p -> xyz[3 * i] = p.x; xyz[3 * i + 1] = p.y; xyz[3 * i + 2] = p.z }
@@ -190,7 +198,7 @@ public class StillPeriods(
             used = EllipsoidModel.AXIS_ALIGNED
             e = EllipsoidFit.fit(xyz, points.size, used)
         }
-        if (e == null) return Fit.Refused("the poses do not determine an ellipsoid")
+        if (e == null) return Fit.Refused("the poses do not determine an ellipsoid", RefusalKind.POSES_NO_ELLIPSOID)
         val c = e.correction(settings.gravity)
         val residual = sqrt(points.sumOf { val d = c.apply(it).norm() - settings.gravity; d * d } / points.size)
         return Fit.Done(AccelerometerCalibration(c, accStream, used, settings.gravity, points.size, residual))

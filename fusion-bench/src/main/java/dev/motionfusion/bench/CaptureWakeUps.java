@@ -1,0 +1,116 @@
+/*
+ * Battery cost of the app's capture thread (issue 23): a phone's streams (accelerometer and
+ * gyroscope at 200 Hz, magnetometer at 100 Hz, each event offered at its own time, as the sensor
+ * thread does without hardware batching) through the app's real capture path for a while of
+ * real time, in two cases: recording with nothing on screen (the recorder writing a session on
+ * disk) and the live screen visible without recording. Counts the capture thread's wake-ups (its
+ * voluntary context switches, from /proc/self/task/TID/status: each is one sleep ended) per
+ * second and its CPU time (ThreadMXBean) per minute. The sensor thread's own wake-ups (one per
+ * event delivered by Android) are not the capture's and are not counted.
+ * Run: java -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.CaptureWakeUps [seconds]
+ * (Linux only: /proc.)
+ */
+package dev.motionfusion.bench;
+
+import dev.motionfusion.app.live.Capture;
+import dev.motionfusion.app.record.CoreSessionFormat;
+import dev.motionfusion.app.record.Recorder;
+import dev.motionfusion.app.sensor.EventRing;
+import dev.motionfusion.core.event.SessionStream;
+import dev.motionfusion.core.session.SessionMetadata;
+import java.lang.management.ManagementFactory;
+import java.lang.management.ThreadMXBean;
+import java.nio.file.Files;
+import java.nio.file.Path;
+import java.util.Comparator;
+import java.util.concurrent.locks.LockSupport;
+import java.util.stream.Stream;
+import kotlin.Unit;
+
+public final class CaptureWakeUps {
+    private CaptureWakeUps() {}
+
+    public static void main(String[] args) throws Exception {
+        double seconds = args.length > 0 ? Double.parseDouble(args[0]) : 30.0;
+        run("recording, nothing on screen", seconds, false);
+        run("live screen visible, not recording", seconds, true);
+    }
+
+    private static void run(String what, double seconds, boolean onScreen) throws Exception {
+        Path dir = Files.createTempDirectory("capture-wakeups");
+        EventRing ring = new EventRing(Capture.DEFAULT_RING_CAPACITY);
+        Capture capture = FloodCapture.threaded(ring); // acquired once, with its thread
+        if (onScreen) user(capture, "acquire"); // and by a screen showing it
+        Recorder recorder = null;
+        if (!onScreen) {
+            recorder = new Recorder(CoreSessionFormat.INSTANCE.create(dir.resolve("s").toFile(), new SessionMetadata()),
+                r -> Unit.INSTANCE, 500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null);
+            FloodCapture.attach(capture, recorder);
+        }
+        Thread thread = named("capture");
+        Path task = task("capture");
+        ThreadMXBean mx = ManagementFactory.getThreadMXBean();
+        SessionStream[] streams = {SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE, SessionStream.MAGNETOMETER};
+        long[] periodNs = {5_000_000L, 5_000_000L, 10_000_000L};
+        long[] next = new long[3];
+        float[] v = {0.1f, 0.2f, 9.8f};
+        long start = System.nanoTime();
+        for (int i = 0; i < 3; i++) next[i] = start;
+        long switches0 = switches(task);
+        long cpu0 = mx.getThreadCpuTime(thread.getId());
+        long end = start + (long) (seconds * 1e9);
+        long events = 0;
+        while (true) {
+            int k = 0;
+            for (int i = 1; i < 3; i++) if (next[i] < next[k]) k = i;
+            if (next[k] >= end) break;
+            long wait = next[k] - System.nanoTime();
+            if (wait > 0) LockSupport.parkNanos(wait);
+            ring.offer(streams[k], next[k], 3, v, 3);
+            next[k] += periodNs[k];
+            events++;
+        }
+        long elapsed = System.nanoTime() - start;
+        long switches = switches(task) - switches0;
+        long cpu = mx.getThreadCpuTime(thread.getId()) - cpu0;
+        if (recorder != null) FloodCapture.detach(capture, recorder);
+        if (onScreen) user(capture, "release");
+        capture.release();
+        System.out.printf("%s: %,d events in %.1f s; capture thread: %.1f wake-ups/s, %.0f ms CPU per minute%n",
+            what, events, elapsed / 1e9, switches / (elapsed / 1e9), cpu / 1e6 / (elapsed / 6e10));
+        try (Stream<Path> files = Files.walk(dir)) {
+            files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
+        }
+    }
+
+    /** acquire(true) or release(true), a user on screen, where the capture has them (not before issue 23), else acquire() or release(). */
+    private static void user(Capture c, String method) throws Exception {
+        try {
+            Capture.class.getMethod(method, boolean.class).invoke(c, true);
+        } catch (NoSuchMethodException e) {
+            Capture.class.getMethod(method).invoke(c);
+        }
+    }
+
+    private static Thread named(String name) {
+        for (Thread t : Thread.getAllStackTraces().keySet()) if (t.getName().equals(name)) return t;
+        throw new IllegalStateException("no thread " + name);
+    }
+
+    /** The /proc task folder of the thread the JVM named [name]. */
+    private static Path task(String name) throws Exception {
+        try (Stream<Path> tasks = Files.list(Path.of("/proc/self/task"))) {
+            for (Path p : (Iterable<Path>) tasks::iterator) {
+                if (Files.readString(p.resolve("comm")).trim().equals(name)) return p;
+            }
+        }
+        throw new IllegalStateException("no task " + name);
+    }
+
+    private static long switches(Path task) throws Exception {
+        for (String line : Files.readAllLines(task.resolve("status"))) {
+            if (line.startsWith("voluntary_ctxt_switches:")) return Long.parseLong(line.substring(line.indexOf(':') + 1).trim());
+        }
+        throw new IllegalStateException("no context switches in " + task);
+    }
+}
