@@ -31,9 +31,10 @@ import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.StandardOpenOption
 import java.util.concurrent.ConcurrentHashMap
-import kotlin.math.abs
+import kotlin.math.PI
 import kotlin.math.asin
 import kotlin.math.exp
+import kotlin.math.sin
 import kotlin.math.sqrt
 
 /**
@@ -253,35 +254,55 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
     /** The rate at which the heading correction pulls an error out, 1/s (headingGain; the default's with the report's step). */
     private val rate = if (settings.headingGain > 0.0) settings.headingGain else DEFAULT_RATE
     private val norms = IntArray(NORM_BINS)
-    private val dips = IntArray(DIP_BINS)
+
+    // Sines of the dip (monotonic in the dip, so their median is the sine of the median dip): no arcsine per reading.
+    private val sinDips = IntArray(SIN_BINS)
     private var count = 0L
-    private var norm = Double.NaN
-    private var dip = Double.NaN
+    private var normLow = Double.NaN
+    private var normHigh = Double.NaN
+    private var sinLow = Double.NaN
+    private var sinHigh = Double.NaN
+    private var decayNs = -1L
+    private var decayFactor = 1.0
 
     fun add(m: DoubleArray, q: DoubleArray) {
         val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
         if (!(n > 0.0) || n.isInfinite() || q[0].isNaN()) return
         norms[(n / NORM_BIN).toInt().coerceIn(0, NORM_BINS - 1)]++
-        dips[((dip(m, n, q) + 90.0) / DIP_BIN).toInt().coerceIn(0, DIP_BINS - 1)]++
+        sinDips[((sinDip(m, n, q) + 1.0) / SIN_BIN).toInt().coerceIn(0, SIN_BINS - 1)]++
         count++
     }
 
-    /** Fixes the medians; before any reading was added nothing is disturbed. */
+    /** Fixes the medians and the limits around them; before any reading was added nothing is disturbed. */
     fun settle() {
         if (count == 0L) return
-        norm = (median(norms) + 0.5) * NORM_BIN
-        dip = (median(dips) + 0.5) * DIP_BIN - 90.0
+        val norm = (median(norms) + 0.5) * NORM_BIN
+        normLow = norm * (1.0 - normTolerance)
+        normHigh = norm * (1.0 + normTolerance)
+        val dip = asin(((median(sinDips) + 0.5) * SIN_BIN - 1.0).coerceIn(-1.0, 1.0))
+        sinLow = sin(maxOf(-PI / 2, dip - dipTolerance))
+        sinHigh = sin(minOf(PI / 2, dip + dipTolerance))
     }
 
     fun disturbed(m: DoubleArray, q: DoubleArray): Boolean {
-        if (norm.isNaN() || q[0].isNaN()) return false
+        if (normLow.isNaN() || q[0].isNaN()) return false
         val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
         if (!(n > 0.0) || n.isInfinite()) return false
-        return abs(n - norm) > normTolerance * norm || abs(dip(m, n, q) - dip) > Math.toDegrees(dipTolerance)
+        if (n < normLow || n > normHigh) return true
+        val s = sinDip(m, n, q)
+        return s < sinLow || s > sinHigh
     }
 
-    /** [recent] after [ns] more of a pass without a disturbed reading. */
-    fun decay(recent: Double, ns: Long): Double = if (recent == 0.0) 0.0 else recent * exp(-rate * ns * 1e-9)
+    /** [recent] after [ns] more of a pass without a disturbed reading (0 once below 10⁻⁴). */
+    fun decay(recent: Double, ns: Long): Double {
+        if (recent == 0.0) return 0.0
+        if (ns != decayNs) {
+            decayNs = ns
+            decayFactor = exp(-rate * ns * 1e-9)
+        }
+        val r = recent * decayFactor
+        return if (r < 1e-4) 0.0 else r
+    }
 
     private fun median(h: IntArray): Int {
         var seen = 0L
@@ -295,17 +316,17 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
     companion object {
         const val NORM_BIN = 0.1
         const val NORM_BINS = 20_000
-        const val DIP_BIN = 0.1
-        const val DIP_BINS = 1800
+        const val SIN_BINS = 4000
+        const val SIN_BIN = 2.0 / SIN_BINS
         const val DEFAULT_RATE = 0.05
 
-        /** Dip angle, degrees: the angle of [m] (magnitude [n]) below the horizontal of the orientation [q] (sensor → ENU). */
-        fun dip(m: DoubleArray, n: Double, q: DoubleArray): Double {
+        /** Sine of the dip angle: of [m] (magnitude [n]) below the horizontal of the orientation [q] (sensor → ENU). */
+        fun sinDip(m: DoubleArray, n: Double, q: DoubleArray): Double {
             // Up in the sensor frame: the third row of R(q).
             val ux = 2.0 * (q[1] * q[3] - q[0] * q[2])
             val uy = 2.0 * (q[2] * q[3] + q[0] * q[1])
             val uz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
-            return Math.toDegrees(asin((-(m[0] * ux + m[1] * uy + m[2] * uz) / n).coerceIn(-1.0, 1.0)))
+            return -(m[0] * ux + m[1] * uy + m[2] * uz) / n
         }
     }
 }
