@@ -130,23 +130,26 @@ public final class TuneFilter {
     }
 
     /**
-     * The offline settings of [spec] ("offline:" before the overrides, backwardWeight=… among them for
-     * OfflineSettings), or null for the causal filter.
+     * The offline settings of [spec] ("offline:" before the overrides, backwardWeight=… and
+     * inclinationBackwardWeight=… among them for OfflineSettings), or null for the causal filter.
      */
     static OfflineSettings parseOffline(String spec) {
         String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
         if (!body.startsWith("offline")) return null;
-        OfflineSettings o = new OfflineSettings();
+        Double heading = null;
+        Double inclination = null;
         for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
-            if (a.trim().startsWith("backwardWeight=")) o = new OfflineSettings(Double.parseDouble(a.trim().substring("backwardWeight=".length())));
+            if (a.trim().startsWith("backwardWeight=")) heading = Double.parseDouble(a.trim().substring("backwardWeight=".length()));
+            if (a.trim().startsWith("inclinationBackwardWeight=")) inclination = Double.parseDouble(a.trim().substring("inclinationBackwardWeight=".length()));
         }
-        return o;
+        OfflineSettings d = new OfflineSettings();
+        return new OfflineSettings(heading != null ? heading : d.getBackwardWeight(), inclination != null ? inclination : d.getInclinationBackwardWeight());
     }
 
     static FilterSettings parse(String spec) {
         String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
         if (body.startsWith("offline")) {
-            body = body.substring("offline".length()).replaceFirst("^:", "").replaceAll("backwardWeight=[^,]*,?", "");
+            body = body.substring("offline".length()).replaceFirst("^:", "").replaceAll("(inclinationB|b)ackwardWeight=[^,]*,?", "");
             if (body.isBlank()) body = "defaults";
         }
         FilterSettings s = new FilterSettings();

@@ -34,9 +34,11 @@ internal object FilterOptions {
         |  --offline            the offline estimate: each orientation from the whole recording, the
         |                       samples after it as well as before (a forward and a backward pass
         |                       with these settings, combined; docs/ACCURACY.md, "Offline"); the
-        |                       same rows and columns; needs a temporary file of 128 bytes per row
+        |                       same rows and columns; needs a temporary file of 136 bytes per row
         |                       (java.io.tmpdir), removed however the run ends
-        |  --offline-weight W   the backward pass's weight in the combination, 0…1 (default ${OfflineSettings().backwardWeight})
+        |  --offline-weight W   the backward pass's weight in the combination, 0…1, in heading (where
+        |                       neither pass met a disturbed field lately) and inclination alike
+        |                       (default ${OfflineSettings().backwardWeight} in heading, ${OfflineSettings().inclinationBackwardWeight} in inclination)
         |""".trimMargin()
 
     /** The offline settings (--offline, --offline-weight), or null for the causal filter. */
@@ -47,7 +49,7 @@ internal object FilterOptions {
             return null
         }
         return try {
-            if (w == null) OfflineSettings() else OfflineSettings(w)
+            if (w == null) OfflineSettings() else OfflineSettings(w, w)
         } catch (e: IllegalArgumentException) {
             throw UsageException("--offline-weight: ${e.message}")
         }

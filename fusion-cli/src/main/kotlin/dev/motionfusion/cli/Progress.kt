@@ -1,13 +1,15 @@
 package dev.motionfusion.cli
 
 import java.io.PrintStream
+import java.nio.file.Files
+import java.nio.file.Path
 
 /**
- * A progress bar on stderr, drawn only when the process runs on a terminal (System.console()
- * is not null), at most 10 times a second; silent when piped or redirected.
+ * A progress bar on stderr, drawn only when standard error is a terminal ([Terminal.stderr]), at most
+ * 10 times a second; silent when standard error is piped or redirected, even with standard input and
+ * output on a terminal.
  */
-internal class Progress(private val err: PrintStream, private val label: String, private val total: Long?) {
-    private val enabled = System.console() != null
+internal class Progress(private val err: PrintStream, private val label: String, private val total: Long?, private val enabled: Boolean = Terminal.stderr) {
     private var lastDraw = 0L
     private var drawn = false
 
@@ -34,5 +36,30 @@ internal class Progress(private val err: PrintStream, private val label: String,
             err.print("\r" + " ".repeat(label.length + 48) + "\r")
             err.flush()
         }
+    }
+}
+
+/** Whether standard error is a terminal, decided once per process. */
+internal object Terminal {
+    val stderr: Boolean by lazy { stderrIsTerminal(Path.of("/proc/self/fd/2")) }
+
+    /**
+     * Where the system shows what a descriptor is open on ([fd], Linux's /proc/self/fd/2), whether that is a
+     * terminal device; elsewhere the console check (System.console(), which looks at standard input and output,
+     * with Console.isTerminal where the JDK has it, 22 and newer).
+     */
+    fun stderrIsTerminal(fd: Path): Boolean {
+        val target = runCatching { Files.readSymbolicLink(fd).toString() }.getOrNull() ?: return consoleIsTerminal()
+        return isTerminalDevice(target)
+    }
+
+    /** /dev/pts/N, /dev/ttyN, /dev/tty, /dev/console: terminals; files, pipes (pipe:[…]), sockets, /dev/null: not. */
+    fun isTerminalDevice(target: String): Boolean =
+        target.startsWith("/dev/pts/") || target.startsWith("/dev/tty") || target == "/dev/console"
+
+    private fun consoleIsTerminal(): Boolean {
+        val console = System.console() ?: return false
+        val isTerminal = runCatching { console.javaClass.getMethod("isTerminal") }.getOrNull() ?: return true
+        return runCatching { isTerminal.invoke(console) as Boolean }.getOrDefault(false)
     }
 }

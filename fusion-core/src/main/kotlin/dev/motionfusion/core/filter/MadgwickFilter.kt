@@ -389,6 +389,18 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         firstAccT = timestampNs
     }
 
+    /**
+     * Takes [q] ([w, x, y, z] in settings.outputFrame, unit) as the estimate, everything else kept, for a pass
+     * of the offline estimate that goes on across a gap (replay/Offline.kt): there the other pass's orientation,
+     * which has run through the samples beyond the gap, is better than one carried over it. The low-passed
+     * accelerometer, held in the frame of the old estimate, starts again from the next reading.
+     */
+    internal fun takeOrientation(q: DoubleArray) {
+        outputChange.conjugate().timesInto(q[0], q[1], q[2], q[3], scratch, 0)
+        q1 = scratch[0]; q2 = scratch[1]; q3 = scratch[2]; q4 = scratch[3]
+        lpFresh = true
+    }
+
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
     private fun upX() = 2.0 * (q2 * q4 - q1 * q3)
     private fun upY() = 2.0 * (q1 * q2 + q3 * q4)

@@ -3,16 +3,19 @@
  * recording, the samples after it as well as those before. One filter, three passes over the same
  * samples, all with the same settings:
  *  1. forward, as the causal replay (its counts and diagnostics are the replay's), writing each
- *     step's samples to a temporary file;
+ *     step's samples and orientation to a temporary file;
  *  2. backward in time over that file (gyroscope negated, the same accelerometer and magnetometer
  *     readings), starting from the forward pass's final state turned round (MadgwickFilter.turnAround),
  *     each step's orientation written back into the file;
  *  3. forward again, starting from the backward pass's final state (so it has converged already at
  *     the first sample), each step's orientation combined with the backward one of the same instant
  *     and handed on.
- * Both combined estimates have then seen the whole recording; their errors lag in opposite
- * directions (one integrates the past, the other the future), so the combination cancels much of
- * them. Frames and units as Replayer's.
+ * Across a gap in the recording a pass goes on from the other pass's orientation at the gap's far side
+ * (MadgwickFilter.takeOrientation), not from the one it carried over. The combination weighs heading and
+ * inclination apart, the heading by how recently each pass met a disturbed field (FieldReference). Both
+ * combined estimates have then seen the whole recording; their errors lag in opposite directions (one
+ * integrates the past, the other the future), so the combination cancels much of them.
+ * Frames and units as Replayer's; orientations sensor → ENU, [w, x, y, z].
  */
 package dev.motionfusion.core.replay
 
@@ -28,18 +31,26 @@ import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.StandardOpenOption
 import java.util.concurrent.ConcurrentHashMap
+import kotlin.math.PI
+import kotlin.math.asin
+import kotlin.math.exp
+import kotlin.math.sin
 import kotlin.math.sqrt
 
 /**
  * Settings of the offline estimate beyond the filter's own ([dev.motionfusion.core.filter.FilterSettings]
- * applies to every pass alike).
+ * applies to every pass alike). Both chosen by cross-validation (docs/ACCURACY.md, "Offline").
  *
- * @property backwardWeight weight of the backward pass's orientation in the combination, 0…1 (the
- *   second forward pass has 1 − it); chosen by cross-validation (docs/ACCURACY.md, "Offline").
+ * @property backwardWeight the backward pass's weight in the combination's heading (the rotation between the
+ *   two passes' estimates about the vertical), 0…1, where neither pass has met a disturbed field lately; where
+ *   one has, the other gets more ([OfflinePass.headingWeight]).
+ * @property inclinationBackwardWeight the backward pass's weight in the combination's inclination (the
+ *   rotation about a horizontal axis), 0…1.
  */
-public data class OfflineSettings(val backwardWeight: Double = 0.3) {
+public data class OfflineSettings @JvmOverloads constructor(val backwardWeight: Double = 0.0, val inclinationBackwardWeight: Double = 0.5) {
     init {
         require(backwardWeight in 0.0..1.0) { "backwardWeight must be within 0…1, not $backwardWeight" }
+        require(inclinationBackwardWeight in 0.0..1.0) { "inclinationBackwardWeight must be within 0…1, not $inclinationBackwardWeight" }
     }
 }
 
@@ -51,12 +62,16 @@ public data class OfflineSettings(val backwardWeight: Double = 0.3) {
 internal class OfflinePass(private val forward: MadgwickFilter, private val offline: OfflineSettings, tempDir: Path?) : ReplayListener, Closeable {
     private val spill = Spill(tempDir)
     private val maxGapNs = (forward.settings.maxGap * 1e9).toLong()
+    private val field = FieldReference(forward.settings)
 
     override fun step(step: ReplayStep) {
         var flags = 0L
         if (fresh(step.timestampNs, step.accelerometerNs)) flags = flags or ACC_FRESH
-        if (fresh(step.timestampNs, step.magnetometerNs)) flags = flags or MAG_FRESH
-        spill.putStep(flags, step.timestampNs, step.timeS, step.angularVelocity, step.specificForce, step.magneticField)
+        if (fresh(step.timestampNs, step.magnetometerNs)) {
+            flags = flags or MAG_FRESH
+            field.add(step.magneticField, step.orientation)
+        }
+        spill.putStep(flags, step.timestampNs, step.timeS, step.angularVelocity, step.specificForce, step.magneticField, step.orientation)
     }
 
     override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) =
@@ -82,17 +97,33 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         var gy = Double.NaN
         var gz = Double.NaN
         var pending = false
+        var later = Long.MIN_VALUE
+        field.settle()
+        // How recently, on this pass's clock, the field was disturbed: 1 then, decaying at the heading gain.
+        var backRecent = 0.0
+        val mb = DoubleArray(3)
         spill.backward { b, at ->
             val flags = b.getLong(at)
             if (flags and REFERENCE != 0L) return@backward
-            val t = reversed(b.getLong(at + 8))
+            val ns = b.getLong(at + 8)
+            val t = reversed(ns)
             if (flags and ACC_FRESH != 0L) back.updateAccelerometer(t, b.getDouble(at + Spill.ACC), b.getDouble(at + Spill.ACC + 8), b.getDouble(at + Spill.ACC + 16))
             if (flags and MAG_FRESH != 0L) back.updateMagnetometer(t, b.getDouble(at + Spill.MAG), b.getDouble(at + Spill.MAG + 8), b.getDouble(at + Spill.MAG + 16))
             if (pending) back.updateGyroscope(t, -gx, -gy, -gz)
+            // Across a gap the backward pass goes on from the forward pass's orientation at its near side
+            // (the forward pass ran through the samples before the gap; what this pass carries over it is a guess).
+            if (later != Long.MIN_VALUE && later - ns > maxGapNs) takeOver(back, b, at, q)
+            if (later != Long.MIN_VALUE) backRecent = field.decay(backRecent, later - ns)
+            later = ns
             gx = b.getDouble(at + Spill.GYRO); gy = b.getDouble(at + Spill.GYRO + 8); gz = b.getDouble(at + Spill.GYRO + 16)
             pending = true
             if (back.isInitialised) back.orientationInto(q) else q.fill(Double.NaN)
             for (k in 0 until 4) b.putDouble(at + Spill.Q + 8 * k, q[k])
+            if (flags and MAG_FRESH != 0L) {
+                for (k in 0 until 3) mb[k] = b.getDouble(at + Spill.MAG + 8 * k)
+                if (field.disturbed(mb, q)) backRecent = 1.0
+            }
+            b.putDouble(at + Spill.RECENT, backRecent)
         }
         // Forward again, from where the backward pass ended.
         val again = MadgwickFilter(settings)
@@ -100,8 +131,10 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         again.turnAround(spill.firstStepNs)
         val step = ReplayStep()
         val values = DoubleArray(Spill.MAX_VALUES)
-        val wb = offline.backwardWeight
-        val wf = 1.0 - wb
+        val w0 = offline.backwardWeight
+        val wi = offline.inclinationBackwardWeight
+        var earlier = Long.MIN_VALUE
+        var foreRecent = 0.0
         spill.forward { b, at ->
             val flags = b.getLong(at)
             val t = b.getLong(at + 8)
@@ -122,15 +155,26 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
             if (flags and ACC_FRESH != 0L) again.updateAccelerometer(t, a[0], a[1], a[2])
             if (flags and MAG_FRESH != 0L) again.updateMagnetometer(t, m[0], m[1], m[2])
             again.updateGyroscope(t, g[0], g[1], g[2])
+            // Across a gap, on from the backward pass's orientation at its far side (as the backward pass did).
+            if (earlier != Long.MIN_VALUE && t - earlier > maxGapNs) takeOver(again, b, at, q)
+            if (earlier != Long.MIN_VALUE) foreRecent = field.decay(foreRecent, t - earlier)
+            earlier = t
             val o = step.orientation
             if (again.isInitialised) again.orientationInto(o) else o.fill(Double.NaN)
+            if (flags and MAG_FRESH != 0L && field.disturbed(m, o)) foreRecent = 1.0
             for (k in 0 until 4) q[k] = b.getDouble(at + Spill.Q + 8 * k)
-            combine(o, wf, q, wb)
+            combine(o, q, headingWeight(w0, foreRecent, b.getDouble(at + Spill.RECENT)), wi)
             step.timestampNs = t
             step.timeS = b.getDouble(at + Spill.TIME)
             step.initialised = !o[0].isNaN()
             listener.step(step)
         }
+    }
+
+    /** [filter] takes the orientation stored in the record at [at] (the other pass's), if it has one; [q] is scratch. */
+    private fun takeOver(filter: MadgwickFilter, b: ByteBuffer, at: Int, q: DoubleArray) {
+        for (k in 0 until 4) q[k] = b.getDouble(at + Spill.Q + 8 * k)
+        if (filter.isInitialised && !q[0].isNaN()) filter.takeOrientation(q)
     }
 
     override fun close() = spill.close()
@@ -141,27 +185,148 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         const val ACC_FRESH = 2L
         const val MAG_FRESH = 4L
 
+        /**
+         * The backward pass's weight in the heading, from [w0] (its weight where neither pass has met a
+         * disturbed field lately) and how recently each pass met one ([forward], [backward]: 1 just then,
+         * towards 0 as the heading correction has pulled the error out): each pass's confidence, (1 − w0) or
+         * w0, shrinks by that factor (down to a floor), and the weight is the backward one's share.
+         */
+        fun headingWeight(w0: Double, forward: Double, backward: Double): Double {
+            val f = (1.0 - w0) * (1.0 - forward) + CONFIDENCE_FLOOR
+            val b = w0 * (1.0 - backward) + CONFIDENCE_FLOOR
+            return b / (f + b)
+        }
+
+        /** The least confidence a pass keeps, so that where both met a disturbance lately the weights stay defined. */
+        const val CONFIDENCE_FLOOR = 0.05
+
         /** The backward pass's clock: −t (Long.MIN_VALUE, whose negation does not exist, as Long.MAX_VALUE). */
         fun reversed(t: Long) = if (t == Long.MIN_VALUE) Long.MAX_VALUE else -t
 
         /**
-         * p ← the weighted mean of the unit quaternions [p] (weight [wp]) and [q] (weight [wq]),
-         * normalised, q's sign taken nearer p (for two estimates a few degrees apart the same as
-         * slerp by wq to within 10⁻⁴ of their angle); where one is NaN, the other.
+         * p ← p turned towards q (unit quaternions, sensor → world) by the fraction [wh] of the rotation
+         * between them about the world's vertical (heading) and by [wi] of the rotation about the horizontal
+         * axes (inclination): with e = q ⊗ p* (the sign taken with e_w ≥ 0), e' = [e_w, wi·e_x, wi·e_y, wh·e_z]
+         * normalised, p ← e' ⊗ p. For wh = wi = w the result lies on the arc from p to q, at tan(θ'/2) =
+         * w·tan(θ/2) for the angle θ between them (for estimates a few degrees apart slerp by w to within
+         * 10⁻³ of θ). Where one is NaN, the other.
          */
-        fun combine(p: DoubleArray, wp: Double, q: DoubleArray, wq: Double) {
+        fun combine(p: DoubleArray, q: DoubleArray, wh: Double, wi: Double) {
             if (q[0].isNaN()) return
             if (p[0].isNaN()) {
                 q.copyInto(p)
                 return
             }
-            val s = if (p[0] * q[0] + p[1] * q[1] + p[2] * q[2] + p[3] * q[3] < 0.0) -wq else wq
-            val x0 = wp * p[0] + s * q[0]
-            val x1 = wp * p[1] + s * q[1]
-            val x2 = wp * p[2] + s * q[2]
-            val x3 = wp * p[3] + s * q[3]
-            val inv = 1.0 / sqrt(x0 * x0 + x1 * x1 + x2 * x2 + x3 * x3)
-            p[0] = x0 * inv; p[1] = x1 * inv; p[2] = x2 * inv; p[3] = x3 * inv
+            val p0 = p[0]
+            val p1 = p[1]
+            val p2 = p[2]
+            val p3 = p[3]
+            var e0 = q[0] * p0 + q[1] * p1 + q[2] * p2 + q[3] * p3
+            var e1 = -q[0] * p1 + q[1] * p0 - q[2] * p3 + q[3] * p2
+            var e2 = -q[0] * p2 + q[1] * p3 + q[2] * p0 - q[3] * p1
+            var e3 = -q[0] * p3 - q[1] * p2 + q[2] * p1 + q[3] * p0
+            if (e0 < 0.0) {
+                e0 = -e0; e1 = -e1; e2 = -e2; e3 = -e3
+            }
+            e1 *= wi; e2 *= wi; e3 *= wh
+            val r0 = e0 * p0 - e1 * p1 - e2 * p2 - e3 * p3
+            val r1 = e0 * p1 + e1 * p0 + e2 * p3 - e3 * p2
+            val r2 = e0 * p2 - e1 * p3 + e2 * p0 + e3 * p1
+            val r3 = e0 * p3 + e1 * p2 - e2 * p1 + e3 * p0
+            val inv = 1.0 / sqrt(r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3)
+            p[0] = r0 * inv; p[1] = r1 * inv; p[2] = r2 * inv; p[3] = r3 * inv
+        }
+    }
+}
+
+/**
+ * The recording's own undisturbed field, for the offline combination: the medians of the magnetometer's
+ * magnitude (µT) and dip angle (the angle below the horizontal, from the first pass's orientation) over the
+ * whole recording, kept as histograms (memory fixed whatever the length). A reading is disturbed when its
+ * magnitude departs from that median by more than FilterSettings.magNormTolerance (relative) or its dip, by
+ * the orientation given, by more than magDipTolerance: the causal filter's own tolerances. Frames: field
+ * in the device frame, orientation sensor → ENU.
+ */
+internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSettings) {
+    private val normTolerance = settings.magNormTolerance
+    private val dipTolerance = settings.magDipTolerance
+
+    /** The rate at which the heading correction pulls an error out, 1/s (headingGain; the default's with the report's step). */
+    private val rate = if (settings.headingGain > 0.0) settings.headingGain else DEFAULT_RATE
+    private val norms = IntArray(NORM_BINS)
+
+    // Sines of the dip (monotonic in the dip, so their median is the sine of the median dip): no arcsine per reading.
+    private val sinDips = IntArray(SIN_BINS)
+    private var count = 0L
+    private var normLow = Double.NaN
+    private var normHigh = Double.NaN
+    private var sinLow = Double.NaN
+    private var sinHigh = Double.NaN
+    private var decayNs = -1L
+    private var decayFactor = 1.0
+
+    fun add(m: DoubleArray, q: DoubleArray) {
+        val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
+        if (!(n > 0.0) || n.isInfinite() || q[0].isNaN()) return
+        norms[(n / NORM_BIN).toInt().coerceIn(0, NORM_BINS - 1)]++
+        sinDips[((sinDip(m, n, q) + 1.0) / SIN_BIN).toInt().coerceIn(0, SIN_BINS - 1)]++
+        count++
+    }
+
+    /** Fixes the medians and the limits around them; before any reading was added nothing is disturbed. */
+    fun settle() {
+        if (count == 0L) return
+        val norm = (median(norms) + 0.5) * NORM_BIN
+        normLow = norm * (1.0 - normTolerance)
+        normHigh = norm * (1.0 + normTolerance)
+        val dip = asin(((median(sinDips) + 0.5) * SIN_BIN - 1.0).coerceIn(-1.0, 1.0))
+        sinLow = sin(maxOf(-PI / 2, dip - dipTolerance))
+        sinHigh = sin(minOf(PI / 2, dip + dipTolerance))
+    }
+
+    fun disturbed(m: DoubleArray, q: DoubleArray): Boolean {
+        if (normLow.isNaN() || q[0].isNaN()) return false
+        val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
+        if (!(n > 0.0) || n.isInfinite()) return false
+        if (n < normLow || n > normHigh) return true
+        val s = sinDip(m, n, q)
+        return s < sinLow || s > sinHigh
+    }
+
+    /** [recent] after [ns] more of a pass without a disturbed reading (0 once below 10⁻⁴). */
+    fun decay(recent: Double, ns: Long): Double {
+        if (recent == 0.0) return 0.0
+        if (ns != decayNs) {
+            decayNs = ns
+            decayFactor = exp(-rate * ns * 1e-9)
+        }
+        val r = recent * decayFactor
+        return if (r < 1e-4) 0.0 else r
+    }
+
+    private fun median(h: IntArray): Int {
+        var seen = 0L
+        for (i in h.indices) {
+            seen += h[i]
+            if (2 * seen >= count) return i
+        }
+        return h.size - 1
+    }
+
+    companion object {
+        const val NORM_BIN = 0.1
+        const val NORM_BINS = 20_000
+        const val SIN_BINS = 4000
+        const val SIN_BIN = 2.0 / SIN_BINS
+        const val DEFAULT_RATE = 0.05
+
+        /** Sine of the dip angle: of [m] (magnitude [n]) below the horizontal of the orientation [q] (sensor → ENU). */
+        fun sinDip(m: DoubleArray, n: Double, q: DoubleArray): Double {
+            // Up in the sensor frame: the third row of R(q).
+            val ux = 2.0 * (q[1] * q[3] - q[0] * q[2])
+            val uy = 2.0 * (q[2] * q[3] + q[0] * q[1])
+            val uz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
+            return -(m[0] * ux + m[1] * uy + m[2] * uz) / n
         }
     }
 }
@@ -173,8 +338,9 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
  * left behind even if the process is killed); elsewhere it is removed by [close], at exit, and by
  * a shutdown hook on an interrupt.
  *
- * A record, 128 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
- * then for a step t_s, gyroscope (3), accelerometer (3), magnetometer (3), orientation (4); for a
+ * A record, 136 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
+ * then for a step t_s, gyroscope (3), accelerometer (3), magnetometer (3), orientation (4: the first
+ * pass's, then the backward pass's) and how recently the backward pass met a disturbed field; for a
  * reference up to [MAX_VALUES] values.
  */
 internal class Spill(dir: Path?) : Closeable {
@@ -222,13 +388,14 @@ internal class Spill(dir: Path?) : Closeable {
         }
     }
 
-    fun putStep(flags: Long, t: Long, timeS: Double, g: DoubleArray, a: DoubleArray, m: DoubleArray) {
+    fun putStep(flags: Long, t: Long, timeS: Double, g: DoubleArray, a: DoubleArray, m: DoubleArray, q: DoubleArray) {
         room()
         val at = block.position()
         block.putLong(at, flags).putLong(at + 8, t).putDouble(at + TIME, timeS)
         for (k in 0 until 3) {
             block.putDouble(at + GYRO + 8 * k, g[k]).putDouble(at + ACC + 8 * k, a[k]).putDouble(at + MAG + 8 * k, m[k])
         }
+        for (k in 0 until 4) block.putDouble(at + Q + 8 * k, q[k])
         buffer.position(at + RECORD)
         records++
         if (firstStepNs == Long.MIN_VALUE) firstStepNs = t
@@ -302,13 +469,14 @@ internal class Spill(dir: Path?) : Closeable {
     }
 
     companion object {
-        const val RECORD = 128
+        const val RECORD = 136
         const val BLOCK = 2048
         const val TIME = 16
         const val GYRO = 24
         const val ACC = 48
         const val MAG = 72
         const val Q = 96
+        const val RECENT = 128
         const val VALUES = 16
         const val MAX_VALUES = 14
     }
