@@ -398,7 +398,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     internal fun takeOrientation(q: DoubleArray) {
         outputChange.conjugate().timesInto(q[0], q[1], q[2], q[3], scratch, 0)
         q1 = scratch[0]; q2 = scratch[1]; q3 = scratch[2]; q4 = scratch[3]
-        lpFresh = true
+        lowPass.restart()
     }
 
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
