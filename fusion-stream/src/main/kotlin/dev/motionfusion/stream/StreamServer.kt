@@ -7,6 +7,7 @@ import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
 import org.java_websocket.WebSocket
 import org.java_websocket.WebSocketImpl
+import org.java_websocket.exceptions.WebsocketNotConnectedException
 import org.java_websocket.handshake.ClientHandshake
 import org.java_websocket.server.WebSocketServer
 import java.io.IOException
@@ -255,11 +256,9 @@ public class StreamServer(
         }
 
         fun send(text: String, t: Long) {
-            if (!conn.isOpen) return
-            if (conn.outQueue.size >= settings.clientQueueFrames) {
+            if (!conn.isOpen || conn.outQueue.size >= settings.clientQueueFrames || !offer(text)) {
                 dropped++
             } else {
-                conn.send(text)
                 sent++
             }
             if (lastStatusT == Long.MIN_VALUE) lastStatusT = t
@@ -269,8 +268,16 @@ public class StreamServer(
                 lastStatusT = t
                 val lost = dropped + (handOffDropped.get() - droppedHandOffAtPairing)
                 // A client that does not keep up gets its status once its queue has room again, with the drops so far.
-                if (conn.outQueue.size < settings.clientQueueFrames) conn.send(StreamCodec.encode(StreamMessage.Status(t, sent, lost, achievedRateHz)))
+                if (conn.outQueue.size < settings.clientQueueFrames) offer(StreamCodec.encode(StreamMessage.Status(t, sent, lost, achievedRateHz)))
             }
+        }
+
+        /** Queues [text] on the connection; false when it closed meanwhile (one client's end never stops the sender). */
+        private fun offer(text: String): Boolean = try {
+            conn.send(text)
+            true
+        } catch (_: WebsocketNotConnectedException) {
+            false
         }
 
         fun info() = StreamClientInfo(address, paired, streams, rateHz, sent, dropped, achievedRateHz)

@@ -87,10 +87,10 @@ class StreamServerTest {
     }
 
     /** Waits for [done] to hold; a bound of 30 s turns a hang into a failure. */
-    private fun awaitUntil(done: () -> Boolean) {
+    private fun awaitUntil(state: () -> Any = { "" }, done: () -> Boolean) {
         val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
         while (!done()) {
-            check(System.nanoTime() < deadline) { "condition not reached within 30 s" }
+            check(System.nanoTime() < deadline) { "condition not reached within 30 s: ${state()}" }
             java.util.concurrent.locks.LockSupport.parkNanos(100_000)
         }
     }
@@ -125,7 +125,7 @@ class StreamServerTest {
         assertEquals(60 * perSecond, fast.received.get())
         assertEquals(0L, s.handOffDroppedCount)
         // The fast client can have its last message before the sender has offered that message to the stalled one.
-        awaitUntil { s.clients().sumOf { it.sent + it.dropped } == 2 * 60 * perSecond }
+        awaitUntil({ s.clients() }) { s.clients().sumOf { it.sent + it.dropped } == 2 * 60 * perSecond }
         val infos = s.clients().sortedBy { it.sent }
         val (slow, quick) = infos
         assertEquals(60 * perSecond, quick.sent)
