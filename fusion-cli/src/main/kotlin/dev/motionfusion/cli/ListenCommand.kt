@@ -67,9 +67,9 @@ internal class ListenCommand(
         val durationNs = o.double("--duration")?.let { if (it <= 0.0) throw UsageException("--duration must be positive"); (it * 1e9).toLong() }
 
         val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
-        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::take)
-        val hello = client.connect()
-        receiver.begin(hello)
+        // The hello is taken on the connection's thread before the first sample: nothing comes before the header or the session.
+        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::begin, receiver::take)
+        client.connect()
         val hook = Thread { receiver.finish("interrupted") }
         Runtime.getRuntime().addShutdownHook(hook)
         try {

@@ -35,9 +35,9 @@ class ListenCommandTest {
     }
 
     /** Serves the sample session: every recorded stream, then one gyroscope sample 20 s later (the listeners stop at --duration). */
-    private fun serve(): StreamServer {
+    private fun serve(extra: List<SessionStream> = emptyList()): StreamServer {
         val reader = SessionReader.open(sample)
-        val streams = reader.streams.filter { it in StreamCodec.STREAMABLE }
+        val streams = reader.streams.filter { it in StreamCodec.STREAMABLE } + extra
         val s = StreamServer(
             InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "271828",
             { StreamOffer("test phone", reader.metadata, streams) },
@@ -88,6 +88,22 @@ class ListenCommandTest {
         assertEquals(fromFile.out, fromStream.out)
         assertTrue(fromFile.out.lines().size > 1000)
         SessionReader.open(dir).use { assertTrue(it.metadata.complete) }
+    }
+
+    @Test
+    fun `CSV to standard output, the header first, one row per orientation`() {
+        val s = serve(listOf(SessionStream.ORIENTATION))
+        val run = listen("ws://127.0.0.1:${s.port}", "--code", "271828", "--csv", "--duration", "30")
+        awaitPaired(s)
+        // Orientations from the first instant on: none may come before the header.
+        for (k in 0 until 500) s.publishOrientation(k * 5_000_000L, 1.0, 0.0, 0.0, 0.0)
+        s.publishOrientation(40_000_000_000L, 1.0, 0.0, 0.0, 0.0)
+        val r = run.get(60, TimeUnit.SECONDS)
+        assertEquals(0, r.code, r.err)
+        val lines = r.out.trim().lines()
+        assertEquals("t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg", lines.first())
+        assertEquals(501, lines.size)
+        assertEquals(listOf(0.0, 1.0, 0.0, 0.0, 0.0), lines[1].split(',').take(5).map { it.toDouble() })
     }
 
     @Test

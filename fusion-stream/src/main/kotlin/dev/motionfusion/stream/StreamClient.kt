@@ -12,13 +12,14 @@ import java.util.concurrent.TimeUnit
 
 /**
  * The laptop side of the live stream: connects to a phone's [StreamServer] at [uri], pairs with
- * [request], and hands every message after the hello to [onMessage], in order, on the connection's
- * reading thread. A slow [onMessage] slows the reading, and the phone then drops messages for this
+ * [request], gives the hello to [onHello] and then every later message to [onMessage], in order, on
+ * the connection's reading thread (so [onHello] has returned before the first sample is handed on). A slow [onMessage] slows the reading, and the phone then drops messages for this
  * client (it says how many in its status messages).
  */
-public class StreamClient(
+public class StreamClient @JvmOverloads constructor(
     private val uri: URI,
     private val request: StreamMessage.Pair,
+    private val onHello: (StreamMessage.Hello) -> Unit = {},
     private val onMessage: (StreamMessage) -> Unit,
 ) : AutoCloseable {
     private val helloLatch = CountDownLatch(1)
@@ -27,6 +28,8 @@ public class StreamClient(
     @Volatile private var helloMessage: StreamMessage.Hello? = null
 
     @Volatile private var failure: String? = null
+
+    @Volatile private var helloFailure: Exception? = null
 
     @Volatile private var closeReason: String? = null
 
@@ -44,7 +47,13 @@ public class StreamClient(
             when {
                 m is StreamMessage.Error -> fail("the phone refused: ${m.reason}")
                 helloMessage == null && m is StreamMessage.Hello -> {
-                    helloMessage = m
+                    try {
+                        onHello(m)
+                        helloMessage = m
+                    } catch (e: Exception) {
+                        helloFailure = e
+                        close()
+                    }
                     helloLatch.countDown()
                 }
                 helloMessage == null -> {
@@ -72,7 +81,10 @@ public class StreamClient(
         helloLatch.countDown()
     }
 
-    /** Connects and pairs; returns the phone's hello. @throws IOException when it cannot connect, is refused, or hears no hello within [timeoutMs]. */
+    /**
+     * Connects and pairs; returns the phone's hello. @throws IOException when it cannot connect, is refused, or hears no
+     * hello within [timeoutMs]; what [onHello] threw, as it is.
+     */
     public fun connect(timeoutMs: Long = 10_000): StreamMessage.Hello {
         socket.connect()
         if (!helloLatch.await(timeoutMs, TimeUnit.MILLISECONDS)) {
@@ -81,6 +93,7 @@ public class StreamClient(
         }
         helloMessage?.let { return it }
         socket.close()
+        helloFailure?.let { throw it }
         throw IOException("$uri: ${failure ?: "no hello"}")
     }
 
