@@ -84,6 +84,7 @@ val robolectricRuntime by configurations.creating {
 
 dependencies {
     implementation(project(":fusion-core"))
+    implementation(project(":fusion-stream"))
     implementation(libs.kotlin.stdlib)
     implementation(libs.kotlinx.coroutines.android)
     implementation(libs.androidx.core.ktx)

@@ -22,6 +22,7 @@ import dev.motionfusion.app.record.BatterySource
 import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.record.RecordingInProgress
+import dev.motionfusion.app.record.RecordingMetadata
 import dev.motionfusion.app.record.StickyBattery
 import dev.motionfusion.app.record.Recordings
 import dev.motionfusion.app.record.SessionFormat
@@ -33,6 +34,7 @@ import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
+import dev.motionfusion.app.stream.StreamController
 import dev.motionfusion.core.session.SessionCalibration
 import java.util.concurrent.Executor
 import kotlinx.coroutines.CoroutineDispatcher
@@ -75,6 +77,11 @@ internal class AppGraph(
     override val calibrationCompute: CoroutineDispatcher = Dispatchers.Default,
     /** The calibration screen's readings; null: the capture's ([CaptureSampleSource]). */
     calibrationSource: CalibrationSampleSource? = null,
+    /** The app's version name (for the stream's hello); read when a client pairs. */
+    appVersion: () -> String = { "" },
+    /** The live stream's port and the addresses the Stream screen shows (tests: port 0 and fixed addresses). */
+    streamPort: Int = StreamController.PORT,
+    streamAddresses: () -> List<String> = StreamController::siteLocalAddresses,
 ) : RecordingDependencies, SessionsDependencies, CalibrationDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
@@ -90,6 +97,19 @@ internal class AppGraph(
     override val capture = Capture(ring, hub, settingsRepository.settings, scope, calibrationStore.active, nanoTime = captureClock, runThread = captureThread)
     override val calibrationSource: CalibrationSampleSource = calibrationSource ?: CaptureSampleSource(capture)
     override val recordings = Recordings()
+
+    /** The live stream; its hello carries the metadata a recording started now would write (RecordingMetadata, as the service builds it). */
+    val stream = StreamController(capture, {
+        val rate = settings.value.rate
+        val stored = calibrationStore.sessionCalibration()
+        RecordingMetadata.create(
+            appVersion(),
+            capture.sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, 0) },
+            capture.filterSettingsInUse(),
+            RecordingMetadata.anchorNow(),
+            stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
+        )
+    }, scope, streamPort, streamAddresses)
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }
 
@@ -115,6 +135,7 @@ internal class AppGraph(
             SettingsStore(context),
             { context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
             battery = StickyBattery(context),
+            appVersion = { context.packageManager.getPackageInfo(context.packageName, 0).versionName ?: "" },
         )
     }
 }

@@ -15,6 +15,7 @@ import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import androidx.activity.viewModels
 import dev.motionfusion.app.calibration.CalibrationActivity
+import dev.motionfusion.app.stream.StreamActivity
 import dev.motionfusion.app.live.FusionState
 import dev.motionfusion.app.live.LiveViewModel
 import dev.motionfusion.app.live.LiveScreen
@@ -79,6 +80,10 @@ class MainActivity : AppCompatActivity() {
         }
         R.id.open_calibration -> {
             startActivity(Intent(this, CalibrationActivity::class.java))
+            true
+        }
+        R.id.open_stream -> {
+            startActivity(Intent(this, StreamActivity::class.java))
             true
         }
         else -> super.onOptionsItemSelected(item)

@@ -111,6 +111,9 @@ internal class TestGraph(
     /** The calibration screen's readings; null: the capture's. */
     calibrationSource: CalibrationSampleSource? = null,
     loadStores: Boolean = true,
+    /** The live stream's port (0: one the system picks) and the addresses the Stream screen shows. */
+    streamPort: Int = 0,
+    streamAddresses: List<String> = listOf("192.168.1.23"),
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     private val locks = FolderLocks()
@@ -127,6 +130,7 @@ internal class TestGraph(
         captureClock = { captureNs }, enterForeground = enterForeground, battery = battery,
         // The calibration's fits run on the main thread: each step is complete when the looper is idle.
         calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
+        streamPort = streamPort, streamAddresses = { streamAddresses },
     ).also { app.graph = it }
     val capture get() = graph.capture
 

@@ -45,7 +45,7 @@ internal class CaptureSampleSource(private val capture: Capture) : CalibrationSa
     override val streams: Set<SessionStream> = calibrationStreams(capture.streams)
 
     override fun samples(): Flow<CalibrationSample> = callbackFlow {
-        val listener = RawListener { stream, t, v, o ->
+        val listener = RawListener { stream, t, _, v, o ->
             if (stream in streams) trySend(CalibrationSample(stream, t, v[o].toDouble(), v[o + 1].toDouble(), v[o + 2].toDouble()))
         }
         capture.listen(listener)

@@ -45,7 +45,15 @@ internal interface CaptureTap {
  * block and must not keep [values].
  */
 internal fun interface RawListener {
-    fun raw(stream: SessionStream, timestampNs: Long, values: FloatArray, offset: Int)
+    fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int)
+}
+
+/**
+ * A reader of the live filter's orientation (the stream): called on the capture thread after each
+ * filter step, with the quaternion sensor → ENU [w, x, y, z]; it must not block.
+ */
+internal fun interface OrientationListener {
+    fun oriented(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double)
 }
 
 /** Why a tap was detached. */
@@ -125,6 +133,8 @@ class Capture internal constructor(
     private var tap: CaptureTap? = null
     @Volatile private var recording = false
     @Volatile private var listeners: Array<RawListener> = emptyArray()
+    @Volatile private var orientationListeners: Array<OrientationListener> = emptyArray()
+    private val q = DoubleArray(4)
 
     /** The calibration applied now, its routing, and one corrected reading; the store's value last looked at. */
     private var applied: Calibration? = null
@@ -176,6 +186,18 @@ class Capture internal constructor(
     @Synchronized
     internal fun unlisten(l: RawListener) {
         listeners = listeners.filter { it !== l }.toTypedArray()
+    }
+
+    /** Adds [l]: it gets the orientation after every filter step from the next batch on. Any thread. */
+    @Synchronized
+    internal fun listen(l: OrientationListener) {
+        orientationListeners += l
+    }
+
+    /** Removes [l]; after the current batch it gets no more orientations. Any thread. */
+    @Synchronized
+    internal fun unlisten(l: OrientationListener) {
+        orientationListeners = orientationListeners.filter { it !== l }.toTypedArray()
     }
 
     /** The settings of the filter in use. */
@@ -322,7 +344,7 @@ class Capture internal constructor(
             }
         }
         val l = listeners
-        for (i in l.indices) l[i].raw(stream, t, values, offset)
+        for (i in l.indices) l[i].raw(stream, t, accuracy, values, offset)
         val r = route
         val target = if (r == null) stream else r.target(stream) ?: return
         val kind = SensorStreams.kindOf(target) ?: return
@@ -343,6 +365,11 @@ class Capture internal constructor(
                 } catch (e: Exception) {
                     endTap(TapEnd.Failed(e))
                 }
+            }
+            val o = orientationListeners
+            if (o.isNotEmpty()) {
+                pipeline.filter.orientationInto(q, 0)
+                for (i in o.indices) o[i].oriented(t, q[0], q[1], q[2], q[3])
             }
         }
     }

@@ -1,0 +1,78 @@
+package dev.motionfusion.app.stream
+
+import android.os.Bundle
+import android.view.View
+import android.widget.CompoundButton
+import android.widget.TextView
+import androidx.appcompat.app.AppCompatActivity
+import androidx.lifecycle.Lifecycle
+import androidx.lifecycle.lifecycleScope
+import androidx.lifecycle.repeatOnLifecycle
+import dev.motionfusion.app.R
+import dev.motionfusion.app.ui.fitToSystemBars
+import kotlinx.coroutines.launch
+
+/**
+ * The Stream screen (docs/STREAMING.md): a switch, off by default, that starts and stops the
+ * [StreamController]; while on, the addresses a laptop connects to (Wi-Fi and USB), the pairing
+ * code, and each client with the rate it gets and what was dropped for it. Streaming goes on when
+ * the screen is left; the switch here turns it off.
+ */
+class StreamActivity : AppCompatActivity() {
+    private val controller: StreamController get() = (application as StreamController.Provider).streamController
+    private lateinit var switch: CompoundButton
+
+    override fun onCreate(savedInstanceState: Bundle?) {
+        super.onCreate(savedInstanceState)
+        setContentView(R.layout.activity_stream)
+        fitToSystemBars(findViewById(R.id.stream_root))
+        setSupportActionBar(findViewById(R.id.toolbar))
+        supportActionBar?.setDisplayHomeAsUpEnabled(true)
+        switch = findViewById(R.id.stream_switch)
+        show(controller.state.value)
+        switch.setOnCheckedChangeListener { _, on ->
+            if (switch.tag !== SHOWING) if (on) controller.start() else controller.stop()
+        }
+        lifecycleScope.launch {
+            repeatOnLifecycle(Lifecycle.State.STARTED) { controller.state.collect { show(it) } }
+        }
+    }
+
+    override fun onSupportNavigateUp(): Boolean {
+        finish()
+        return true
+    }
+
+    private fun show(state: StreamState) {
+        val on = state as? StreamState.On
+        if (switch.isChecked != (on != null)) {
+            // Shown without starting or stopping: the state already says it.
+            switch.tag = SHOWING
+            switch.isChecked = on != null
+            switch.tag = null
+        }
+        findViewById<TextView>(R.id.stream_message).let {
+            it.text = if (state is StreamState.Failed) getString(R.string.stream_failed, state.reason) else ""
+            it.visibility = if (state is StreamState.Failed) View.VISIBLE else View.GONE
+        }
+        findViewById<View>(R.id.stream_note).visibility = if (on == null) View.VISIBLE else View.GONE
+        findViewById<View>(R.id.stream_details).visibility = if (on == null) View.GONE else View.VISIBLE
+        if (on == null) return
+        findViewById<TextView>(R.id.stream_code).text = on.code
+        findViewById<TextView>(R.id.stream_addresses).text =
+            if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
+            else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port) }
+        findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port)
+        val locale = resources.configuration.locales[0]
+        findViewById<TextView>(R.id.stream_clients).text =
+            if (on.clients.isEmpty()) getString(R.string.stream_waiting)
+            else on.clients.joinToString("\n") { c ->
+                if (!c.paired) getString(R.string.stream_client_unpaired, c.address)
+                else getString(R.string.stream_client, c.address, String.format(locale, "%.0f", c.achievedRateHz), c.sent, c.dropped)
+            }
+    }
+
+    private companion object {
+        val SHOWING = Any()
+    }
+}

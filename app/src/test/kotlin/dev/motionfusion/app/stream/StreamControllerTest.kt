@@ -1,0 +1,121 @@
+package dev.motionfusion.app.stream
+
+import dev.motionfusion.app.live.TestCapture
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.ClockAnchor
+import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.stream.StreamClient
+import java.net.URI
+import java.security.SecureRandom
+import java.util.concurrent.ConcurrentLinkedQueue
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.cancel
+import org.junit.jupiter.api.AfterEach
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+
+/**
+ * The app's side of the live stream on the JVM: the controller's real server on loopback, a real
+ * [StreamClient] paired with the code it shows, and events fed through the one capture path.
+ */
+class StreamControllerTest {
+    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Default)
+    private val metadata = SessionMetadata(appVersion = "0.1.0", source = "Motion Fusion 0.1.0", startAnchor = ClockAnchor(1_764_000_000_000, 5_000_000_000))
+    private val c = TestCapture()
+    private val controller = StreamController(c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, random = SecureRandom())
+
+    @AfterEach
+    fun end() {
+        controller.stop()
+        scope.cancel()
+    }
+
+    private fun until(what: String, timeoutMs: Long = 10_000, done: () -> Boolean) {
+        val end = System.nanoTime() + timeoutMs * 1_000_000
+        while (!done()) {
+            check(System.nanoTime() < end) { "timed out waiting for $what" }
+            Thread.sleep(5)
+        }
+    }
+
+    @Test
+    fun `turned on, a paired client gets every raw event and the orientation of every filter step, and off undoes all`() {
+        assertEquals(StreamState.Off, controller.state.value)
+        controller.start()
+        val on = controller.state.value as StreamState.On
+        assertTrue(on.code.matches(Regex("[0-9]{6}")), on.code)
+        assertEquals(listOf("192.168.1.23"), on.addresses)
+        assertTrue(on.port > 0)
+
+        val received = ConcurrentLinkedQueue<StreamMessage>()
+        val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { received += it }
+        try {
+            val hello = client.connect()
+            assertEquals(metadata, hello.metadata)
+            assertTrue(SessionStream.ORIENTATION in hello.streams && SessionStream.GYROSCOPE in hello.streams, hello.streams.toString())
+            until("the client listed as paired") { controller.state.value.let { it is StreamState.On && it.clients.any { c -> c.paired } } }
+
+            val rounds = 200
+            for (i in 0 until rounds) {
+                val t = 1_000_000_000L + i * 5_000_000L
+                c.offer(SessionStream.ACCELEROMETER, t, 0.1f, 0.2f, 9.81f, accuracy = 3)
+                c.offer(SessionStream.MAGNETOMETER, t + 1_000_000, 20f, 0f, -40f, accuracy = 2)
+                c.offer(SessionStream.GYROSCOPE, t + 2_000_000, 0.01f * i, -0.02f, 0.003f, accuracy = 3)
+            }
+            c.drain()
+            c.nowNs += 1_000_000_000L
+            c.drain()
+
+            until("every sample and orientation") {
+                received.count { it is StreamMessage.Sample } >= rounds * 3 && received.count { it is StreamMessage.Orientation } >= rounds - 1
+            }
+            val samples = received.filterIsInstance<StreamMessage.Sample>()
+            assertEquals(rounds * 3, samples.size)
+            val gyro = samples.filter { it.stream == SessionStream.GYROSCOPE }
+            assertEquals(rounds, gyro.size)
+            assertEquals(StreamMessage.Sample(SessionStream.GYROSCOPE, 1_000_000_000L + 7 * 5_000_000L + 2_000_000, floatArrayOf(0.07f, -0.02f, 0.003f), 3), gyro[7])
+            assertEquals(StreamMessage.Sample(SessionStream.MAGNETOMETER, 1_001_000_000L, floatArrayOf(20f, 0f, -40f), 2), samples.first { it.stream == SessionStream.MAGNETOMETER })
+            val orientations = received.filterIsInstance<StreamMessage.Orientation>()
+            // One per gyroscope step once the filter is initialised, at the gyroscope's times, each a unit quaternion.
+            assertTrue(orientations.size in rounds - 1..rounds, "${orientations.size} orientations")
+            assertEquals(gyro.last().timestampNs, orientations.last().timestampNs)
+            for (o in orientations) assertEquals(1.0, o.qw * o.qw + o.qx * o.qx + o.qy * o.qy + o.qz * o.qz, 1e-9)
+        } finally {
+            client.close()
+        }
+
+        controller.stop()
+        assertEquals(StreamState.Off, controller.state.value)
+        assertFalse(controller.isOn)
+        // The test's own hold remains: the controller released its own.
+        assertTrue(c.capture.isRunning)
+        // Capture goes on with nothing listening.
+        c.offer(SessionStream.GYROSCOPE, 3_000_000_000L, 0f, 0f, 0f)
+        c.drain()
+        c.capture.release()
+        assertFalse(c.capture.isRunning)
+    }
+
+    @Test
+    fun `a wrong pairing code is refused and every start makes a new code`() {
+        controller.start()
+        val first = (controller.state.value as StreamState.On)
+        val wrong = if (first.code == "000000") "000001" else "000000"
+        val client = StreamClient(URI("ws://127.0.0.1:${first.port}"), StreamMessage.Pair(wrong)) {}
+        val e = runCatching { client.connect() }.exceptionOrNull()
+        client.close()
+        assertTrue(e?.message?.contains("pairing code wrong") == true, e?.message)
+        val codes = HashSet<String>()
+        repeat(5) {
+            controller.stop()
+            controller.start()
+            codes += (controller.state.value as StreamState.On).code
+        }
+        assertTrue(codes.size >= 4, codes.toString())
+    }
+}

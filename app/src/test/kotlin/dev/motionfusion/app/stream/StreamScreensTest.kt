@@ -1,0 +1,119 @@
+package dev.motionfusion.app.stream
+
+import android.hardware.Sensor
+import android.hardware.SensorManager
+import android.os.Looper
+import android.view.View
+import android.widget.CompoundButton
+import android.widget.TextView
+import dev.motionfusion.app.R
+import dev.motionfusion.app.Screenshots
+import dev.motionfusion.app.TestGraph
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.stream.StreamClient
+import java.net.URI
+import java.time.Duration
+import java.util.concurrent.atomic.AtomicInteger
+import org.junit.After
+import org.junit.Assert.assertEquals
+import org.junit.Assert.assertFalse
+import org.junit.Assert.assertTrue
+import org.junit.Before
+import org.junit.Test
+import org.junit.runner.RunWith
+import org.robolectric.Robolectric
+import org.robolectric.RobolectricTestRunner
+import org.robolectric.RuntimeEnvironment
+import org.robolectric.Shadows.shadowOf
+import org.robolectric.annotation.Config
+import org.robolectric.annotation.GraphicsMode
+import org.robolectric.shadows.SensorBuilder
+
+/**
+ * The Stream screen rendered to PNG (target/screenshots) off, on and waiting for a client, and with
+ * a paired client getting samples (a real [StreamClient] on loopback), with the layout and
+ * accessibility checks of every screenshot.
+ */
+@RunWith(RobolectricTestRunner::class)
+@GraphicsMode(GraphicsMode.Mode.NATIVE)
+@Config(qualifiers = "w400dp-h860dp-port-notnight-xhdpi")
+class StreamScreensTest {
+    private lateinit var graph: TestGraph
+    private var client: StreamClient? = null
+
+    @Before
+    fun setUp() {
+        val sm = shadowOf(RuntimeEnvironment.getApplication().getSystemService(SensorManager::class.java))
+        for (type in listOf(Sensor.TYPE_ACCELEROMETER, Sensor.TYPE_GYROSCOPE, Sensor.TYPE_MAGNETIC_FIELD)) {
+            sm.addSensor(SensorBuilder.newBuilder().setType(type).build())
+        }
+        graph = TestGraph(streamPort = StreamController.PORT)
+    }
+
+    @After
+    fun tearDown() {
+        client?.close()
+        graph.graph.stream.stop()
+    }
+
+    private fun waitFor(what: String, done: () -> Boolean) {
+        val end = System.nanoTime() + 10_000_000_000L
+        while (!done()) {
+            check(System.nanoTime() < end) { "timed out waiting for $what" }
+            Thread.sleep(10)
+            // The screen's refresh, about once a second.
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(200))
+        }
+    }
+
+    @Test
+    fun `off, on and waiting, and a paired client with its rate and drops`() {
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        val switch = a.findViewById<CompoundButton>(R.id.stream_switch)
+        assertFalse("off by default", switch.isChecked)
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_details).visibility)
+        Screenshots.captureScreen(a, "stream-off")
+
+        switch.performClick()
+        graph.settle()
+        val on = graph.graph.stream.state.value as StreamState.On
+        assertTrue(switch.isChecked)
+        assertTrue(graph.capture.isRunning)
+        assertEquals(on.code, a.findViewById<TextView>(R.id.stream_code).text.toString())
+        assertEquals("ws://192.168.1.23:8765", a.findViewById<TextView>(R.id.stream_addresses).text.toString())
+        assertEquals("adb forward tcp:8765 tcp:8765, then ws://127.0.0.1:8765", a.findViewById<TextView>(R.id.stream_usb).text.toString())
+        Screenshots.captureScreen(a, "stream-waiting")
+
+        val got = AtomicInteger()
+        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.incrementAndGet() }
+        client!!.connect()
+        val v = floatArrayOf(0.01f, -0.02f, 0.003f)
+        for (i in 0 until 400) graph.capture.ring.offer(SessionStream.GYROSCOPE, 1_000_000_000L + i * 5_000_000L, 3, v, 3)
+        graph.pump()
+        waitFor("the samples at the client and on the screen") {
+            val c = (graph.graph.stream.state.value as StreamState.On).clients.singleOrNull()
+            got.get() >= 400 && c != null && c.sent >= 400 && c.achievedRateHz > 0 &&
+                a.findViewById<TextView>(R.id.stream_clients).text.contains("${c.sent} sent")
+        }
+        val line = a.findViewById<TextView>(R.id.stream_clients).text.toString()
+        assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped"))
+        Screenshots.captureScreen(a, "stream-client")
+
+        switch.performClick()
+        graph.settle()
+        assertEquals(StreamState.Off, graph.graph.stream.state.value)
+        assertTrue(client!!.awaitClose(5_000))
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_details).visibility)
+    }
+
+    @Test
+    @Config(qualifiers = "de-w400dp-h860dp-port-night-xhdpi")
+    fun `German and dark, on and waiting`() {
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
+        graph.settle()
+        assertEquals("Warte auf einen Client …", a.findViewById<TextView>(R.id.stream_clients).text.toString())
+        Screenshots.captureScreen(a, "stream-waiting-de-dark")
+    }
+}
