@@ -272,11 +272,16 @@ public class StreamServer(
             }
         }
 
-        /** Queues [text] on the connection; false when it closed meanwhile (one client's end never stops the sender). */
+        /**
+         * Queues [text] on the connection; false when that failed (it closed meanwhile, or the library refused): one
+         * client's end never stops the sender for the others.
+         */
         private fun offer(text: String): Boolean = try {
             conn.send(text)
             true
         } catch (_: WebsocketNotConnectedException) {
+            false
+        } catch (_: RuntimeException) {
             false
         }
 

@@ -121,18 +121,25 @@ class StreamServerTest {
             publish(s, tenth * 20, 20)
             // Capture goes on at the sensors' pace (160 messages every 0.1 s); a fast client keeps up with it.
             fast.awaitCount((tenth + 1) * perSecond / 10)
+            if (tenth == 450) {
+                // 45 s of sample time (72,000 messages, more than the sockets' buffers hold): the stalled client is being dropped.
+                val mid = s.clients()
+                assertEquals(2, mid.size, "$mid")
+                assertTrue(mid.any { it.dropped > 0 && it.sent < 45 * perSecond }, "$mid")
+            }
         }
         assertEquals(60 * perSecond, fast.received.get())
         assertEquals(0L, s.handOffDroppedCount)
-        // The fast client can have its last message before the sender has offered that message to the stalled one.
-        awaitUntil({ s.clients() }) { s.clients().sumOf { it.sent + it.dropped } == 2 * 60 * perSecond }
-        val infos = s.clients().sortedBy { it.sent }
-        val (slow, quick) = infos
-        assertEquals(60 * perSecond, quick.sent)
+        // The stalled client never held the sender up: one more tenth of a second still reaches the fast one.
+        publish(s, 600 * 20, 20)
+        fast.awaitCount(60 * perSecond + perSecond / 10)
+        val infos = s.clients()
+        val quick = infos.single { it.sent >= 60 * perSecond }
         assertEquals(0L, quick.dropped)
-        assertEquals(60 * perSecond, slow.sent + slow.dropped)
-        assertTrue(slow.dropped > 0, "the stalled client was never dropped: $slow")
-        // What the stalled client was given is bounded by its queue and what the sockets' buffers held.
+        // The stalled client was dropped to its bound; the library may also have closed it as unresponsive (it
+        // answers no ping), which removes it from the list: both are what a stalled client should get.
+        val slow = infos.singleOrNull { it !== quick }
+        if (slow != null) assertTrue(slow.dropped > 0 && slow.sent < 60 * perSecond, "the stalled client was never dropped: $slow")
         assertTrue(fast.statuses.isNotEmpty() && fast.statuses.last().dropped == 0L, "${fast.statuses.lastOrNull()}")
         assertTrue(quick.achievedRateHz in 1500.0..1700.0, "rate ${quick.achievedRateHz}")
     }
