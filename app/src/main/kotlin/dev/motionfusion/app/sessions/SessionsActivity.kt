@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.ui.Formats
 import android.content.Context
 import android.content.Intent
@@ -113,14 +114,11 @@ class SessionsActivity : AppCompatActivity() {
                 else -> null
             }.let { e ->
                 val continues = s.continues ?: return@let e
-                val tag = activity.getString(R.string.session_continues, continues, gapText(s.gapNs))
+                val tag = activity.getString(R.string.session_continues, continues, RecordingService.gapText(s.gapNs))
                 if (e == null) tag else activity.getString(R.string.session_list_extra, e, tag)
             }
             return if (extra == null) counts else activity.getString(R.string.session_list_extra, counts, extra)
         }
-
-        /** A gap between a recording's parts, "0:42" (unknown: "—"). */
-        fun gapText(gapNs: Long?): String = gapNs?.let { DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 
         /** Short labels for the list's rate line and the detail's plots (the session format's stream names as data, else as they are). */
         fun shortName(c: Context, stream: String): String = streamText(c, stream, short = true)
