@@ -1,5 +1,6 @@
 package dev.motionfusion.app.record
 
+import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
@@ -527,10 +528,7 @@ class RecordingService : Service() {
         }
 
         /** The gap of a resumed recording, "0:42"; "—" when the earlier part had no sample. */
-        internal fun gapText(c: Continuation): String = gapText(c.gapNs)
-
-        /** A gap between a recording's parts, "0:42" (unknown: "—"). */
-        internal fun gapText(gapNs: Long?): String = gapNs?.let { DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
+        internal fun gapText(c: Continuation): String = Formats.gap(c.gapNs)
 
         /** What to tell the user about how a recording ended. */
         internal fun endMessage(context: Context, result: RecorderResult): String {

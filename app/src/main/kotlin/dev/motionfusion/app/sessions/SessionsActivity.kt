@@ -1,6 +1,5 @@
 package dev.motionfusion.app.sessions
 
-import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.ui.Formats
 import android.content.Context
 import android.content.Intent
@@ -114,7 +113,7 @@ class SessionsActivity : AppCompatActivity() {
                 else -> null
             }.let { e ->
                 val continues = s.continues ?: return@let e
-                val tag = activity.getString(R.string.session_continues, continues, RecordingService.gapText(s.gapNs))
+                val tag = activity.getString(R.string.session_continues, continues, Formats.gap(s.gapNs))
                 if (e == null) tag else activity.getString(R.string.session_list_extra, e, tag)
             }
             return if (extra == null) counts else activity.getString(R.string.session_list_extra, counts, extra)

@@ -17,4 +17,7 @@ internal object Formats {
         isGroupingUsed = false
         roundingMode = RoundingMode.HALF_EVEN
     }.format(v)
+
+    /** A gap between a recording's parts, "0:42" (unknown: "—"). */
+    fun gap(gapNs: Long?): String = gapNs?.let { android.text.format.DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 }
