@@ -160,13 +160,6 @@ public object FilterSettingDescriptors {
         number("motionBiasGain", "motion_bias_gain_rad_s2", "rad/s²", G.BIAS, "Bias estimation in motion, gain", 0.0..0.03, off = true, { it.motionBiasGain }, absent = 0.0) { s, v -> s.copy(motionBiasGain = v) },
         number("motionBiasRestTime", "motion_bias_rest_time_s", "s", G.BIAS, "Motion estimate ramps up after rest over", 0.0..1200.0, off = false, { it.motionBiasRestTime }) { s, v -> s.copy(motionBiasRestTime = v) },
         number("motionBiasLimit", "motion_bias_limit_rad_s", "rad/s", G.BIAS, "Bias limit per axis", 0.005..0.2, off = false, { it.motionBiasLimit }) { s, v -> s.copy(motionBiasLimit = v) },
-        number("motionBiasInclinationGain", "motion_bias_inclination_gain_rad_s2", "rad/s²", G.BIAS, "Bias estimation in motion from inclination, gain", 0.0..0.1, off = true, { it.motionBiasInclinationGain }, absent = 0.0) { s, v -> s.copy(motionBiasInclinationGain = v) },
-        flag("motionBiasFieldCheck", "motion_bias_field_check", G.BIAS, "Bias from heading only in an undisturbed field", { it.motionBiasFieldCheck }) { s, v -> s.copy(motionBiasFieldCheck = v) },
-        number("motionBiasFieldShare", "motion_bias_field_share", "", G.BIAS, "Bias from a disturbed field when disturbed for more than (share)", 0.0..1.0, off = false, { it.motionBiasFieldShare }) { s, v -> s.copy(motionBiasFieldShare = v) },
-        number("motionBiasFieldShareTime", "motion_bias_field_share_time_s", "s", G.BIAS, "Disturbed share measured over", 1.0..300.0, off = false, { it.motionBiasFieldShareTime }) { s, v -> s.copy(motionBiasFieldShareTime = v) },
-        number("motionBiasLeakTime", "motion_bias_leak_time_s", "s", G.BIAS, "Motion estimate returns to the rest estimate over", 0.0..3600.0, off = true, { it.motionBiasLeakTime }, absent = 0.0) { s, v -> s.copy(motionBiasLeakTime = v) },
-        number("motionBiasHoldMax", "motion_bias_hold_max_s", "s", G.BIAS, "Bias learnt in a disturbed field kept after", 0.0..600.0, off = true, { it.motionBiasHoldMax }, absent = 0.0) { s, v -> s.copy(motionBiasHoldMax = v) },
-        number("motionBiasJumpRate", "motion_bias_jump_rate_rad_s", "rad/s", G.BIAS, "jump", 0.0..10.0, off = true, { it.motionBiasJumpRate }, absent = 0.0) { s, v -> s.copy(motionBiasJumpRate = v) },
         choice("outputFrame", "output_frame", G.GAINS, "Output earth frame", WorldFrame.entries.map { it.name }, { it.outputFrame.name }) { s, v -> s.copy(outputFrame = WorldFrame.valueOf(v)) },
         number("maxGap", "max_gap_s", "s", G.SATURATION, "Longest gap between samples", 0.05..2.0, off = false, { it.maxGap }) { s, v -> s.copy(maxGap = v) },
     )

@@ -88,15 +88,6 @@ public enum class Initialisation {
  *   up from 0 to motionBiasGain over this time, s: a bias measured at rest is better than one
  *   inferred from heading errors until it may have drifted. 0: full gain at once. Default 300 s.
  * @property motionBiasLimit each axis of the bias stays within ±this, rad/s. Default 2°/s.
- * @property motionBiasInclinationGain gyroscope bias estimation during motion from the inclination error,
- *   rad/s per unit error and second: the angle between the estimated up and the (low-passed) accelerometer,
- *   as a rate about the horizontal axis that would turn one onto the other, is integrated into the bias. It
- *   never changes the bias about the vertical, and no magnetic disturbance enters it. Ramps up after a rest
- *   estimate as motionBiasGain does. 0 disables it. ≥ 0. Default 0.
- * @property motionBiasFieldCheck the heading error drives the motion bias estimate (motionBiasGain) only
- *   while the field's magnitude and dip agree with a learned reference (the detector of
- *   magDisturbanceRejection with its tolerances and times, run for this even when the rejection is off), and
- *   comes back over magResumeTime after a disturbance. Default off.
  * @property headingRecoveryTime for this long after the start and after the magnetometer gets a new
  *   reference, while the heading error is large (from above 2° until below 0.5°), the heading gain is
  *   at least 1/t (t the time since then, s), so a wrong first heading converges within seconds. 0
@@ -175,13 +166,6 @@ public data class FilterSettings(
     val motionBiasGain: Double = 0.003,
     val motionBiasRestTime: Double = 300.0,
     val motionBiasLimit: Double = 2.0 * DEG,
-    val motionBiasInclinationGain: Double = 0.0,
-    val motionBiasFieldCheck: Boolean = false,
-    val motionBiasFieldShare: Double = 1.0,
-    val motionBiasFieldShareTime: Double = 30.0,
-    val motionBiasLeakTime: Double = 0.0,
-    val motionBiasHoldMax: Double = 0.0,
-    val motionBiasJumpRate: Double = 0.0,
     val outputFrame: WorldFrame = WorldFrame.ENU,
     val maxGap: Double = 0.5,
 ) {
@@ -214,11 +198,6 @@ public data class FilterSettings(
         requireFinite("accLowPassTime", accLowPassTime, min = 0.0)
         requireFinite("gyroSaturation", gyroSaturation, min = 0.0)
         requirePositive("motionBiasLimit", motionBiasLimit)
-        requireFinite("motionBiasInclinationGain", motionBiasInclinationGain, min = 0.0)
-        require(motionBiasFieldShare.isFinite() && motionBiasFieldShare in 0.0..1.0) { "motionBiasFieldShare must be in [0, 1]: $motionBiasFieldShare" }
-        requirePositive("motionBiasFieldShareTime", motionBiasFieldShareTime)
-        requireFinite("motionBiasLeakTime", motionBiasLeakTime, min = 0.0)
-        requireFinite("motionBiasHoldMax", motionBiasHoldMax, min = 0.0)
         requireFinite("motionBiasRestTime", motionBiasRestTime, min = 0.0)
     }
 
@@ -239,8 +218,6 @@ public data class FilterSettings(
             accRejection = false,
             headingGain = 0.0,
             motionBiasGain = 0.0,
-            motionBiasInclinationGain = 0.0,
-            motionBiasFieldCheck = false,
             headingRecoveryTime = 0.0,
             magNewFieldTime = 0.0,
             inclinationRecoveryBeta = 0.0,

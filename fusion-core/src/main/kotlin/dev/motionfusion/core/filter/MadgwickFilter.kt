@@ -64,22 +64,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val bias = GyroBiasEstimate(settings)
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val magResume = magDetector != null && settings.magResumeTime > 0.0
-    // The field check of the motion bias estimate (motionBiasFieldCheck): the rejection's detector when
-    // that is on, else a detector of its own that only gates the bias.
-    private val biasFieldCheck = settings.motionBiasFieldCheck && settings.headingGain != 0.0
-    private val biasDetector = if (biasFieldCheck && magDetector == null) MagneticDisturbanceDetector(settings) else null
-    private val biasResumeRate = if (settings.magResumeTime > 0.0) 1.0 / settings.magResumeTime else Double.POSITIVE_INFINITY
-    private var biasSinceDisturbed = Double.POSITIVE_INFINITY
-    private val biasShareRate = 1.0 / settings.motionBiasFieldShareTime
-    private val biasShareLimit = settings.motionBiasFieldShare
-    // The share of the recent time the field was disturbed (low-passed over motionBiasFieldShareTime).
-    private var biasDisturbedShare = 0.0
-    private val biasHoldMax = settings.motionBiasHoldMax
-    private val biasHoldWindow = settings.magResumeTime
-    private var biasHoldTime = 0.0
-    private val biasJumpRate = settings.motionBiasJumpRate
-    private var headingErrorLp = 0.0
-    private var headingJump = false
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val lowPass = AccelerometerLowPass(settings)
     private val recovery = InclinationRecovery(settings)
@@ -198,7 +182,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         // Which readings enter.
         val useAcc = accOk && accelerometerEnters(dt, ux, uy, uz)
         val useMag = magOk && magnetometerEnters(dt, accOk, ux, uy, uz, wx * wx + wy * wy + wz * wz)
-        if (biasFieldCheck) biasFieldStep(dt, magOk, useMag, accOk, ux, uy, uz, wx * wx + wy * wy + wz * wz)
         if (recovery.stillError(dt, wx, wy, wz, accOk, ax, ay, az, ux, uy, uz)) {
             stillRecoveries++
             lowPass.restart()
@@ -215,7 +198,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         stepBeta = recovery.beta(dt, useAcc, ax, ay, az, cx, cy, cz, ux, uy, uz)
         when {
             useMag && !heading.enabled -> margStep(dt, x, y, z, useAcc, cx, cy, cz)
-            useAcc -> imuStep(dt, x, y, z, cx, cy, cz, if (bias.fromInclination && !recovery.active) bias.inclinationGain() else 0.0)
+            useAcc -> imuStep(dt, x, y, z, cx, cy, cz)
             else -> gyroStep(dt, x, y, z)
         }
         if (useMag && heading.enabled) {
@@ -223,15 +206,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             val f = if (magResume) magDetector!!.gainFactor else 1.0
             val sinDelta = headingStep(dt * heading.gain(dt, f))
             heading.observe(sinDelta)
-            if (biasJumpRate > 0.0) {
-                val prev = headingErrorLp
-                headingErrorLp += minOf(1.0, dt * 2.0) * (sinDelta - headingErrorLp)
-                headingJump = abs(headingErrorLp - prev) > biasJumpRate * dt
-            }
-            if (bias.inMotion) {
-                val g = if (biasFieldCheck && biasHoldMax == 0.0) minOf(1.0, biasSinceDisturbed * biasResumeRate) else 1.0
-                if (g > 0.0) bias.motion(dt * f * g, sinDelta, upX(), upY(), upZ())
-            }
+            if (bias.inMotion) bias.motion(dt * f, sinDelta, upX(), upY(), upZ())
         }
     }
 
@@ -260,36 +235,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         if (!use) magRejections++
         if (detector.newReference && !magResume) heading.newReference()
         return use
-    }
-
-    /** The field check of the motion bias estimate: how long the field has agreed with the reference. */
-    private fun biasFieldStep(dt: Double, magOk: Boolean, useMag: Boolean, accOk: Boolean, ux: Double, uy: Double, uz: Double, rate2: Double) {
-        val detector = biasDetector
-        val disturbed = if (biasJumpRate > 0.0) {
-            headingJump
-        } else if (detector == null) {
-            magOk && !useMag
-        } else {
-            if (!magOk) return
-            val n2 = mx * mx + my * my + mz * mz
-            val inv = invSqrt(n2)
-            val sinDip = -(mx * ux + my * uy + mz * uz) * inv
-            val sinDipRaw = if (accOk && detector.needsReference) -(mx * ax + my * ay + mz * az) * inv * invSqrt(ax * ax + ay * ay + az * az) else sinDip
-            !detector.accept(dt, n2 * inv, sinDip, sinDipRaw, rate2) || detector.newReference
-        }
-        val k = minOf(1.0, dt * biasShareRate)
-        biasDisturbedShare += k * ((if (disturbed) 1.0 else 0.0) - biasDisturbedShare)
-        biasSinceDisturbed = if (disturbed && biasDisturbedShare < biasShareLimit) 0.0 else biasSinceDisturbed + dt
-        if (biasHoldMax > 0.0) {
-            if (disturbed && !bias.holding) {
-                bias.hold()
-                biasHoldTime = 0.0
-            }
-            if (bias.holding) {
-                biasHoldTime += dt
-                if (biasHoldTime >= biasHoldMax) bias.commit() else if (biasSinceDisturbed >= biasHoldWindow) bias.release()
-            }
-        }
     }
 
     /**
@@ -363,11 +308,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The complete state, for [restore]. */
     public fun snapshot(): FilterSnapshot {
         val d = DoubleArray(STATE_DOUBLES)
-        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, ax, ay, az, mx, my, mz, biasSinceDisturbed, biasDisturbedShare, biasHoldTime)
+        val own = doubleArrayOf(q1, q2, q3, q4, bx, bz, ax, ay, az, mx, my, mz)
         own.copyInto(d)
         var at = DOUBLES
         at = bias.writeState(d, at)
-        at = (magDetector ?: biasDetector)?.writeState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
+        at = magDetector?.writeState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
         at = accRejection?.writeState(d, at) ?: (at + AccelerometerRejection.STATE_SIZE)
         at = lowPass.writeState(d, at)
         at = recovery.writeState(d, at)
@@ -387,10 +332,10 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         require(snapshot.settings == settings) { "snapshot taken under other settings" }
         val d = snapshot.doubles()
         q1 = d[0]; q2 = d[1]; q3 = d[2]; q4 = d[3]; bx = d[4]; bz = d[5]
-        ax = d[6]; ay = d[7]; az = d[8]; mx = d[9]; my = d[10]; mz = d[11]; biasSinceDisturbed = d[12]; biasDisturbedShare = d[13]; biasHoldTime = d[14]
+        ax = d[6]; ay = d[7]; az = d[8]; mx = d[9]; my = d[10]; mz = d[11]
         var at = DOUBLES
         at = bias.readState(d, at)
-        at = (magDetector ?: biasDetector)?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
+        at = magDetector?.readState(d, at) ?: (at + MagneticDisturbanceDetector.STATE_SIZE)
         at = accRejection?.readState(d, at) ?: (at + AccelerometerRejection.STATE_SIZE)
         at = lowPass.readState(d, at)
         at = recovery.readState(d, at)
@@ -408,10 +353,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     internal fun reset() {
         bias.reset()
         magDetector?.reset()
-        biasDetector?.reset()
-        biasSinceDisturbed = Double.POSITIVE_INFINITY
-        biasDisturbedShare = 0.0
-        biasHoldTime = 0.0
         accRejection?.reset()
         lowPass.reset()
         recovery.reset()
@@ -558,7 +499,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     }
 
     /** The report's IMU update (eqs. 25–26, 34, 44, 12, 42–43); the report has no ζ here. */
-    private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double, ax: Double, ay: Double, az: Double, z: Double) {
+    private fun imuStep(dt: Double, gx: Double, gy: Double, gz: Double, ax: Double, ay: Double, az: Double) {
         val n = invSqrt(ax * ax + ay * ay + az * az)
         val f1 = 2.0 * (q2 * q4 - q1 * q3) - ax * n
         val f2 = 2.0 * (q1 * q2 + q3 * q4) - ay * n
@@ -569,7 +510,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             2.0 * q4 * f1 + 2.0 * q1 * f2 - 4.0 * q2 * f3,
             -2.0 * q1 * f1 + 2.0 * q4 * f2 - 4.0 * q3 * f3,
             2.0 * q2 * f1 + 2.0 * q3 * f2,
-            z, false, 0.0, 0.0, 0.0,
+            0.0, false, 0.0, 0.0, 0.0,
         )
     }
 
@@ -692,8 +633,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         m2 * (p1 * p1 - p2 * p2 + p3 * p3 - p4 * p4) + 2.0 * (m1 * (p2 * p3 + p1 * p4) + m3 * (p3 * p4 - p1 * p2))
 
     private companion object {
-        /** The filter's own doubles in a snapshot (q̂, b, the held readings, the bias field check's clock); the units' states follow. */
-        const val DOUBLES = 15
+        /** The filter's own doubles in a snapshot (q̂, b, the held readings); the units' states follow. */
+        const val DOUBLES = 12
         const val STATE_DOUBLES = DOUBLES + GyroBiasEstimate.STATE_SIZE + MagneticDisturbanceDetector.STATE_SIZE +
             AccelerometerRejection.STATE_SIZE + AccelerometerLowPass.STATE_SIZE + InclinationRecovery.STATE_SIZE + HeadingCorrection.STATE_SIZE
 
