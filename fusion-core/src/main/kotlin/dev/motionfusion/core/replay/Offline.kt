@@ -8,8 +8,9 @@
  *     readings), starting from the forward pass's final state turned round (MadgwickFilter.turnAround),
  *     each step's orientation written back into the file;
  *  3. forward again, starting from the backward pass's final state (so it has converged already at
- *     the first sample), each step's orientation combined with the backward one of the same instant
- *     and handed on.
+ *     the first sample), each step's orientation combined with the backward one of the same instant,
+ *     its heading turned towards the heading smoother's (HeadingSmoother: filtered in pass 2, smoothed
+ *     here) and handed on.
  * Across a gap in the recording a pass goes on from the other pass's orientation at the gap's far side
  * (MadgwickFilter.takeOrientation), not from the one it carried over. The combination weighs heading and
  * inclination apart, the heading by how recently each pass met a disturbed field (FieldReference). Both
@@ -548,10 +549,11 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
  * left behind even if the process is killed); elsewhere it is removed by [close], at exit, and by
  * a shutdown hook on an interrupt.
  *
- * A record, 136 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
+ * A record, 184 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
  * then for a step t_s, gyroscope (3), accelerometer (3), magnetometer (3), orientation (4: the first
- * pass's, then the backward pass's) and how recently the backward pass met a disturbed field; for a
- * reference up to [MAX_VALUES] values.
+ * pass's, then the backward pass's), how recently the backward pass met a disturbed field and the
+ * heading smoother's filtered state (x, b, the covariance's three terms, u); for a reference up to
+ * [MAX_VALUES] values.
  */
 internal class Spill(dir: Path?) : Closeable {
     private val path: Path = if (dir == null) Files.createTempFile("fusion-offline-", ".tmp") else Files.createTempFile(dir, ".fusion-offline-", ".tmp")
