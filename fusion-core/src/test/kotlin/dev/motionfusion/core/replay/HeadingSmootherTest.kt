@@ -78,4 +78,29 @@ class HeadingSmootherTest {
         assertTrue(alone < 0.4 * without, msg)
         assertTrue(with < 0.75 * without, msg)
     }
+
+    @Test
+    fun `timestamps that repeat or step back a little leave the smoothed heading finite`() {
+        val samples = MotionSimulator(SimulationSettings(durationS = 40.0, rateHz = 100.0, seed = 9, restWindows = listOf(TimeWindow(0.0, 10.0), TimeWindow(30.0, 40.0)))).run()
+        val file = dir.resolve("step-back.csv")
+        Files.newBufferedWriter(file).use { w ->
+            w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
+            for ((i, s) in samples.withIndex()) {
+                // Every 500th row repeats the time before it; every 700th steps 5 ms back.
+                val t = when {
+                    i > 0 && i % 500 == 0 -> samples[i - 1].timestampNs * 1e-9
+                    i > 0 && i % 700 == 0 -> samples[i - 1].timestampNs * 1e-9 - 0.005
+                    else -> s.timestampNs * 1e-9
+                }
+                val v = listOf(s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z, s.mag.x, s.mag.y, s.mag.z)
+                w.write(String.format(Locale.ROOT, "%.6f", t) + v.joinToString("") { "," + it } + "\n")
+            }
+        }
+        val out = replay(file, OfflineSettings(headingSmoothing = 1.0))
+        val truth = samples.map { it.truth }
+        val bad = out.indices.filter { i -> out[i].any { !it.isFinite() } }
+        assertTrue(bad.isEmpty(), "rows without a finite orientation: ${bad.take(5)}")
+        val worst = out.indices.filter { it > 100 }.maxOf { i -> deg(Quaternion(out[i][0], out[i][1], out[i][2], out[i][3]).angleTo(truth[i])) }
+        assertTrue(worst < 5.0, String.format(Locale.ROOT, "largest error %.2f°", worst))
+    }
 }
