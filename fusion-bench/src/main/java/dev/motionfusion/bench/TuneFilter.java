@@ -129,28 +129,48 @@ public final class TuneFilter {
         }
     }
 
+    /** The properties of OfflineSettings in its constructor's order. */
+    static final String[] OFFLINE_NAMES = {"backwardWeight", "inclinationBackwardWeight", "headingSmoothing", "smootherRestNoise", "smootherMotionNoise",
+        "smootherHeadingNoise", "smootherBiasNoise"};
+
     /**
-     * The offline settings of [spec] ("offline:" before the overrides, backwardWeight=… and
-     * inclinationBackwardWeight=… among them for OfflineSettings), or null for the causal filter.
+     * The offline settings of [spec] ("offline:" before the overrides, OfflineSettings' properties among
+     * them by name, the smoother's noises in degrees), or null for the causal filter.
      */
+
     static OfflineSettings parseOffline(String spec) {
         String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
         if (!body.startsWith("offline")) return null;
-        Double heading = null;
-        Double inclination = null;
-        for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
-            if (a.trim().startsWith("backwardWeight=")) heading = Double.parseDouble(a.trim().substring("backwardWeight=".length()));
-            if (a.trim().startsWith("inclinationBackwardWeight=")) inclination = Double.parseDouble(a.trim().substring("inclinationBackwardWeight=".length()));
-        }
         OfflineSettings d = new OfflineSettings();
-        return new OfflineSettings(heading != null ? heading : d.getBackwardWeight(), inclination != null ? inclination : d.getInclinationBackwardWeight());
+        double[] v = {d.getBackwardWeight(), d.getInclinationBackwardWeight(), d.getHeadingSmoothing(), d.getSmootherRestNoise(), d.getSmootherMotionNoise(),
+            d.getSmootherHeadingNoise(), d.getSmootherBiasNoise()};
+        for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
+            String t = a.trim();
+            for (int k = 0; k < OFFLINE_NAMES.length; k++) {
+                if (t.startsWith(OFFLINE_NAMES[k] + "=")) {
+                    double x = Double.parseDouble(t.substring(OFFLINE_NAMES[k].length() + 1));
+                    v[k] = k >= 3 ? Math.toRadians(x) : x; // the smoother's noises in degrees here
+                }
+            }
+        }
+        return new OfflineSettings(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+    }
+
+    static boolean offlineName(String a) {
+        for (String n : OFFLINE_NAMES) if (a.trim().startsWith(n + "=")) return true;
+        return false;
     }
 
     static FilterSettings parse(String spec) {
         String body = spec.contains("@") ? spec.substring(spec.indexOf('@') + 1) : spec;
         if (body.startsWith("offline")) {
-            body = body.substring("offline".length()).replaceFirst("^:", "").replaceAll("(inclinationB|b)ackwardWeight=[^,]*,?", "");
-            if (body.isBlank()) body = "defaults";
+            StringBuilder kept = new StringBuilder();
+            for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
+                if (a.isBlank() || offlineName(a)) continue;
+                if (kept.length() > 0) kept.append(',');
+                kept.append(a.trim());
+            }
+            body = kept.length() == 0 ? "defaults" : kept.toString();
         }
         FilterSettings s = new FilterSettings();
         if (body.equals("defaults")) return s;

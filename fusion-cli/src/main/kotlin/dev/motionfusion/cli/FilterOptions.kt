@@ -11,7 +11,7 @@ import java.io.PrintStream
 
 /** The filter settings options shared by replay, eval, compare and plot. */
 internal object FilterOptions {
-    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set", "--offline-weight")
+    val VALUED = setOf("--beta", "--zeta", "--mode", "--init", "--max-gap", "--set", "--offline-weight", "--offline-smoothing")
     val FLAGS = setOf("--report", "--default-settings", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection", "--offline")
 
     val HELP = """
@@ -33,26 +33,39 @@ internal object FilterOptions {
         |${settingsTable()}
         |  --offline            the offline estimate: each orientation from the whole recording, the
         |                       samples after it as well as before (a forward and a backward pass
-        |                       with these settings, combined; docs/ACCURACY.md, "Offline"); the
-        |                       same rows and columns; needs a temporary file of 136 bytes per row
+        |                       with these settings, combined, the heading then turned towards a
+        |                       smoother's that pins it at rests and takes the gyroscope's drift
+        |                       out between them; docs/ACCURACY.md, "Offline"); the same rows and
+        |                       columns; needs a temporary file of ${OfflineSettings.SPILL_BYTES_PER_ROW} bytes per row
         |                       (java.io.tmpdir), removed however the run ends
         |  --offline-weight W   the backward pass's weight in the combination, 0…1, in heading (where
         |                       neither pass met a disturbed field lately) and inclination alike
         |                       (default ${OfflineSettings().backwardWeight} in heading, ${OfflineSettings().inclinationBackwardWeight} in inclination)
+        |  --offline-smoothing W  how far the heading is turned towards the smoother's, 0…1
+        |                       (default ${OfflineSettings().headingSmoothing}; 0: without the smoother)
         |""".trimMargin()
 
-    /** The offline settings (--offline, --offline-weight), or null for the causal filter. */
+    /** The offline settings (--offline, --offline-weight, --offline-smoothing), or null for the causal filter. */
     fun offline(o: Options): OfflineSettings? {
         val w = o.double("--offline-weight")
+        val smoothing = o.double("--offline-smoothing")
         if (!o.has("--offline")) {
             if (w != null) throw UsageException("--offline-weight needs --offline")
+            if (smoothing != null) throw UsageException("--offline-smoothing needs --offline")
             return null
         }
-        return try {
-            if (w == null) OfflineSettings() else OfflineSettings(w, w)
+        var s = OfflineSettings()
+        try {
+            if (w != null) s = s.copy(backwardWeight = w, inclinationBackwardWeight = w)
         } catch (e: IllegalArgumentException) {
             throw UsageException("--offline-weight: ${e.message}")
         }
+        try {
+            if (smoothing != null) s = s.copy(headingSmoothing = smoothing)
+        } catch (e: IllegalArgumentException) {
+            throw UsageException("--offline-smoothing: ${e.message}")
+        }
+        return s
     }
 
     /** One line per setting of [FilterSettingDescriptors]: name, unit, default. */

@@ -41,7 +41,7 @@ class OfflineAndBatchTest {
         val eo = mean(ok("eval", "--offline", p("s")).out)
         assertTrue(eo < 0.6 * ec, "offline $eo° against causal $ec°")
         // Each pass alone is as good as the causal filter (no one-sample shift in the backward pass).
-        val back = mean(ok("eval", "--offline", "--offline-weight", "1", p("s")).out)
+        val back = mean(ok("eval", "--offline", "--offline-weight", "1", "--offline-smoothing", "0", p("s")).out)
         assertTrue(back < 1.3 * ec, "backward pass $back° against causal $ec°")
     }
 
@@ -49,6 +49,8 @@ class OfflineAndBatchTest {
     fun `offline options are checked`() {
         assertEquals(ExitCode.USAGE, fusion("replay", "--offline-weight", "0.5", "x.csv").code)
         assertEquals(ExitCode.USAGE, fusion("replay", "--offline", "--offline-weight", "2", "x.csv").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", "--offline-smoothing", "0.5", "x.csv").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", "--offline", "--offline-smoothing", "-1", "x.csv").code)
     }
 
     @Test

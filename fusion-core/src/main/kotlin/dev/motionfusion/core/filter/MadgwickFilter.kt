@@ -374,6 +374,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The magnetic disturbance detector's resume ramp, 0…1 (1 without the detector). */
     internal val magneticGainFactor: Double get() = magDetector?.gainFactor ?: 1.0
 
+    /** The rest detector's verdict of the last step (false without rest bias estimation; the offline heading smoother's). */
+    internal val atRest: Boolean get() = bias.atRest
+
+    /** The gyroscope bias estimate ω_b, rad/s, device frame, into [out] (the offline heading smoother's; allocates nothing). */
+    internal fun gyroBiasInto(out: DoubleArray) {
+        out[0] = bias.x; out[1] = bias.y; out[2] = bias.z
+    }
+
     /**
      * Turns the filter round in time, for a pass over the same samples backward (the offline estimate,
      * replay/Offline.kt): the gyroscope readings of such a pass are negated, so the bias estimate and the

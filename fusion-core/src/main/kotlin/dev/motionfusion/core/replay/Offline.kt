@@ -8,8 +8,9 @@
  *     readings), starting from the forward pass's final state turned round (MadgwickFilter.turnAround),
  *     each step's orientation written back into the file;
  *  3. forward again, starting from the backward pass's final state (so it has converged already at
- *     the first sample), each step's orientation combined with the backward one of the same instant
- *     and handed on.
+ *     the first sample), each step's orientation combined with the backward one of the same instant,
+ *     its heading turned towards the heading smoother's (HeadingSmoother: filtered in pass 2, smoothed
+ *     here) and handed on.
  * Across a gap in the recording a pass goes on from the other pass's orientation at the gap's far side
  * (MadgwickFilter.takeOrientation), not from the one it carried over. The combination weighs heading and
  * inclination apart, the heading by how recently each pass met a disturbed field (FieldReference). Both
@@ -20,6 +21,7 @@
 package dev.motionfusion.core.replay
 
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.MadgwickFilter
 import java.io.Closeable
 import java.io.IOException
@@ -33,24 +35,54 @@ import java.nio.file.StandardOpenOption
 import java.util.concurrent.ConcurrentHashMap
 import kotlin.math.PI
 import kotlin.math.asin
+import kotlin.math.atan
+import kotlin.math.atan2
+import kotlin.math.cos
 import kotlin.math.exp
 import kotlin.math.sin
 import kotlin.math.sqrt
 
 /**
  * Settings of the offline estimate beyond the filter's own ([dev.motionfusion.core.filter.FilterSettings]
- * applies to every pass alike). Both chosen by cross-validation (docs/ACCURACY.md, "Offline").
+ * applies to every pass alike). All chosen by cross-validation (docs/ACCURACY.md, "Offline").
  *
  * @property backwardWeight the backward pass's weight in the combination's heading (the rotation between the
  *   two passes' estimates about the vertical), 0…1, where neither pass has met a disturbed field lately; where
  *   one has, the other gets more ([OfflinePass.headingWeight]).
  * @property inclinationBackwardWeight the backward pass's weight in the combination's inclination (the
  *   rotation about a horizontal axis), 0…1.
+ * @property headingSmoothing how far the combination's heading is then turned towards the heading smoother's
+ *   ([HeadingSmoother]), 0…1; 0 leaves the smoother out.
+ * @property smootherRestNoise the smoother's magnetometer heading noise while the rest detector says the device
+ *   is at rest, as a density, rad·√s (the variance of one reading is its square over the step length).
+ * @property smootherMotionNoise the same in motion, rad·√s.
+ * @property smootherHeadingNoise the random walk of the heading the gyroscope integrates, rad/√s.
+ * @property smootherBiasNoise the random walk of the gyroscope's bias about the vertical, rad/s/√s.
  */
-public data class OfflineSettings @JvmOverloads constructor(val backwardWeight: Double = 0.0, val inclinationBackwardWeight: Double = 0.5) {
+public data class OfflineSettings @JvmOverloads constructor(
+    val backwardWeight: Double = 0.0,
+    val inclinationBackwardWeight: Double = 0.5,
+    val headingSmoothing: Double = 0.5,
+    val smootherRestNoise: Double = 1.0 * DEGREE,
+    val smootherMotionNoise: Double = 30.0 * DEGREE,
+    val smootherHeadingNoise: Double = 0.02 * DEGREE,
+    val smootherBiasNoise: Double = 0.005 * DEGREE,
+) {
     init {
         require(backwardWeight in 0.0..1.0) { "backwardWeight must be within 0…1, not $backwardWeight" }
         require(inclinationBackwardWeight in 0.0..1.0) { "inclinationBackwardWeight must be within 0…1, not $inclinationBackwardWeight" }
+        require(headingSmoothing in 0.0..1.0) { "headingSmoothing must be within 0…1, not $headingSmoothing" }
+        for ((name, v) in listOf(
+            "smootherRestNoise" to smootherRestNoise, "smootherMotionNoise" to smootherMotionNoise,
+            "smootherHeadingNoise" to smootherHeadingNoise, "smootherBiasNoise" to smootherBiasNoise,
+        )) require(v.isFinite() && v > 0.0) { "$name must be finite and > 0, not $v" }
+    }
+
+    public companion object {
+        private const val DEGREE = PI / 180.0
+
+        /** The size of the offline replay's temporary file, bytes per output row. */
+        public const val SPILL_BYTES_PER_ROW: Int = Spill.RECORD
     }
 }
 
@@ -63,6 +95,8 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
     private val spill = Spill(tempDir)
     private val maxGapNs = (forward.settings.maxGap * 1e9).toLong()
     private val field = FieldReference(forward.settings)
+    // The heading smoother uses the magnetometer, so not in IMU mode (where the passes leave it out).
+    private val smoother = if (offline.headingSmoothing > 0.0 && forward.settings.mode == FilterMode.MARG) HeadingSmoother(offline) else null
 
     override fun step(step: ReplayStep) {
         var flags = 0L
@@ -102,6 +136,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         // How recently, on this pass's clock, the field was disturbed: 1 then, decaying at the heading gain.
         var backRecent = 0.0
         val mb = DoubleArray(3)
+        val gb = DoubleArray(3)
         spill.backward { b, at ->
             val flags = b.getLong(at)
             if (flags and REFERENCE != 0L) return@backward
@@ -112,18 +147,30 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
             if (pending) back.updateGyroscope(t, -gx, -gy, -gz)
             // Across a gap the backward pass goes on from the forward pass's orientation at its near side
             // (the forward pass ran through the samples before the gap; what this pass carries over it is a guess).
-            if (later != Long.MIN_VALUE && later - ns > maxGapNs) takeOver(back, b, at, q)
+            val gap = later != Long.MIN_VALUE && later - ns > maxGapNs
+            if (gap) takeOver(back, b, at, q)
             if (later != Long.MIN_VALUE) backRecent = field.decay(backRecent, later - ns)
+            val stepS = if (later != Long.MIN_VALUE) (later - ns) * 1e-9 else 0.0
             later = ns
+            val hx = -gx
+            val hy = -gy
+            val hz = -gz
+            val linked = pending && !gap
             gx = b.getDouble(at + Spill.GYRO); gy = b.getDouble(at + Spill.GYRO + 8); gz = b.getDouble(at + Spill.GYRO + 16)
             pending = true
             if (back.isInitialised) back.orientationInto(q) else q.fill(Double.NaN)
             for (k in 0 until 4) b.putDouble(at + Spill.Q + 8 * k, q[k])
+            var disturbed = false
             if (flags and MAG_FRESH != 0L) {
                 for (k in 0 until 3) mb[k] = b.getDouble(at + Spill.MAG + 8 * k)
-                if (field.disturbed(mb, q)) backRecent = 1.0
+                disturbed = field.disturbed(mb, q)
+                if (disturbed) backRecent = 1.0
             }
             b.putDouble(at + Spill.RECENT, backRecent)
+            if (smoother != null) {
+                back.gyroBiasInto(gb)
+                smoother.filterStep(b, at, q, linked, hx - gb[0], hy - gb[1], hz - gb[2], stepS, flags and MAG_FRESH != 0L, mb, back.atRest, disturbed)
+            }
         }
         // Forward again, from where the backward pass ended.
         val again = MadgwickFilter(settings)
@@ -164,6 +211,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
             if (flags and MAG_FRESH != 0L && field.disturbed(m, o)) foreRecent = 1.0
             for (k in 0 until 4) q[k] = b.getDouble(at + Spill.Q + 8 * k)
             combine(o, q, headingWeight(w0, foreRecent, b.getDouble(at + Spill.RECENT)), wi)
+            if (smoother != null && smoother.smoothStep(b, at, t, q)) combine(o, q, offline.headingSmoothing, 0.0)
             step.timestampNs = t
             step.timeS = b.getDouble(at + Spill.TIME)
             step.initialised = !o[0].isNaN()
@@ -235,6 +283,169 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
             val r3 = e0 * p3 + e1 * p2 - e2 * p1 + e3 * p0
             val inv = 1.0 / sqrt(r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3)
             p[0] = r0 * inv; p[1] = r1 * inv; p[2] = r2 * inv; p[3] = r3 * inv
+        }
+    }
+}
+
+/**
+ * The heading smoother of the offline estimate: a Kalman filter over the whole recording, then a
+ * Rauch–Tung–Striebel pass back over it, on two numbers: x, the heading correction (rad, a turn about
+ * the world's vertical applied on the left) of the backward pass's orientation, and b, what is left of
+ * the gyroscope's bias about the vertical (rad/s) after the filter's own estimate. From one step to the
+ * next x changes by u − b·Δt, u the heading correction the backward pass's own step made (−1 × the turn
+ * about the vertical between its new orientation and where the gyroscope alone would have taken it),
+ * so x follows the gyroscope, and b lets the gyroscope drift steadily between two stretches where the
+ * magnetometer is trusted. Each fresh magnetometer reading measures x (the turn that brings its
+ * horizontal part onto north) with a variance of [OfflineSettings.smootherRestNoise]² / Δt at rest (the
+ * rest detector's flag) and [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field
+ * check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
+ * there and the gyroscope's drift between rests is taken out, and the magnetometer in motion, which the
+ * rest of the estimate follows, counts little.
+ *
+ * The filter runs in the backward pass (its own time order, the recording's backward) and keeps each
+ * record's filtered state (x, b and their covariance, and u) in the spill file; the smoothing runs in the
+ * second forward pass from that. State: a few doubles, whatever the length. Across a gap the filter starts
+ * again (the backward pass took another orientation there).
+ */
+internal class HeadingSmoother(s: OfflineSettings) {
+    private val rRest = s.smootherRestNoise * s.smootherRestNoise
+    private val rMotion = s.smootherMotionNoise * s.smootherMotionNoise
+    private val qx = s.smootherHeadingNoise * s.smootherHeadingNoise
+    private val qb = s.smootherBiasNoise * s.smootherBiasNoise
+    private var x = 0.0
+    private var b = 0.0
+    private var p11 = 0.0
+    private var p12 = 0.0
+    private var p22 = 0.0
+    private var started = false
+    private val prev = DoubleArray(4)
+
+    // The smoothing pass: the previous record's smoothed state and its increment.
+    private var xs = Double.NaN
+    private var bs = 0.0
+    private var prevU = Double.NaN
+    private var prevNs = 0L
+
+    private fun start() {
+        x = 0.0; b = 0.0
+        p11 = X0 * X0; p12 = 0.0; p22 = B0 * B0
+        started = true
+    }
+
+    /** One step of the filter at the record at [at]: orientation [q], rate (bias-corrected) of the step into it. */
+    fun filterStep(buf: ByteBuffer, at: Int, q: DoubleArray, linked: Boolean, wx: Double, wy: Double, wz: Double, dt: Double,
+                   magFresh: Boolean, m: DoubleArray, rest: Boolean, disturbed: Boolean) {
+        var u = Double.NaN
+        if (q[0].isNaN()) {
+            started = false
+        } else {
+            if (!started || !linked) {
+                start()
+            } else {
+                // Where the gyroscope alone would have taken the previous orientation, p; the correction c = q ⊗ p*.
+                val h = 0.5 * dt
+                val p0 = prev[0] + h * (-prev[1] * wx - prev[2] * wy - prev[3] * wz)
+                val p1 = prev[1] + h * (prev[0] * wx + prev[2] * wz - prev[3] * wy)
+                val p2 = prev[2] + h * (prev[0] * wy - prev[1] * wz + prev[3] * wx)
+                val p3 = prev[3] + h * (prev[0] * wz + prev[1] * wy - prev[2] * wx)
+                val cw = q[0] * p0 + q[1] * p1 + q[2] * p2 + q[3] * p3
+                val cz = -q[0] * p3 - q[1] * p2 + q[2] * p1 + q[3] * p0
+                u = -2.0 * atan(cz / cw)
+                x += u - b * dt
+                val n11 = p11 - 2.0 * dt * p12 + dt * dt * p22 + qx * dt
+                val n12 = p12 - dt * p22
+                p22 += qb * dt
+                p11 = n11; p12 = n12
+            }
+            if (magFresh && dt > 0.0 && !disturbed) {
+                // The reading's measure of x, its variance, and the update (P ← (I − K H) P, H = [1, 0]).
+                val r = (if (rest) rRest else rMotion) / dt
+                val e = wrap(magHeading(m, q) - x)
+                val sInv = 1.0 / (p11 + r)
+                val k1 = p11 * sInv
+                val k2 = p12 * sInv
+                x += k1 * e; b += k2 * e
+                p22 -= k2 * p12
+                p11 *= 1.0 - k1
+                p12 *= 1.0 - k1
+            }
+            q.copyInto(prev)
+        }
+        buf.putDouble(at + Spill.KX, if (started) x else Double.NaN)
+        buf.putDouble(at + Spill.KB, b)
+        buf.putDouble(at + Spill.KP11, p11)
+        buf.putDouble(at + Spill.KP12, p12)
+        buf.putDouble(at + Spill.KP22, p22)
+        buf.putDouble(at + Spill.KU, u)
+    }
+
+    /** The smoothed correction at the record at [at] (time [ns]) applied to [q] (the backward pass's orientation); false where there is none. */
+    fun smoothStep(buf: ByteBuffer, at: Int, ns: Long, q: DoubleArray): Boolean {
+        val xk = buf.getDouble(at + Spill.KX)
+        val u = buf.getDouble(at + Spill.KU)
+        if (xk.isNaN()) {
+            xs = Double.NaN
+            prevU = u
+            prevNs = ns
+            return false
+        }
+        val bk = buf.getDouble(at + Spill.KB)
+        if (xs.isNaN() || prevU.isNaN()) {
+            xs = xk; bs = bk
+        } else {
+            val a11 = buf.getDouble(at + Spill.KP11)
+            val a12 = buf.getDouble(at + Spill.KP12)
+            val a22 = buf.getDouble(at + Spill.KP22)
+            val dt = (ns - prevNs) * 1e-9
+            // The prediction from this record to the previous one (the filter's order), and the gain.
+            val xp = xk + prevU - bk * dt
+            val pp11 = a11 - 2.0 * dt * a12 + dt * dt * a22 + qx * dt
+            val pp12 = a12 - dt * a22
+            val pp22 = a22 + qb * dt
+            // P F^T
+            val f11 = a11 - dt * a12
+            val f12 = a12
+            val f21 = a12 - dt * a22
+            val f22 = a22
+            val det = pp11 * pp22 - pp12 * pp12
+            val i11 = pp22 / det
+            val i12 = -pp12 / det
+            val i22 = pp11 / det
+            val c11 = f11 * i11 + f12 * i12
+            val c12 = f11 * i12 + f12 * i22
+            val c21 = f21 * i11 + f22 * i12
+            val c22 = f21 * i12 + f22 * i22
+            val dx = wrap(xs - xp)
+            val db = bs - bk
+            xs = xk + c11 * dx + c12 * db
+            bs = bk + c21 * dx + c22 * db
+        }
+        prevU = u
+        prevNs = ns
+        // q ← Rz(xs) ⊗ q
+        val c = cos(0.5 * xs)
+        val s = sin(0.5 * xs)
+        val q0 = c * q[0] - s * q[3]
+        val q1 = c * q[1] - s * q[2]
+        val q2 = c * q[2] + s * q[1]
+        val q3 = c * q[3] + s * q[0]
+        q[0] = q0; q[1] = q1; q[2] = q2; q[3] = q3
+        return true
+    }
+
+    companion object {
+        /** The filter's start: x and b unknown within 5° and 0.2°/s (a standard deviation). */
+        const val X0 = 5.0 * PI / 180.0
+        const val B0 = 0.2 * PI / 180.0
+
+        fun wrap(a: Double): Double = if (a > PI) a - 2 * PI else if (a < -PI) a + 2 * PI else a
+
+        /** The correction about the vertical (rad) that turns [q] (sensor → ENU) so that the field [m] points north. */
+        fun magHeading(m: DoubleArray, q: DoubleArray): Double {
+            val w = q[0]; val x = q[1]; val y = q[2]; val z = q[3]
+            val e = (1 - 2 * (y * y + z * z)) * m[0] + 2 * (x * y - w * z) * m[1] + 2 * (x * z + w * y) * m[2]
+            val n = 2 * (x * y + w * z) * m[0] + (1 - 2 * (x * x + z * z)) * m[1] + 2 * (y * z - w * x) * m[2]
+            return atan2(e, n)
         }
     }
 }
@@ -338,10 +549,11 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
  * left behind even if the process is killed); elsewhere it is removed by [close], at exit, and by
  * a shutdown hook on an interrupt.
  *
- * A record, 136 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
+ * A record, 184 bytes: flags (kind, and for a reference its stream and value count), timestamp ns,
  * then for a step t_s, gyroscope (3), accelerometer (3), magnetometer (3), orientation (4: the first
- * pass's, then the backward pass's) and how recently the backward pass met a disturbed field; for a
- * reference up to [MAX_VALUES] values.
+ * pass's, then the backward pass's), how recently the backward pass met a disturbed field and the
+ * heading smoother's filtered state (x, b, the covariance's three terms, u); for a reference up to
+ * [MAX_VALUES] values.
  */
 internal class Spill(dir: Path?) : Closeable {
     private val path: Path = if (dir == null) Files.createTempFile("fusion-offline-", ".tmp") else Files.createTempFile(dir, ".fusion-offline-", ".tmp")
@@ -469,7 +681,7 @@ internal class Spill(dir: Path?) : Closeable {
     }
 
     companion object {
-        const val RECORD = 136
+        const val RECORD = 184
         const val BLOCK = 2048
         const val TIME = 16
         const val GYRO = 24
@@ -477,6 +689,12 @@ internal class Spill(dir: Path?) : Closeable {
         const val MAG = 72
         const val Q = 96
         const val RECENT = 128
+        const val KX = 136
+        const val KB = 144
+        const val KP11 = 152
+        const val KP12 = 160
+        const val KP22 = 168
+        const val KU = 176
         const val VALUES = 16
         const val MAX_VALUES = 14
     }
