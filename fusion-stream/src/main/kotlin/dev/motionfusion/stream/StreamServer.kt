@@ -58,6 +58,11 @@ public data class StreamClientInfo(
     val dropped: Long,
     /** Messages per second this client got over the last status interval. */
     val achievedRateHz: Double,
+    /**
+     * The client does not keep up: its queue of unsent frames is full now, or messages were dropped for it
+     * over the last status interval.
+     */
+    val stalled: Boolean = false,
 )
 
 /**
@@ -231,6 +236,10 @@ public class StreamServer(
         @Volatile var dropped = 0L
         private var lastStatusT = Long.MIN_VALUE
         private var sentAtStatus = 0L
+        private var droppedAtStatus = 0L
+
+        /** Dropped over the last status interval. */
+        @Volatile private var dropping = false
         private var droppedHandOffAtPairing = 0L
 
         @Volatile var achievedRateHz = 0.0
@@ -265,6 +274,8 @@ public class StreamServer(
             if (t - lastStatusT >= settings.statusIntervalNs) {
                 achievedRateHz = (sent - sentAtStatus) * 1e9 / (t - lastStatusT)
                 sentAtStatus = sent
+                dropping = dropped > droppedAtStatus
+                droppedAtStatus = dropped
                 lastStatusT = t
                 val lost = dropped + (handOffDropped.get() - droppedHandOffAtPairing)
                 // A client that does not keep up gets its status once its queue has room again, with the drops so far.
@@ -285,7 +296,10 @@ public class StreamServer(
             false
         }
 
-        fun info() = StreamClientInfo(address, paired, streams, rateHz, sent, dropped, achievedRateHz)
+        fun info() = StreamClientInfo(
+            address, paired, streams, rateHz, sent, dropped, achievedRateHz,
+            stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
+        )
     }
 
     public companion object {

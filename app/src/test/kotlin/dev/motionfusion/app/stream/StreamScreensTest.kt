@@ -14,7 +14,10 @@ import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
 import java.net.URI
 import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.atomic.AtomicBoolean
 import java.util.concurrent.atomic.AtomicInteger
+import dev.motionfusion.stream.StreamServerSettings
 import org.junit.After
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
@@ -31,9 +34,9 @@ import org.robolectric.annotation.GraphicsMode
 import org.robolectric.shadows.SensorBuilder
 
 /**
- * The Stream screen rendered to PNG (target/screenshots) off, on and waiting for a client, and with
- * a paired client getting samples (a real [StreamClient] on loopback), with the layout and
- * accessibility checks of every screenshot.
+ * The Stream screen rendered to PNG (target/screenshots) off, starting, on and waiting for a client,
+ * with a paired client getting samples (a real [StreamClient] on loopback), and with a client that
+ * stopped reading shown as stalled, with the layout and accessibility checks of every screenshot.
  */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
@@ -41,6 +44,8 @@ import org.robolectric.shadows.SensorBuilder
 class StreamScreensTest {
     private lateinit var graph: TestGraph
     private var client: StreamClient? = null
+    /** Holds a stalled client's reading thread until the test ends. */
+    private val unstall = CountDownLatch(1)
 
     @Before
     fun setUp() {
@@ -53,8 +58,11 @@ class StreamScreensTest {
 
     @After
     fun tearDown() {
+        unstall.countDown()
         client?.close()
         graph.graph.stream.stop()
+        // The server closes on the control executor: run it, so that the port is free for the next test.
+        graph.settle()
     }
 
     private fun waitFor(what: String, done: () -> Boolean) {
@@ -76,9 +84,18 @@ class StreamScreensTest {
         Screenshots.captureScreen(a, "stream-off")
 
         switch.performClick()
+        // The server starts off the main thread: meanwhile the switch waits and the screen says so.
+        assertEquals(StreamState.Starting, graph.graph.stream.state.value)
+        assertTrue(switch.isChecked)
+        assertFalse(switch.isEnabled)
+        assertEquals("Starting the server…", a.findViewById<TextView>(R.id.stream_message).text.toString())
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(500)) // the switch's thumb moves
+        Screenshots.captureScreen(a, "stream-starting")
         graph.settle()
         val on = graph.graph.stream.state.value as StreamState.On
         assertTrue(switch.isChecked)
+        assertTrue(switch.isEnabled)
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_message).visibility)
         assertTrue(graph.capture.isRunning)
         assertEquals(on.code, a.findViewById<TextView>(R.id.stream_code).text.toString())
         assertEquals("ws://192.168.1.23:8765", a.findViewById<TextView>(R.id.stream_addresses).text.toString())
@@ -97,14 +114,56 @@ class StreamScreensTest {
                 a.findViewById<TextView>(R.id.stream_clients).text.contains("${c.sent} sent")
         }
         val line = a.findViewById<TextView>(R.id.stream_clients).text.toString()
-        assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped"))
+        assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped") && "stalled" !in line)
         Screenshots.captureScreen(a, "stream-client")
 
         switch.performClick()
+        assertEquals(StreamState.Stopping, graph.graph.stream.state.value)
+        assertFalse(switch.isChecked)
+        assertFalse(switch.isEnabled)
+        assertEquals("Closing the connections…", a.findViewById<TextView>(R.id.stream_message).text.toString())
         graph.settle()
+        assertTrue(switch.isEnabled)
         assertEquals(StreamState.Off, graph.graph.stream.state.value)
         assertTrue(client!!.awaitClose(5_000))
         assertEquals(View.GONE, a.findViewById<View>(R.id.stream_details).visibility)
+    }
+
+    @Test
+    fun `a client that stopped reading is shown as stalled`() {
+        // A small queue per client, so that the sockets' buffers fill sooner.
+        graph = TestGraph(streamPort = StreamController.PORT, streamSettings = StreamServerSettings(clientQueueFrames = 16))
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
+        graph.settle()
+        val on = graph.graph.stream.state.value as StreamState.On
+        val stalled = AtomicBoolean(false)
+        client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { if (stalled.get()) unstall.await() }
+        client!!.connect()
+        stalled.set(true)
+        val v = floatArrayOf(0.01f, -0.02f, 0.003f)
+        var t = 1_000_000_000L
+        var rounds = 0
+        while (true) {
+            // Five seconds of gyroscope samples a round, until the sockets' buffers are full and the phone drops.
+            check(rounds++ < 400) { "the client was never shown as stalled: ${graph.graph.stream.state.value}" }
+            for (i in 0 until 1000) {
+                graph.capture.ring.offer(SessionStream.GYROSCOPE, t, 3, v, 3)
+                t += 5_000_000L
+            }
+            graph.pump()
+            // The screen's refresh.
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+            val c = (graph.graph.stream.state.value as StreamState.On).clients.single()
+            if (c.stalled) break
+        }
+        val c = (graph.graph.stream.state.value as StreamState.On).clients.single()
+        assertTrue("$c", c.dropped > 0)
+        assertEquals(
+            "127.0.0.1: stalled, not keeping up; ${c.sent} sent, ${c.dropped} dropped",
+            a.findViewById<TextView>(R.id.stream_clients).text.toString(),
+        )
+        Screenshots.captureScreen(a, "stream-stalled")
     }
 
     @Test
