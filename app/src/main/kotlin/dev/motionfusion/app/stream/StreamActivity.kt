@@ -4,6 +4,7 @@ import android.os.Bundle
 import android.text.SpannableStringBuilder
 import android.text.style.ForegroundColorSpan
 import android.view.View
+import android.widget.EditText
 import android.widget.CompoundButton
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
@@ -18,7 +19,8 @@ import kotlinx.coroutines.launch
  * The Stream screen (docs/STREAMING.md): a switch, off by default, that starts and stops the
  * [StreamController]; while on, the addresses a laptop connects to (Wi-Fi and USB), the pairing
  * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
- * up marked as stalled. While the server starts or stops (off the main thread) the switch waits.
+ * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
+ * dropped or why it did not start). While the server starts or stops (off the main thread) the switch waits.
  * Streaming goes on when the screen is left, under its foreground service ([StreamService]); the
  * switch here or the notification's Stop turns it off.
  */
@@ -36,6 +38,11 @@ class StreamActivity : AppCompatActivity() {
         show(controller.state.value)
         switch.setOnCheckedChangeListener { _, on ->
             if (switch.tag !== SHOWING) if (on) controller.start() else controller.stop()
+        }
+        val target = findViewById<EditText>(R.id.stream_udp_target)
+        findViewById<View>(R.id.stream_udp_button).setOnClickListener {
+            val udp = (controller.state.value as? StreamState.On)?.udp
+            if (udp is UdpView.Pushing || udp is UdpView.Starting) controller.stopUdp() else controller.pushUdp(target.text.toString())
         }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { controller.state.collect { show(it) } }
@@ -77,6 +84,7 @@ class StreamActivity : AppCompatActivity() {
             if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
             else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port) }
         findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port)
+        showUdp(on.udp)
         val locale = resources.configuration.locales[0]
         val warning = getColor(R.color.warning)
         findViewById<TextView>(R.id.stream_clients).text =
@@ -92,6 +100,22 @@ class StreamActivity : AppCompatActivity() {
                     }
                 }
             }
+    }
+
+    private fun showUdp(udp: UdpView?) {
+        val active = udp is UdpView.Pushing || udp is UdpView.Starting
+        findViewById<TextView>(R.id.stream_udp_button).setText(if (active) R.string.stream_udp_stop else R.string.stream_udp_start)
+        findViewById<EditText>(R.id.stream_udp_target).isEnabled = !active
+        findViewById<TextView>(R.id.stream_udp_status).let {
+            it.text = when (udp) {
+                null -> ""
+                is UdpView.Starting -> getString(R.string.stream_udp_starting, udp.target)
+                is UdpView.Pushing -> getString(R.string.stream_udp_pushing, udp.target, udp.sent, udp.dropped)
+                is UdpView.Failed -> udp.reason?.let { r -> getString(R.string.stream_udp_failed, r) } ?: getString(R.string.stream_udp_invalid)
+            }
+            it.visibility = if (udp == null) View.GONE else View.VISIBLE
+            it.setTextAppearance(if (udp is UdpView.Failed) R.style.Warning else R.style.Body)
+        }
     }
 
     private companion object {

@@ -9,6 +9,7 @@ import dev.motionfusion.stream.StreamClientInfo
 import dev.motionfusion.stream.StreamOffer
 import dev.motionfusion.stream.StreamServer
 import dev.motionfusion.stream.StreamServerSettings
+import dev.motionfusion.stream.UdpPush
 import java.io.IOException
 import java.net.Inet4Address
 import java.net.InetSocketAddress
@@ -37,13 +38,34 @@ internal sealed interface StreamState {
      * Listening on [port] of every interface; [addresses] are the phone's site-local IPv4 addresses. A client
      * whose [StreamClientInfo.stalled] is true does not keep up: its messages are being dropped.
      */
-    data class On(val addresses: List<String>, val port: Int, val code: String, val clients: List<StreamClientInfo>) : StreamState
+    data class On(
+        val addresses: List<String>,
+        val port: Int,
+        val code: String,
+        val clients: List<StreamClientInfo>,
+        /** The UDP push, when the user asked for one. */
+        val udp: UdpView? = null,
+    ) : StreamState
 
     /** The server is closing its connections, off the main thread. */
     data object Stopping : StreamState
 
     /** The server could not start (the port taken), or the system refused the foreground service that keeps it going. */
     data class Failed(val reason: String) : StreamState
+}
+
+/** The UDP push (docs/STREAMING.md, "UDP push") as the Stream screen shows it. */
+internal sealed interface UdpView {
+    val target: String
+
+    /** The target being resolved and the socket opened, off the main thread. */
+    data class Starting(override val target: String) : UdpView
+
+    /** Pushing: messages [sent], and [dropped] (its queue full, or a datagram the system would not send). */
+    data class Pushing(override val target: String, val sent: Long, val dropped: Long) : UdpView
+
+    /** Not started: [reason], or null when [target] is not `host:port`. */
+    data class Failed(override val target: String, val reason: String?) : UdpView
 }
 
 /**
@@ -55,8 +77,10 @@ internal sealed interface StreamState {
  * waits for a socket: [state] goes through [StreamState.Starting] and [StreamState.Stopping]. [start]
  * also asks [keepAlive] for the foreground service that keeps streaming going with the screen off
  * (StreamService), which follows [state] and ends itself when it is off. [state] is refreshed about
- * once a second while on. [start] and [stop] are called on [scope]'s thread (the main thread), and the
- * controller's own steps come back to it there.
+ * once a second while on. While on, [pushUdp] also sends every message to a host and port on the local
+ * network ([UdpPush]), set up on [control] (the name is resolved there). [start], [stop], [pushUdp] and
+ * [stopUdp] are called on [scope]'s thread (the main thread), and the controller's own steps come back to
+ * it there.
  */
 internal class StreamController(
     private val capture: Capture,
@@ -82,6 +106,18 @@ internal class StreamController(
     /** A server is being stopped: [start] waits for [StreamState.Off]. */
     private var stopping = false
 
+    /** The UDP push, read by the capture thread. */
+    @Volatile private var udp: UdpPush? = null
+    /** What the screen shows of the UDP push while [udp] is not running (starting, failed). */
+    private var udpView: UdpView? = null
+    /** Counts requests of the UDP push: a set-up that finishes after a later request is given up. */
+    private var udpRequest = 0
+
+    private val offerNow = {
+        val m = metadata()
+        StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
+    }
+
     private class Running(val server: StreamServer, val code: String, val raw: RawListener, val oriented: OrientationListener, val refresh: Job)
 
     /** Starting, on, or stopping: something may listen. */
@@ -90,10 +126,7 @@ internal class StreamController(
     fun start() {
         if (isOn) return
         val code = String.format(java.util.Locale.ROOT, "%06d", random.nextInt(1_000_000))
-        val server = StreamServer(InetSocketAddress(port), code, {
-            val m = metadata()
-            StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
-        }, serverSettings)
+        val server = StreamServer(InetSocketAddress(port), code, offerNow, serverSettings)
         starting = server
         stateFlow.value = StreamState.Starting
         keepAlive()?.let { reason ->
@@ -124,20 +157,83 @@ internal class StreamController(
         val raw = RawListener { stream, t, accuracy, values, offset ->
             values.copyInto(scratch, 0, offset, offset + stream.valueCount)
             server.publishSample(stream, t, scratch, accuracy)
+            udp?.publishSample(stream, t, scratch, accuracy)
         }
-        val oriented = OrientationListener { t, qw, qx, qy, qz -> server.publishOrientation(t, qw, qx, qy, qz) }
+        val oriented = OrientationListener { t, qw, qx, qy, qz ->
+            server.publishOrientation(t, qw, qx, qy, qz)
+            udp?.publishOrientation(t, qw, qx, qy, qz)
+        }
         // As a screen: the capture thread takes a batch every 10 ms rather than every 100 ms (the stream's latency).
         capture.acquire(onScreen = true)
         capture.listen(raw)
         capture.listen(oriented)
         val refresh = scope.launch {
             while (isActive) {
-                stateFlow.value = StreamState.On(addresses(), server.port, code, server.clients())
+                stateFlow.value = on(server, code)
                 delay(refreshMs)
             }
         }
         running = Running(server, code, raw, oriented, refresh)
-        stateFlow.value = StreamState.On(addresses(), server.port, code, server.clients())
+        stateFlow.value = on(server, code)
+    }
+
+    private fun on(server: StreamServer, code: String) = StreamState.On(
+        addresses(), server.port, code, server.clients(),
+        udp?.let { UdpView.Pushing(it.target.let { a -> "${a.hostString}:${a.port}" }, it.sent, it.droppedCount) } ?: udpView,
+    )
+
+    private fun showNow() {
+        running?.let { stateFlow.value = on(it.server, it.code) }
+    }
+
+    /**
+     * While on: also pushes every message over UDP to [target] (`host:port`, a name or an address on the local
+     * network), replacing an earlier push. Resolved and opened on [control]; meanwhile [UdpView.Starting].
+     */
+    fun pushUdp(target: String) {
+        val r = running ?: return
+        stopUdp()
+        val request = ++udpRequest
+        val text = target.trim()
+        val hostPort = parseHostPort(text)
+        if (hostPort == null) {
+            udpView = UdpView.Failed(text, null)
+            showNow()
+            return
+        }
+        udpView = UdpView.Starting(text)
+        showNow()
+        control.execute {
+            val result = runCatching {
+                // The name is looked up here, off the main thread.
+                UdpPush(InetSocketAddress(hostPort.first, hostPort.second), offerNow).also { it.start() }
+            }
+            scope.launch {
+                val push = result.getOrNull()
+                if (running !== r || request != udpRequest) {
+                    push?.let { control.execute { it.stop() } }
+                    return@launch
+                }
+                if (push != null) {
+                    udp = push
+                    udpView = null
+                } else {
+                    val e = result.exceptionOrNull()
+                    udpView = UdpView.Failed(text, e?.message ?: e?.javaClass?.simpleName)
+                }
+                showNow()
+            }
+        }
+    }
+
+    /** Stops the UDP push (closed on [control]). */
+    fun stopUdp() {
+        udpRequest++
+        val u = udp
+        udp = null
+        udpView = null
+        if (u != null) control.execute { u.stop() }
+        showNow()
     }
 
     /**
@@ -145,6 +241,7 @@ internal class StreamController(
      * or [StreamState.Failed] with [failure] (the foreground service was refused).
      */
     fun stop(failure: String? = null) {
+        if (running != null) stopUdp()
         val server = running?.let { r ->
             running = null
             r.refresh.cancel()
@@ -176,6 +273,15 @@ internal class StreamController(
         const val PORT = 8765
         const val STOP_TIMEOUT_MS = 500
         private val MAX_VALUES = SessionStream.entries.maxOf { it.valueCount }
+
+        /** `host:port` (an IPv6 address in brackets) → the host and the port, or null. */
+        internal fun parseHostPort(text: String): Pair<String, Int>? {
+            val colon = text.lastIndexOf(':')
+            if (colon <= 0) return null
+            val host = text.substring(0, colon).removeSurrounding("[", "]")
+            val port = text.substring(colon + 1).toIntOrNull()?.takeIf { it in 1..65535 } ?: return null
+            return if (host.isBlank() || host.any { it.isWhitespace() }) null else host to port
+        }
 
         /** The phone's site-local IPv4 addresses (Wi-Fi, hotspot, Ethernet), those a laptop on the same network reaches. */
         fun siteLocalAddresses(): List<String> = try {

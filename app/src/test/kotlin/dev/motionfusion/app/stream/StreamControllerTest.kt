@@ -7,6 +7,10 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
 import java.net.URI
+import dev.motionfusion.core.stream.StreamCodec
+import java.net.DatagramPacket
+import java.net.DatagramSocket
+import java.net.InetAddress
 import java.net.InetSocketAddress
 import java.net.ServerSocket
 import java.security.SecureRandom
@@ -221,5 +225,53 @@ class StreamControllerTest {
         queued.runAll()
         assertEquals(StreamState.Failed("no permission"), held.state.value)
         assertFalse(c.capture.isRunning)
+    }
+
+    @Test
+    fun `while on, a UDP push to a host on the local network gets every message as JSON lines, and refuses others`() {
+        DatagramSocket(InetSocketAddress(InetAddress.getLoopbackAddress(), 0)).use { receiver ->
+            receiver.soTimeout = 10_000
+            receiver.receiveBufferSize = 1 shl 20
+            controller.pushUdp("127.0.0.1:9000") // not on: nothing
+            assertEquals(StreamState.Off, controller.state.value)
+            controller.start()
+            controller.pushUdp(" 127.0.0.1:${receiver.localPort} ")
+            val pushing = (controller.state.value as StreamState.On).udp as UdpView.Pushing
+            assertEquals("127.0.0.1:${receiver.localPort}", pushing.target)
+            for (i in 0 until 50) c.offer(SessionStream.GYROSCOPE, 1_000_000_000L + i * 5_000_000L, 0.01f * i, -0.02f, 0.003f)
+            c.drain()
+            c.nowNs += 1_000_000_000L
+            c.drain()
+            val got = ArrayList<StreamMessage>()
+            val buf = ByteArray(65_536)
+            while (got.count { it is StreamMessage.Sample } < 50) {
+                val p = DatagramPacket(buf, buf.size)
+                receiver.receive(p)
+                val line = String(buf, 0, p.length, Charsets.UTF_8)
+                assertTrue(line.endsWith("\n"), line)
+                got += StreamCodec.decode(line.trimEnd(), "datagram")
+            }
+            assertEquals(metadata, (got.first() as StreamMessage.Hello).metadata)
+            val samples = got.filterIsInstance<StreamMessage.Sample>()
+            assertEquals(StreamMessage.Sample(SessionStream.GYROSCOPE, 1_000_000_000L + 7 * 5_000_000L, floatArrayOf(0.07f, -0.02f, 0.003f), 3), samples[7])
+
+            controller.stopUdp()
+            assertEquals(null, (controller.state.value as StreamState.On).udp)
+            controller.pushUdp("laptop")
+            assertEquals(UdpView.Failed("laptop", null), (controller.state.value as StreamState.On).udp)
+            controller.pushUdp("8.8.8.8:9000")
+            val refused = (controller.state.value as StreamState.On).udp as UdpView.Failed
+            assertTrue(refused.reason!!.contains("not on the local network"), refused.reason)
+        }
+    }
+
+    @Test
+    fun `host and port are read as the screen takes them`() {
+        assertEquals("192.168.1.20" to 9000, StreamController.parseHostPort("192.168.1.20:9000"))
+        assertEquals("laptop.local" to 1, StreamController.parseHostPort("laptop.local:1"))
+        assertEquals("fd00::1" to 9000, StreamController.parseHostPort("[fd00::1]:9000"))
+        for (bad in listOf("", "laptop", ":9000", "laptop:", "laptop:0", "laptop:65536", "lap top:9000", "laptop:90x")) {
+            assertEquals(null, StreamController.parseHostPort(bad), bad)
+        }
     }
 }

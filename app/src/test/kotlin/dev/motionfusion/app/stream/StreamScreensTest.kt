@@ -12,6 +12,10 @@ import dev.motionfusion.app.TestGraph
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
+import java.net.DatagramPacket
+import java.net.DatagramSocket
+import java.net.InetAddress
+import java.net.InetSocketAddress
 import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CountDownLatch
@@ -116,6 +120,39 @@ class StreamScreensTest {
         val line = a.findViewById<TextView>(R.id.stream_clients).text.toString()
         assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped") && "stalled" !in line)
         Screenshots.captureScreen(a, "stream-client")
+
+        // The UDP push: a target that is not host:port, then a receiver on loopback.
+        val target = a.findViewById<android.widget.EditText>(R.id.stream_udp_target)
+        val push = a.findViewById<TextView>(R.id.stream_udp_button)
+        target.setText("laptop")
+        push.performClick()
+        assertEquals("Enter host:port, for example 192.168.1.20:9000.", a.findViewById<TextView>(R.id.stream_udp_status).text.toString())
+        DatagramSocket(InetSocketAddress(InetAddress.getLoopbackAddress(), 0)).use { receiver ->
+            receiver.soTimeout = 10_000
+            target.setText("127.0.0.1:${receiver.localPort}")
+            push.performClick()
+            assertEquals("Looking up 127.0.0.1:${receiver.localPort}…", a.findViewById<TextView>(R.id.stream_udp_status).text.toString())
+            graph.settle()
+            assertEquals("Stop UDP", push.text.toString())
+            for (i in 0 until 100) graph.capture.ring.offer(SessionStream.GYROSCOPE, 4_000_000_000L + i * 5_000_000L, 3, v, 3)
+            graph.pump()
+            var samples = 0
+            val buf = ByteArray(65_536)
+            while (samples < 100) {
+                val p = DatagramPacket(buf, buf.size)
+                receiver.receive(p)
+                if (String(buf, 0, p.length, Charsets.UTF_8).startsWith("{\"type\":\"sample\"")) samples++
+            }
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1)) // the screen's refresh
+            val udp = (graph.graph.stream.state.value as StreamState.On).udp as UdpView.Pushing
+            // The receiver may see the last datagram before the sender has counted it.
+            assertTrue("$udp", udp.sent >= 99)
+            assertEquals(
+                "Pushing to 127.0.0.1:${receiver.localPort}: ${udp.sent} sent, 0 dropped",
+                a.findViewById<TextView>(R.id.stream_udp_status).text.toString(),
+            )
+            Screenshots.captureScreen(a, "stream-udp")
+        }
 
         switch.performClick()
         assertEquals(StreamState.Stopping, graph.graph.stream.state.value)
