@@ -184,8 +184,12 @@ public class StreamServer(
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
         client.subscribe(streams, request.rateHz)
-        client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
-        client.paired = true
+        // The hello and the flag together: the sender waits for both, so every message published after the
+        // client got its hello reaches it, and none goes before the hello.
+        synchronized(client.pairing) {
+            client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
+            client.paired = true
+        }
     }
 
     private fun refuse(client: Client, reason: String) {
@@ -213,7 +217,8 @@ public class StreamServer(
             }
             var text: String? = null
             for (c in clients) {
-                if (!c.paired || !c.due(stream, t)) continue
+                if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
+                if (!c.due(stream, t)) continue
                 if (text == null) {
                     sb.setLength(0)
                     StreamCodec.encodeTo(sb, m)
@@ -225,6 +230,8 @@ public class StreamServer(
     }
 
     private inner class Client(val conn: WebSocketImpl, val address: String) {
+        /** Held while the hello is queued and [paired] set. */
+        val pairing = Any()
         @Volatile var paired = false
         @Volatile private var streams: List<SessionStream> = emptyList()
         @Volatile private var rateHz: Double? = null
