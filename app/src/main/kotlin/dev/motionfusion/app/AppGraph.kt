@@ -35,8 +35,13 @@ import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.app.stream.StreamController
+import dev.motionfusion.app.stream.StreamDependencies
+import dev.motionfusion.app.stream.StreamService
+import dev.motionfusion.app.stream.WifiLocks
+import dev.motionfusion.stream.StreamServerSettings
 import dev.motionfusion.core.session.SessionCalibration
 import java.util.concurrent.Executor
+import java.util.concurrent.Executors
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -82,7 +87,14 @@ internal class AppGraph(
     /** The live stream's port and the addresses the Stream screen shows (tests: port 0 and fixed addresses). */
     streamPort: Int = StreamController.PORT,
     streamAddresses: () -> List<String> = StreamController::siteLocalAddresses,
-) : RecordingDependencies, SessionsDependencies, CalibrationDependencies {
+    /** Where the stream's server starts and stops (tests: a queue they run). */
+    streamControl: Executor = Executors.newSingleThreadExecutor { r -> Thread(r, "stream-control").apply { isDaemon = true } },
+    streamSettings: StreamServerSettings = StreamServerSettings(),
+    /** Starts the stream's foreground service (StreamService.start); returns why the system refused, or null. */
+    streamKeepAlive: () -> String? = { null },
+    /** The Wi-Fi locks the stream's service holds (StreamService.systemWifiLocks; none by default). */
+    override val wifiLocks: WifiLocks = WifiLocks { _, _ -> null },
+) : RecordingDependencies, SessionsDependencies, CalibrationDependencies, StreamDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
 
@@ -109,7 +121,8 @@ internal class AppGraph(
             RecordingMetadata.anchorNow(),
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
         )
-    }, scope, streamPort, streamAddresses)
+    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive)
+    override val streamController: StreamController get() = stream
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }
 
@@ -136,6 +149,8 @@ internal class AppGraph(
             { context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
             battery = StickyBattery(context),
             appVersion = { context.packageManager.getPackageInfo(context.packageName, 0).versionName ?: "" },
+            streamKeepAlive = { StreamService.start(context) },
+            wifiLocks = StreamService.systemWifiLocks(context),
         )
     }
 }

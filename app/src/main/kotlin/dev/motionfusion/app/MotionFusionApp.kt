@@ -8,7 +8,7 @@ import dev.motionfusion.app.calibration.CalibrationDependencies
 import dev.motionfusion.app.record.RecordingDependencies
 import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.settings.SettingsRepository
-import dev.motionfusion.app.stream.StreamController
+import dev.motionfusion.app.stream.StreamDependencies
 
 /**
  * The application: owns the object graph ([AppGraph]), turns StrictMode on for the main thread
@@ -17,7 +17,7 @@ import dev.motionfusion.app.stream.StreamController
  * before).
  */
 internal open class MotionFusionApp :
-    Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider, CalibrationDependencies.Provider, StreamController.Provider {
+    Application(), RecordingDependencies.Provider, SessionsDependencies.Provider, SettingsRepository.Provider, CalibrationDependencies.Provider, StreamDependencies.Provider {
     private var built: AppGraph? = null
 
     /** The graph; built on first use. Tests set one built with fakes before the first screen starts. */
@@ -42,5 +42,5 @@ internal open class MotionFusionApp :
     override val sessionsDependencies: SessionsDependencies get() = graph
     override val settingsRepository: SettingsRepository get() = graph.settingsRepository
     override val calibrationDependencies: CalibrationDependencies get() = graph
-    override val streamController: StreamController get() = graph.stream
+    override val streamDependencies: StreamDependencies get() = graph
 }

@@ -17,6 +17,9 @@ import dev.motionfusion.app.record.BatteryState
 import dev.motionfusion.app.record.CoreSessionFormat
 import dev.motionfusion.app.record.SessionFormat
 import dev.motionfusion.app.settings.SettingsStore
+import dev.motionfusion.app.stream.StreamService
+import dev.motionfusion.app.stream.WifiLocks
+import dev.motionfusion.stream.StreamServerSettings
 import java.io.File
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.Dispatchers
@@ -58,6 +61,16 @@ internal class ManualDiskExecutor(private val locks: FolderLocks = FolderLocks()
 internal class FakeClock(var elapsedNs: Long = 5_000_000_000L, var wallMs: Long = 1_764_165_792_123L) : Clock {
     override fun elapsedRealtimeNanos(): Long = elapsedNs
     override fun wallClockMs(): Long = wallMs
+}
+
+/** Wi-Fi locks that are only their modes: [held] lists those taken and not released. */
+internal class FakeWifiLocks : WifiLocks {
+    val held = ArrayList<Int>()
+
+    override fun acquire(mode: Int, tag: String): () -> Unit {
+        held += mode
+        return { held.remove(mode) }
+    }
 }
 
 /** A battery the test sets. */
@@ -114,6 +127,9 @@ internal class TestGraph(
     /** The live stream's port (0: one the system picks) and the addresses the Stream screen shows. */
     streamPort: Int = 0,
     streamAddresses: List<String> = listOf("192.168.1.23"),
+    streamSettings: StreamServerSettings = StreamServerSettings(),
+    /** Starts the stream's foreground service; Robolectric records the intent (the test creates the service from it). */
+    streamKeepAlive: () -> String? = { StreamService.start(RuntimeEnvironment.getApplication()) },
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     private val locks = FolderLocks()
@@ -121,7 +137,11 @@ internal class TestGraph(
     val disk = ManualDiskExecutor(locks)
     /** The recording's own disk queue. */
     val recordingDisk = ManualDiskExecutor(locks)
+    /** The stream's control executor (the server's start and stop), run by [settle] as the disk queues are. */
+    val streamControl = ManualDiskExecutor(locks)
     val clock = FakeClock()
+    /** The Wi-Fi locks held, by mode (Robolectric cannot load WifiManager's shadow with these framework jars). */
+    val wifiLocks = FakeWifiLocks()
     var captureNs = 0L
     val graph = AppGraph(
         app.getSystemService(SensorManager::class.java), AppFiles { app.filesDir }, SettingsStore(app),
@@ -131,6 +151,8 @@ internal class TestGraph(
         // The calibration's fits run on the main thread: each step is complete when the looper is idle.
         calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
         streamPort = streamPort, streamAddresses = { streamAddresses },
+        streamControl = { r -> streamControl.execute(null) { r.run() } }, streamSettings = streamSettings, streamKeepAlive = streamKeepAlive,
+        wifiLocks = wifiLocks,
     ).also { app.graph = it }
     val capture get() = graph.capture
 
@@ -164,10 +186,10 @@ internal class TestGraph(
         }
         do {
             runMain()
-            val n = recordingDisk.runAll() + disk.runAll()
+            val n = recordingDisk.runAll() + disk.runAll() + streamControl.runAll()
             capture.pump()
             runMain()
-        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0)
+        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0 || streamControl.pending > 0)
         return longest to tasks
     }
 
@@ -175,9 +197,9 @@ internal class TestGraph(
     fun settle() {
         do {
             shadowOf(Looper.getMainLooper()).idle()
-            val n = recordingDisk.runAll() + disk.runAll()
+            val n = recordingDisk.runAll() + disk.runAll() + streamControl.runAll()
             capture.pump()
             shadowOf(Looper.getMainLooper()).idle()
-        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0)
+        } while (n > 0 || disk.pending > 0 || recordingDisk.pending > 0 || streamControl.pending > 0)
     }
 }

@@ -58,6 +58,11 @@ public data class StreamClientInfo(
     val dropped: Long,
     /** Messages per second this client got over the last status interval. */
     val achievedRateHz: Double,
+    /**
+     * The client does not keep up: its queue of unsent frames is full now, or messages were dropped for it
+     * over the last status interval.
+     */
+    val stalled: Boolean = false,
 )
 
 /**
@@ -179,8 +184,12 @@ public class StreamServer(
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
         client.subscribe(streams, request.rateHz)
-        client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
-        client.paired = true
+        // The hello and the flag together: the sender waits for both, so every message published after the
+        // client got its hello reaches it, and none goes before the hello.
+        synchronized(client.pairing) {
+            client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
+            client.paired = true
+        }
     }
 
     private fun refuse(client: Client, reason: String) {
@@ -208,7 +217,8 @@ public class StreamServer(
             }
             var text: String? = null
             for (c in clients) {
-                if (!c.paired || !c.due(stream, t)) continue
+                if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
+                if (!c.due(stream, t)) continue
                 if (text == null) {
                     sb.setLength(0)
                     StreamCodec.encodeTo(sb, m)
@@ -220,6 +230,8 @@ public class StreamServer(
     }
 
     private inner class Client(val conn: WebSocketImpl, val address: String) {
+        /** Held while the hello is queued and [paired] set. */
+        val pairing = Any()
         @Volatile var paired = false
         @Volatile private var streams: List<SessionStream> = emptyList()
         @Volatile private var rateHz: Double? = null
@@ -231,6 +243,10 @@ public class StreamServer(
         @Volatile var dropped = 0L
         private var lastStatusT = Long.MIN_VALUE
         private var sentAtStatus = 0L
+        private var droppedAtStatus = 0L
+
+        /** Dropped over the last status interval. */
+        @Volatile private var dropping = false
         private var droppedHandOffAtPairing = 0L
 
         @Volatile var achievedRateHz = 0.0
@@ -265,6 +281,8 @@ public class StreamServer(
             if (t - lastStatusT >= settings.statusIntervalNs) {
                 achievedRateHz = (sent - sentAtStatus) * 1e9 / (t - lastStatusT)
                 sentAtStatus = sent
+                dropping = dropped > droppedAtStatus
+                droppedAtStatus = dropped
                 lastStatusT = t
                 val lost = dropped + (handOffDropped.get() - droppedHandOffAtPairing)
                 // A client that does not keep up gets its status once its queue has room again, with the drops so far.
@@ -285,7 +303,10 @@ public class StreamServer(
             false
         }
 
-        fun info() = StreamClientInfo(address, paired, streams, rateHz, sent, dropped, achievedRateHz)
+        fun info() = StreamClientInfo(
+            address, paired, streams, rateHz, sent, dropped, achievedRateHz,
+            stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
+        )
     }
 
     public companion object {

@@ -6,6 +6,7 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.stream.StreamMessage
 import org.junit.jupiter.api.AfterEach
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.assertThrows
@@ -126,6 +127,9 @@ class StreamServerTest {
                 val mid = s.clients()
                 assertEquals(2, mid.size, "$mid")
                 assertTrue(mid.any { it.dropped > 0 && it.sent < 45 * perSecond }, "$mid")
+                // Shown as stalled while its messages are being dropped; the fast client is not.
+                assertTrue(mid.single { it.dropped > 0 }.stalled, "$mid")
+                assertFalse(mid.single { it.dropped == 0L }.stalled, "$mid")
             }
         }
         assertEquals(60 * perSecond, fast.received.get())
@@ -136,6 +140,7 @@ class StreamServerTest {
         val infos = s.clients()
         val quick = infos.single { it.sent >= 60 * perSecond }
         assertEquals(0L, quick.dropped)
+        assertFalse(quick.stalled)
         // The stalled client was dropped to its bound; the library may also have closed it as unresponsive (it
         // answers no ping), which removes it from the list: both are what a stalled client should get.
         val slow = infos.singleOrNull { it !== quick }

@@ -4,18 +4,17 @@ import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
-import android.app.NotificationChannel
 import android.app.NotificationManager
 import android.app.PendingIntent
 import android.app.Service
 import android.content.Context
 import android.content.Intent
 import android.content.pm.ServiceInfo
-import android.os.Build
 import android.os.Handler
 import android.os.IBinder
 import android.os.Looper
-import android.os.PowerManager
+import dev.motionfusion.app.platform.Foreground
+import dev.motionfusion.app.platform.RenewedWakeLock
 import android.text.format.DateUtils
 import androidx.core.app.NotificationCompat
 import androidx.core.app.ServiceCompat
@@ -61,10 +60,9 @@ class RecordingService : Service() {
     private var recorder: Recorder? = null
     private var session: File? = null
     private var still = false
-    private var wakeLock: PowerManager.WakeLock? = null
+    private lateinit var wakeLock: RenewedWakeLock
     private var startedElapsedMs = 0L
     private var startedWallMs = 0L
-    private var wakeLockRenewedNs = 0L
     private var batteryCheckedNs = Long.MIN_VALUE / 2
     private var limits = RecordingLimits()
     /** The earlier session and the gap when this recording resumed one the system killed. */
@@ -82,10 +80,7 @@ class RecordingService : Service() {
                 return
             }
             if (ticks++ % NOTIFICATION_UPDATE_TICKS == 0L) updateNotification()
-            if (now - wakeLockRenewedNs >= WAKE_LOCK_RENEW_NS) {
-                wakeLock?.acquire(WAKE_LOCK_TIMEOUT_MS)
-                wakeLockRenewedNs = now
-            }
+            wakeLock.renewIfDue()
             main.postDelayed(this, 1_000)
         }
     }
@@ -106,6 +101,7 @@ class RecordingService : Service() {
     override fun onCreate() {
         super.onCreate()
         deps = (application as RecordingDependencies.Provider).recordingDependencies
+        wakeLock = RenewedWakeLock(this, "MotionFusion:recording", deps.clock)
     }
 
     override fun onBind(intent: Intent?): IBinder? = null
@@ -316,35 +312,13 @@ class RecordingService : Service() {
     }
 
     /** The partial wake lock, from the press of Record (or the restart) to the end; renewed every minute while recording. */
-    private fun holdWakeLock() {
-        val lock = wakeLock ?: getSystemService(PowerManager::class.java)
-            .newWakeLock(PowerManager.PARTIAL_WAKE_LOCK, "MotionFusion:recording")
-            .apply { setReferenceCounted(false) }
-            .also { wakeLock = it }
-        lock.acquire(WAKE_LOCK_TIMEOUT_MS)
-        wakeLockRenewedNs = deps.clock.elapsedRealtimeNanos()
-    }
+    private fun holdWakeLock() = wakeLock.hold()
 
-    private fun releaseWakeLock() {
-        wakeLock?.let { if (it.isHeld) it.release() }
-        wakeLock = null
-    }
+    private fun releaseWakeLock() = wakeLock.release()
 
-    /**
-     * Enters the foreground, as a `specialUse` service on Android 14+ (the type the manifest declares;
-     * earlier versions do not know it). Returns why the system refused, or null: Android 12+ refuses
-     * a start from the background (ForegroundServiceStartNotAllowedException, an
-     * IllegalStateException), Android 14+ one whose type's permission is missing (SecurityException).
-     */
-    private fun goForeground(): String? = try {
-        val type = if (Build.VERSION.SDK_INT >= 34) FOREGROUND_SERVICE_TYPE else 0
-        deps.startForeground(this, NOTIFICATION_ID, ongoingNotification(), type)
-        null
-    } catch (e: IllegalStateException) {
-        e.message ?: e.javaClass.simpleName
-    } catch (e: SecurityException) {
-        e.message ?: e.javaClass.simpleName
-    }
+    /** Enters the foreground, as a `specialUse` service on Android 14+; returns why the system refused, or null ([Foreground.enter]). */
+    private fun goForeground(): String? =
+        Foreground.enter(this, NOTIFICATION_ID, ongoingNotification(), FOREGROUND_SERVICE_TYPE, deps::startForeground)
 
     /** Stop button or notification action: the capture hands the recorder everything up to now, then it finishes. */
     private fun stopRecording() {
@@ -402,15 +376,7 @@ class RecordingService : Service() {
 
     private fun notificationManager() = getSystemService(NotificationManager::class.java)
 
-    private fun createChannels() {
-        val nm = notificationManager()
-        nm.createNotificationChannel(
-            NotificationChannel(CHANNEL_RECORDING, getString(R.string.record_channel), NotificationManager.IMPORTANCE_LOW),
-        )
-        nm.createNotificationChannel(
-            NotificationChannel(CHANNEL_ALERTS, getString(R.string.record_alert_channel), NotificationManager.IMPORTANCE_HIGH),
-        )
-    }
+    private fun createChannels() = Foreground.createChannels(this)
 
     /** Ticks of the recording so far (the notification is updated every [NOTIFICATION_UPDATE_TICKS]). */
     private var ticks = 0L
@@ -483,8 +449,8 @@ class RecordingService : Service() {
         internal const val ACTION_STOP = "dev.motionfusion.app.record.STOP"
         internal const val NOTIFICATION_ID = 7001
         internal const val END_NOTIFICATION_ID = 7002
-        internal const val CHANNEL_RECORDING = "recording"
-        internal const val CHANNEL_ALERTS = "recording-alerts"
+        internal const val CHANNEL_RECORDING = Foreground.CHANNEL_RECORDING
+        internal const val CHANNEL_ALERTS = Foreground.CHANNEL_ALERTS
         internal const val EXTRA_STILL = "dev.motionfusion.app.record.STILL"
 
         /**
@@ -500,9 +466,9 @@ class RecordingService : Service() {
         /** The ongoing notification's text is updated every 5 ticks (5 s): the chronometer shows the time meanwhile. */
         internal const val NOTIFICATION_UPDATE_TICKS = 5L
 
-        /** The wake lock times out after 10 minutes unless renewed, every minute while recording. */
-        internal const val WAKE_LOCK_TIMEOUT_MS = 10 * 60 * 1000L
-        internal const val WAKE_LOCK_RENEW_NS = 60_000_000_000L
+        /** The wake lock times out after 10 minutes unless renewed, every minute while recording ([RenewedWakeLock]). */
+        internal const val WAKE_LOCK_TIMEOUT_MS = RenewedWakeLock.TIMEOUT_MS
+        internal const val WAKE_LOCK_RENEW_NS = RenewedWakeLock.RENEW_NS
 
         /** The battery level is read every 30 s (it changes slowly). */
         private const val BATTERY_CHECK_NS = 30_000_000_000L

@@ -1,7 +1,10 @@
 package dev.motionfusion.app.stream
 
 import android.os.Bundle
+import android.text.SpannableStringBuilder
+import android.text.style.ForegroundColorSpan
 import android.view.View
+import android.widget.EditText
 import android.widget.CompoundButton
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
@@ -15,11 +18,14 @@ import kotlinx.coroutines.launch
 /**
  * The Stream screen (docs/STREAMING.md): a switch, off by default, that starts and stops the
  * [StreamController]; while on, the addresses a laptop connects to (Wi-Fi and USB), the pairing
- * code, and each client with the rate it gets and what was dropped for it. Streaming goes on when
- * the screen is left; the switch here turns it off.
+ * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
+ * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
+ * dropped or why it did not start). While the server starts or stops (off the main thread) the switch waits.
+ * Streaming goes on when the screen is left, under its foreground service ([StreamService]); the
+ * switch here or the notification's Stop turns it off.
  */
 class StreamActivity : AppCompatActivity() {
-    private val controller: StreamController get() = (application as StreamController.Provider).streamController
+    private val controller: StreamController get() = (application as StreamDependencies.Provider).streamDependencies.streamController
     private lateinit var switch: CompoundButton
 
     override fun onCreate(savedInstanceState: Bundle?) {
@@ -33,6 +39,11 @@ class StreamActivity : AppCompatActivity() {
         switch.setOnCheckedChangeListener { _, on ->
             if (switch.tag !== SHOWING) if (on) controller.start() else controller.stop()
         }
+        val target = findViewById<EditText>(R.id.stream_udp_target)
+        findViewById<View>(R.id.stream_udp_button).setOnClickListener {
+            val udp = (controller.state.value as? StreamState.On)?.udp
+            if (udp is UdpView.Pushing || udp is UdpView.Starting) controller.stopUdp() else controller.pushUdp(target.text.toString())
+        }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { controller.state.collect { show(it) } }
         }
@@ -45,15 +56,25 @@ class StreamActivity : AppCompatActivity() {
 
     private fun show(state: StreamState) {
         val on = state as? StreamState.On
-        if (switch.isChecked != (on != null)) {
+        val checked = on != null || state == StreamState.Starting
+        if (switch.isChecked != checked) {
             // Shown without starting or stopping: the state already says it.
             switch.tag = SHOWING
-            switch.isChecked = on != null
+            switch.isChecked = checked
             switch.tag = null
         }
+        // Starting or stopping: the switch waits for the server.
+        switch.isEnabled = state != StreamState.Starting && state != StreamState.Stopping
         findViewById<TextView>(R.id.stream_message).let {
-            it.text = if (state is StreamState.Failed) getString(R.string.stream_failed, state.reason) else ""
-            it.visibility = if (state is StreamState.Failed) View.VISIBLE else View.GONE
+            val message = when (state) {
+                is StreamState.Failed -> getString(R.string.stream_failed, state.reason)
+                StreamState.Starting -> getString(R.string.stream_starting)
+                StreamState.Stopping -> getString(R.string.stream_stopping)
+                else -> null
+            }
+            it.text = message ?: ""
+            it.visibility = if (message != null) View.VISIBLE else View.GONE
+            it.setTextAppearance(if (state is StreamState.Failed) R.style.Warning else R.style.Note)
         }
         findViewById<View>(R.id.stream_note).visibility = if (on == null) View.VISIBLE else View.GONE
         findViewById<View>(R.id.stream_details).visibility = if (on == null) View.GONE else View.VISIBLE
@@ -63,13 +84,38 @@ class StreamActivity : AppCompatActivity() {
             if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
             else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port) }
         findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port)
+        showUdp(on.udp)
         val locale = resources.configuration.locales[0]
+        val warning = getColor(R.color.warning)
         findViewById<TextView>(R.id.stream_clients).text =
             if (on.clients.isEmpty()) getString(R.string.stream_waiting)
-            else on.clients.joinToString("\n") { c ->
-                if (!c.paired) getString(R.string.stream_client_unpaired, c.address)
-                else getString(R.string.stream_client, c.address, String.format(locale, "%.0f", c.achievedRateHz), c.sent, c.dropped)
+            else SpannableStringBuilder().apply {
+                for ((i, c) in on.clients.withIndex()) {
+                    if (i > 0) append('\n')
+                    when {
+                        !c.paired -> append(getString(R.string.stream_client_unpaired, c.address))
+                        // A client whose messages are being dropped: its own text, in the warning colour.
+                        c.stalled -> append(getString(R.string.stream_client_stalled, c.address, c.sent, c.dropped), ForegroundColorSpan(warning), 0)
+                        else -> append(getString(R.string.stream_client, c.address, String.format(locale, "%.0f", c.achievedRateHz), c.sent, c.dropped))
+                    }
+                }
             }
+    }
+
+    private fun showUdp(udp: UdpView?) {
+        val active = udp is UdpView.Pushing || udp is UdpView.Starting
+        findViewById<TextView>(R.id.stream_udp_button).setText(if (active) R.string.stream_udp_stop else R.string.stream_udp_start)
+        findViewById<EditText>(R.id.stream_udp_target).isEnabled = !active
+        findViewById<TextView>(R.id.stream_udp_status).let {
+            it.text = when (udp) {
+                null -> ""
+                is UdpView.Starting -> getString(R.string.stream_udp_starting, udp.target)
+                is UdpView.Pushing -> getString(R.string.stream_udp_pushing, udp.target, udp.sent, udp.dropped)
+                is UdpView.Failed -> udp.reason?.let { r -> getString(R.string.stream_udp_failed, r) } ?: getString(R.string.stream_udp_invalid)
+            }
+            it.visibility = if (udp == null) View.GONE else View.VISIBLE
+            it.setTextAppearance(if (udp is UdpView.Failed) R.style.Warning else R.style.Body)
+        }
     }
 
     private companion object {

@@ -8,11 +8,15 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.stream.StreamClientInfo
 import dev.motionfusion.stream.StreamOffer
 import dev.motionfusion.stream.StreamServer
+import dev.motionfusion.stream.StreamServerSettings
+import dev.motionfusion.stream.UdpPush
 import java.io.IOException
 import java.net.Inet4Address
 import java.net.InetSocketAddress
 import java.net.NetworkInterface
 import java.security.SecureRandom
+import java.util.concurrent.Executor
+import java.util.concurrent.Executors
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Job
 import kotlinx.coroutines.delay
@@ -27,19 +31,56 @@ internal sealed interface StreamState {
     /** Nothing listens. */
     data object Off : StreamState
 
-    /** Listening on [port] of every interface; [addresses] are the phone's site-local IPv4 addresses. */
-    data class On(val addresses: List<String>, val port: Int, val code: String, val clients: List<StreamClientInfo>) : StreamState
+    /** The server is being started, off the main thread. */
+    data object Starting : StreamState
 
-    /** The server could not start (the port taken). */
+    /**
+     * Listening on [port] of every interface; [addresses] are the phone's site-local IPv4 addresses. A client
+     * whose [StreamClientInfo.stalled] is true does not keep up: its messages are being dropped.
+     */
+    data class On(
+        val addresses: List<String>,
+        val port: Int,
+        val code: String,
+        val clients: List<StreamClientInfo>,
+        /** The UDP push, when the user asked for one. */
+        val udp: UdpView? = null,
+    ) : StreamState
+
+    /** The server is closing its connections, off the main thread. */
+    data object Stopping : StreamState
+
+    /** The server could not start (the port taken), or the system refused the foreground service that keeps it going. */
     data class Failed(val reason: String) : StreamState
 }
 
+/** The UDP push (docs/STREAMING.md, "UDP push") as the Stream screen shows it. */
+internal sealed interface UdpView {
+    val target: String
+
+    /** The target being resolved and the socket opened, off the main thread. */
+    data class Starting(override val target: String) : UdpView
+
+    /** Pushing: messages [sent], and [dropped] (its queue full, or a datagram the system would not send). */
+    data class Pushing(override val target: String, val sent: Long, val dropped: Long) : UdpView
+
+    /** Not started: [reason], or null when [target] is not `host:port`. */
+    data class Failed(override val target: String, val reason: String?) : UdpView
+}
+
 /**
- * The phone side of the live stream (docs/STREAMING.md): [start] makes a pairing code, starts a
+ * The phone side of the live stream (docs/STREAMING.md): [start] makes a pairing code and starts a
  * [StreamServer] on [port] of every interface (the server refuses peers outside the local network
- * and USB), holds the [capture] as the live screen does, and hands the server every raw event and
- * the live filter's orientation after each step, on the capture thread; [stop] undoes all. [state]
- * is refreshed about once a second while on. [start] and [stop] are called on the main thread.
+ * and USB) on the [control] executor, then holds the [capture] as the live screen does and hands the
+ * server every raw event and the live filter's orientation after each step, on the capture thread;
+ * [stop] lets go of the capture at once and closes the server on [control]. The main thread never
+ * waits for a socket: [state] goes through [StreamState.Starting] and [StreamState.Stopping]. [start]
+ * also asks [keepAlive] for the foreground service that keeps streaming going with the screen off
+ * (StreamService), which follows [state] and ends itself when it is off. [state] is refreshed about
+ * once a second while on. While on, [pushUdp] also sends every message to a host and port on the local
+ * network ([UdpPush]), set up on [control] (the name is resolved there). [start], [stop], [pushUdp] and
+ * [stopUdp] are called on [scope]'s thread (the main thread), and the controller's own steps come back to
+ * it there.
  */
 internal class StreamController(
     private val capture: Capture,
@@ -50,69 +91,197 @@ internal class StreamController(
     private val addresses: () -> List<String> = ::siteLocalAddresses,
     private val random: SecureRandom = SecureRandom(),
     private val refreshMs: Long = 1000L,
+    /** Where the server binds its socket and closes its connections (up to [STOP_TIMEOUT_MS]); one thread, in order. */
+    private val control: Executor = Executors.newSingleThreadExecutor { r -> Thread(r, "stream-control").apply { isDaemon = true } },
+    private val serverSettings: StreamServerSettings = StreamServerSettings(),
+    /** Starts the foreground service that keeps the stream going; returns why the system refused, or null. */
+    private val keepAlive: () -> String? = { null },
 ) {
     private val stateFlow = MutableStateFlow<StreamState>(StreamState.Off)
     val state: StateFlow<StreamState> = stateFlow.asStateFlow()
 
+    /** The server being started, until it runs (or [stop] gave it up). */
+    private var starting: StreamServer? = null
     private var running: Running? = null
+    /** A server is being stopped: [start] waits for [StreamState.Off]. */
+    private var stopping = false
+
+    /** The UDP push, read by the capture thread. */
+    @Volatile private var udp: UdpPush? = null
+    /** What the screen shows of the UDP push while [udp] is not running (starting, failed). */
+    private var udpView: UdpView? = null
+    /** Counts requests of the UDP push: a set-up that finishes after a later request is given up. */
+    private var udpRequest = 0
+
+    private val offerNow = {
+        val m = metadata()
+        StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
+    }
 
     private class Running(val server: StreamServer, val code: String, val raw: RawListener, val oriented: OrientationListener, val refresh: Job)
 
-    val isOn: Boolean get() = running != null
+    /** Starting, on, or stopping: something may listen. */
+    val isOn: Boolean get() = running != null || starting != null || stopping
 
     fun start() {
-        if (running != null) return
+        if (isOn) return
         val code = String.format(java.util.Locale.ROOT, "%06d", random.nextInt(1_000_000))
-        val server = StreamServer(InetSocketAddress(port), code, {
-            val m = metadata()
-            StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
-        })
-        try {
-            server.start()
-        } catch (e: IOException) {
-            stateFlow.value = StreamState.Failed(e.message ?: e.javaClass.simpleName)
+        val server = StreamServer(InetSocketAddress(port), code, offerNow, serverSettings)
+        starting = server
+        stateFlow.value = StreamState.Starting
+        keepAlive()?.let { reason ->
+            starting = null
+            stateFlow.value = StreamState.Failed(reason)
+            return
+        }
+        control.execute {
+            val failure = try {
+                server.start()
+                null
+            } catch (e: IOException) {
+                e.message ?: e.javaClass.simpleName
+            }
+            scope.launch { started(server, code, failure) }
+        }
+    }
+
+    /** Back on the main thread: the server listens (or could not). Given up meanwhile ([stop]): nothing more to do here. */
+    private fun started(server: StreamServer, code: String, failure: String?) {
+        if (starting !== server) return
+        starting = null
+        if (failure != null) {
+            stateFlow.value = StreamState.Failed(failure)
             return
         }
         val scratch = FloatArray(MAX_VALUES)
         val raw = RawListener { stream, t, accuracy, values, offset ->
             values.copyInto(scratch, 0, offset, offset + stream.valueCount)
             server.publishSample(stream, t, scratch, accuracy)
+            udp?.publishSample(stream, t, scratch, accuracy)
         }
-        val oriented = OrientationListener { t, qw, qx, qy, qz -> server.publishOrientation(t, qw, qx, qy, qz) }
+        val oriented = OrientationListener { t, qw, qx, qy, qz ->
+            server.publishOrientation(t, qw, qx, qy, qz)
+            udp?.publishOrientation(t, qw, qx, qy, qz)
+        }
         // As a screen: the capture thread takes a batch every 10 ms rather than every 100 ms (the stream's latency).
         capture.acquire(onScreen = true)
         capture.listen(raw)
         capture.listen(oriented)
         val refresh = scope.launch {
             while (isActive) {
-                stateFlow.value = StreamState.On(addresses(), server.port, code, server.clients())
+                stateFlow.value = on(server, code)
                 delay(refreshMs)
             }
         }
         running = Running(server, code, raw, oriented, refresh)
-        stateFlow.value = StreamState.On(addresses(), server.port, code, server.clients())
+        stateFlow.value = on(server, code)
     }
 
-    fun stop() {
+    private fun on(server: StreamServer, code: String) = StreamState.On(
+        addresses(), server.port, code, server.clients(),
+        udp?.let { UdpView.Pushing(it.target.let { a -> "${a.hostString}:${a.port}" }, it.sent, it.droppedCount) } ?: udpView,
+    )
+
+    private fun showNow() {
+        running?.let { stateFlow.value = on(it.server, it.code) }
+    }
+
+    /**
+     * While on: also pushes every message over UDP to [target] (`host:port`, a name or an address on the local
+     * network), replacing an earlier push. Resolved and opened on [control]; meanwhile [UdpView.Starting].
+     */
+    fun pushUdp(target: String) {
         val r = running ?: return
-        running = null
-        r.refresh.cancel()
-        capture.unlisten(r.raw)
-        capture.unlisten(r.oriented)
-        capture.release(onScreen = true)
-        r.server.stop(STOP_TIMEOUT_MS)
-        stateFlow.value = StreamState.Off
+        stopUdp()
+        val request = ++udpRequest
+        val text = target.trim()
+        val hostPort = parseHostPort(text)
+        if (hostPort == null) {
+            udpView = UdpView.Failed(text, null)
+            showNow()
+            return
+        }
+        udpView = UdpView.Starting(text)
+        showNow()
+        control.execute {
+            val result = runCatching {
+                // The name is looked up here, off the main thread.
+                UdpPush(InetSocketAddress(hostPort.first, hostPort.second), offerNow).also { it.start() }
+            }
+            scope.launch {
+                val push = result.getOrNull()
+                if (running !== r || request != udpRequest) {
+                    push?.let { control.execute { it.stop() } }
+                    return@launch
+                }
+                if (push != null) {
+                    udp = push
+                    udpView = null
+                } else {
+                    val e = result.exceptionOrNull()
+                    udpView = UdpView.Failed(text, e?.message ?: e?.javaClass?.simpleName)
+                }
+                showNow()
+            }
+        }
     }
 
-    /** Implemented by the application: the one controller. */
-    interface Provider {
-        val streamController: StreamController
+    /** Stops the UDP push (closed on [control]). */
+    fun stopUdp() {
+        udpRequest++
+        val u = udp
+        udp = null
+        udpView = null
+        if (u != null) control.execute { u.stop() }
+        showNow()
+    }
+
+    /**
+     * Stops streaming: the capture is let go at once, the server closed on [control]; then [StreamState.Off],
+     * or [StreamState.Failed] with [failure] (the foreground service was refused).
+     */
+    fun stop(failure: String? = null) {
+        if (running != null) stopUdp()
+        val server = running?.let { r ->
+            running = null
+            r.refresh.cancel()
+            capture.unlisten(r.raw)
+            capture.unlisten(r.oriented)
+            capture.release(onScreen = true)
+            r.server
+        } ?: starting?.also { starting = null } // closed after its start, in the control executor's order
+        if (server == null) {
+            if (failure != null && !stopping) stateFlow.value = StreamState.Failed(failure)
+            return
+        }
+        stopping = true
+        stateFlow.value = StreamState.Stopping
+        control.execute {
+            try {
+                server.stop(STOP_TIMEOUT_MS)
+            } catch (_: Exception) {
+                // A server that never started has nothing to close.
+            }
+            scope.launch {
+                stopping = false
+                stateFlow.value = if (failure != null) StreamState.Failed(failure) else StreamState.Off
+            }
+        }
     }
 
     companion object {
         const val PORT = 8765
-        private const val STOP_TIMEOUT_MS = 500
+        const val STOP_TIMEOUT_MS = 500
         private val MAX_VALUES = SessionStream.entries.maxOf { it.valueCount }
+
+        /** `host:port` (an IPv6 address in brackets) → the host and the port, or null. */
+        internal fun parseHostPort(text: String): Pair<String, Int>? {
+            val colon = text.lastIndexOf(':')
+            if (colon <= 0) return null
+            val host = text.substring(0, colon).removeSurrounding("[", "]")
+            val port = text.substring(colon + 1).toIntOrNull()?.takeIf { it in 1..65535 } ?: return null
+            return if (host.isBlank() || host.any { it.isWhitespace() }) null else host to port
+        }
 
         /** The phone's site-local IPv4 addresses (Wi-Fi, hotspot, Ethernet), those a laptop on the same network reaches. */
         fun siteLocalAddresses(): List<String> = try {

@@ -5,14 +5,15 @@ import dev.motionfusion.app.build.BuildFiles.androidName
 import dev.motionfusion.app.build.BuildFiles.child
 import dev.motionfusion.app.build.BuildFiles.children
 import dev.motionfusion.app.record.RecordingService
+import dev.motionfusion.app.stream.StreamService
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 
 /**
- * The recording service's foreground-service type, the permission Android 14+ requires for that
- * type, and the type the service passes to startForeground belong together: this test fails
- * when one of them changes without the others.
+ * Each foreground service's type (the recording's and the live stream's), the permission Android 14+
+ * requires for that type, and the type the service passes to startForeground belong together: this
+ * test fails when one of them changes without the others.
  */
 class ForegroundServiceTest {
     private val manifest = BuildFiles.parse(BuildFiles.manifest)
@@ -26,19 +27,34 @@ class ForegroundServiceTest {
         "location" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_LOCATION to "android.permission.FOREGROUND_SERVICE_LOCATION"),
     )
 
+    /** Each foreground service of the app (its class name's end) and the type it passes to startForeground. */
+    private val services = mapOf(
+        ".record.RecordingService" to RecordingService.FOREGROUND_SERVICE_TYPE,
+        ".stream.StreamService" to StreamService.FOREGROUND_SERVICE_TYPE,
+    )
+
+    private fun service(name: String) = manifest.child("application")!!.children("service").single { it.androidName().endsWith(name) }
+
     @Test
     fun `the manifest's type, its permission and the type passed to startForeground agree`() {
-        val service = manifest.child("application")!!.children("service").single { it.androidName().endsWith(".record.RecordingService") }
-        val declared = service.getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")
-        val (constant, permission) = types[declared] ?: error("foregroundServiceType '$declared' not known to this test")
-        assertEquals(constant, RecordingService.FOREGROUND_SERVICE_TYPE, "type passed to startForeground")
-        assertTrue(permission in permissions, "$permission missing for type $declared")
+        for ((name, passed) in services) {
+            val declared = service(name).getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")
+            val (constant, permission) = types[declared] ?: error("$name: foregroundServiceType '$declared' not known to this test")
+            assertEquals(constant, passed, "$name: type passed to startForeground")
+            assertTrue(permission in permissions, "$permission missing for type $declared")
+        }
         assertTrue("android.permission.FOREGROUND_SERVICE" in permissions)
+        // Every service of the app is one of these (a new one is checked too).
+        val declaredServices = manifest.child("application")!!.children("service").map { it.androidName() }.filter { it.startsWith(".") }
+        assertEquals(services.keys, declaredServices.toSet())
     }
 
     @Test
     fun `the type's own requirements are met`() {
-        val service = manifest.child("application")!!.children("service").single { it.androidName().endsWith(".record.RecordingService") }
+        for (name in services.keys) requirementsMet(service(name))
+    }
+
+    private fun requirementsMet(service: org.w3c.dom.Element) {
         when (val declared = service.getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")) {
             // Play reviews a specialUse service by the subtype the manifest gives it.
             "specialUse" -> {

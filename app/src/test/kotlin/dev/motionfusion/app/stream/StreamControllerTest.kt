@@ -7,7 +7,14 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
 import java.net.URI
+import dev.motionfusion.core.stream.StreamCodec
+import java.net.DatagramPacket
+import java.net.DatagramSocket
+import java.net.InetAddress
+import java.net.InetSocketAddress
+import java.net.ServerSocket
 import java.security.SecureRandom
+import java.util.concurrent.Executor
 import java.util.concurrent.ConcurrentLinkedQueue
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -21,17 +28,43 @@ import org.junit.jupiter.api.Test
 
 /**
  * The app's side of the live stream on the JVM: the controller's real server on loopback, a real
- * [StreamClient] paired with the code it shows, and events fed through the one capture path.
+ * [StreamClient] paired with the code it shows, and events fed through the one capture path. The
+ * server's start and stop run on the controller's control executor: here either at once on the
+ * caller's thread, or queued until the test runs them ([Queued]).
  */
 class StreamControllerTest {
-    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Default)
+    /** The test thread plays the main thread: the controller's steps come back to it at once. */
+    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Unconfined)
     private val metadata = SessionMetadata(appVersion = "0.1.0", source = "Motion Fusion 0.1.0", startAnchor = ClockAnchor(1_764_000_000_000, 5_000_000_000))
     private val c = TestCapture()
-    private val controller = StreamController(c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, random = SecureRandom())
+    private val controller = StreamController(
+        c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, random = SecureRandom(), control = Executor { it.run() },
+    )
+
+    /** A control executor whose tasks wait until the test runs them. */
+    private class Queued : Executor {
+        private val tasks = ArrayDeque<Runnable>()
+        val pending: Int get() = tasks.size
+        override fun execute(command: Runnable) {
+            tasks.addLast(command)
+        }
+
+        fun runAll() {
+            while (tasks.isNotEmpty()) tasks.removeFirst().run()
+        }
+    }
+
+    private val queued = Queued()
+    private var refusal: String? = null
+    private val held = StreamController(
+        c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, control = queued, keepAlive = { refusal },
+    )
 
     @AfterEach
     fun end() {
         controller.stop()
+        held.stop()
+        queued.runAll()
         scope.cancel()
     }
 
@@ -117,5 +150,128 @@ class StreamControllerTest {
             codes += (controller.state.value as StreamState.On).code
         }
         assertTrue(codes.size >= 4, codes.toString())
+    }
+
+    @Test
+    fun `start and stop leave the server's work to the control executor and say so, the capture held only while on`() {
+        c.capture.release() // the test's own hold: the capture runs only while the controller holds it
+        held.start()
+        // The server is not started on the calling (main) thread: the screen shows that it starts.
+        assertEquals(StreamState.Starting, held.state.value)
+        assertEquals(1, queued.pending)
+        assertFalse(c.capture.isRunning)
+        assertTrue(held.isOn)
+        held.start() // a second press meanwhile does nothing
+        assertEquals(1, queued.pending)
+        queued.runAll()
+        val on = held.state.value as StreamState.On
+        assertTrue(on.port > 0)
+        assertTrue(c.capture.isRunning)
+
+        held.stop()
+        // The capture is let go at once; the connections close on the control executor.
+        assertEquals(StreamState.Stopping, held.state.value)
+        assertFalse(c.capture.isRunning)
+        assertEquals(1, queued.pending)
+        held.start() // refused until the server is closed
+        assertEquals(1, queued.pending)
+        queued.runAll()
+        assertEquals(StreamState.Off, held.state.value)
+        assertFalse(held.isOn)
+        // Closed: the port is free again.
+        ServerSocket().use { it.bind(InetSocketAddress("0.0.0.0", on.port)) }
+    }
+
+    @Test
+    fun `stopped while starting, the server is closed after its start and the capture never held`() {
+        c.capture.release() // the test's own hold: the capture runs only while the controller holds it
+        held.start()
+        held.stop()
+        assertEquals(StreamState.Stopping, held.state.value)
+        assertEquals(2, queued.pending)
+        queued.runAll()
+        assertEquals(StreamState.Off, held.state.value)
+        assertFalse(c.capture.isRunning)
+        assertFalse(held.isOn)
+    }
+
+    @Test
+    fun `a taken port and a refused foreground service are failures shown as such`() {
+        c.capture.release() // the test's own hold: the capture runs only while the controller holds it
+        ServerSocket().use { taken ->
+            taken.reuseAddress = false
+            taken.bind(InetSocketAddress("0.0.0.0", 0))
+            val onTaken = StreamController(c.capture, { metadata }, scope, port = taken.localPort, control = queued)
+            onTaken.start()
+            assertEquals(StreamState.Starting, onTaken.state.value)
+            queued.runAll()
+            val failed = onTaken.state.value as StreamState.Failed
+            assertTrue(failed.reason.contains("${taken.localPort}"), failed.reason)
+            assertFalse(onTaken.isOn)
+            assertFalse(c.capture.isRunning)
+        }
+
+        refusal = "startForegroundService() not allowed"
+        held.start()
+        assertEquals(StreamState.Failed("startForegroundService() not allowed"), held.state.value)
+        assertEquals(0, queued.pending)
+
+        // The service refused later (as StreamService does): the stream stops and says why.
+        refusal = null
+        held.start()
+        queued.runAll()
+        assertTrue(held.state.value is StreamState.On)
+        held.stop(failure = "no permission")
+        queued.runAll()
+        assertEquals(StreamState.Failed("no permission"), held.state.value)
+        assertFalse(c.capture.isRunning)
+    }
+
+    @Test
+    fun `while on, a UDP push to a host on the local network gets every message as JSON lines, and refuses others`() {
+        DatagramSocket(InetSocketAddress(InetAddress.getLoopbackAddress(), 0)).use { receiver ->
+            receiver.soTimeout = 10_000
+            receiver.receiveBufferSize = 1 shl 20
+            controller.pushUdp("127.0.0.1:9000") // not on: nothing
+            assertEquals(StreamState.Off, controller.state.value)
+            controller.start()
+            controller.pushUdp(" 127.0.0.1:${receiver.localPort} ")
+            val pushing = (controller.state.value as StreamState.On).udp as UdpView.Pushing
+            assertEquals("127.0.0.1:${receiver.localPort}", pushing.target)
+            for (i in 0 until 50) c.offer(SessionStream.GYROSCOPE, 1_000_000_000L + i * 5_000_000L, 0.01f * i, -0.02f, 0.003f)
+            c.drain()
+            c.nowNs += 1_000_000_000L
+            c.drain()
+            val got = ArrayList<StreamMessage>()
+            val buf = ByteArray(65_536)
+            while (got.count { it is StreamMessage.Sample } < 50) {
+                val p = DatagramPacket(buf, buf.size)
+                receiver.receive(p)
+                val line = String(buf, 0, p.length, Charsets.UTF_8)
+                assertTrue(line.endsWith("\n"), line)
+                got += StreamCodec.decode(line.trimEnd(), "datagram")
+            }
+            assertEquals(metadata, (got.first() as StreamMessage.Hello).metadata)
+            val samples = got.filterIsInstance<StreamMessage.Sample>()
+            assertEquals(StreamMessage.Sample(SessionStream.GYROSCOPE, 1_000_000_000L + 7 * 5_000_000L, floatArrayOf(0.07f, -0.02f, 0.003f), 3), samples[7])
+
+            controller.stopUdp()
+            assertEquals(null, (controller.state.value as StreamState.On).udp)
+            controller.pushUdp("laptop")
+            assertEquals(UdpView.Failed("laptop", null), (controller.state.value as StreamState.On).udp)
+            controller.pushUdp("8.8.8.8:9000")
+            val refused = (controller.state.value as StreamState.On).udp as UdpView.Failed
+            assertTrue(refused.reason!!.contains("not on the local network"), refused.reason)
+        }
+    }
+
+    @Test
+    fun `host and port are read as the screen takes them`() {
+        assertEquals("192.168.1.20" to 9000, StreamController.parseHostPort("192.168.1.20:9000"))
+        assertEquals("laptop.local" to 1, StreamController.parseHostPort("laptop.local:1"))
+        assertEquals("fd00::1" to 9000, StreamController.parseHostPort("[fd00::1]:9000"))
+        for (bad in listOf("", "laptop", ":9000", "laptop:", "laptop:0", "laptop:65536", "lap top:9000", "laptop:90x")) {
+            assertEquals(null, StreamController.parseHostPort(bad), bad)
+        }
     }
 }

@@ -12,9 +12,16 @@ import dev.motionfusion.app.TestGraph
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
+import java.net.DatagramPacket
+import java.net.DatagramSocket
+import java.net.InetAddress
+import java.net.InetSocketAddress
 import java.net.URI
 import java.time.Duration
+import java.util.concurrent.CountDownLatch
+import java.util.concurrent.atomic.AtomicBoolean
 import java.util.concurrent.atomic.AtomicInteger
+import dev.motionfusion.stream.StreamServerSettings
 import org.junit.After
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
@@ -31,9 +38,9 @@ import org.robolectric.annotation.GraphicsMode
 import org.robolectric.shadows.SensorBuilder
 
 /**
- * The Stream screen rendered to PNG (target/screenshots) off, on and waiting for a client, and with
- * a paired client getting samples (a real [StreamClient] on loopback), with the layout and
- * accessibility checks of every screenshot.
+ * The Stream screen rendered to PNG (target/screenshots) off, starting, on and waiting for a client,
+ * with a paired client getting samples (a real [StreamClient] on loopback), and with a client that
+ * stopped reading shown as stalled, with the layout and accessibility checks of every screenshot.
  */
 @RunWith(RobolectricTestRunner::class)
 @GraphicsMode(GraphicsMode.Mode.NATIVE)
@@ -41,6 +48,8 @@ import org.robolectric.shadows.SensorBuilder
 class StreamScreensTest {
     private lateinit var graph: TestGraph
     private var client: StreamClient? = null
+    /** Holds a stalled client's reading thread until the test ends. */
+    private val unstall = CountDownLatch(1)
 
     @Before
     fun setUp() {
@@ -53,8 +62,11 @@ class StreamScreensTest {
 
     @After
     fun tearDown() {
+        unstall.countDown()
         client?.close()
         graph.graph.stream.stop()
+        // The server closes on the control executor: run it, so that the port is free for the next test.
+        graph.settle()
     }
 
     private fun waitFor(what: String, done: () -> Boolean) {
@@ -76,9 +88,18 @@ class StreamScreensTest {
         Screenshots.captureScreen(a, "stream-off")
 
         switch.performClick()
+        // The server starts off the main thread: meanwhile the switch waits and the screen says so.
+        assertEquals(StreamState.Starting, graph.graph.stream.state.value)
+        assertTrue(switch.isChecked)
+        assertFalse(switch.isEnabled)
+        assertEquals("Starting the server…", a.findViewById<TextView>(R.id.stream_message).text.toString())
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(500)) // the switch's thumb moves
+        Screenshots.captureScreen(a, "stream-starting")
         graph.settle()
         val on = graph.graph.stream.state.value as StreamState.On
         assertTrue(switch.isChecked)
+        assertTrue(switch.isEnabled)
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_message).visibility)
         assertTrue(graph.capture.isRunning)
         assertEquals(on.code, a.findViewById<TextView>(R.id.stream_code).text.toString())
         assertEquals("ws://192.168.1.23:8765", a.findViewById<TextView>(R.id.stream_addresses).text.toString())
@@ -97,14 +118,89 @@ class StreamScreensTest {
                 a.findViewById<TextView>(R.id.stream_clients).text.contains("${c.sent} sent")
         }
         val line = a.findViewById<TextView>(R.id.stream_clients).text.toString()
-        assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped"))
+        assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped") && "stalled" !in line)
         Screenshots.captureScreen(a, "stream-client")
 
+        // The UDP push: a target that is not host:port, then a receiver on loopback.
+        val target = a.findViewById<android.widget.EditText>(R.id.stream_udp_target)
+        val push = a.findViewById<TextView>(R.id.stream_udp_button)
+        target.setText("laptop")
+        push.performClick()
+        assertEquals("Enter host:port, for example 192.168.1.20:9000.", a.findViewById<TextView>(R.id.stream_udp_status).text.toString())
+        DatagramSocket(InetSocketAddress(InetAddress.getLoopbackAddress(), 0)).use { receiver ->
+            receiver.soTimeout = 10_000
+            target.setText("127.0.0.1:${receiver.localPort}")
+            push.performClick()
+            assertEquals("Looking up 127.0.0.1:${receiver.localPort}…", a.findViewById<TextView>(R.id.stream_udp_status).text.toString())
+            graph.settle()
+            assertEquals("Stop UDP", push.text.toString())
+            for (i in 0 until 100) graph.capture.ring.offer(SessionStream.GYROSCOPE, 4_000_000_000L + i * 5_000_000L, 3, v, 3)
+            graph.pump()
+            var samples = 0
+            val buf = ByteArray(65_536)
+            while (samples < 100) {
+                val p = DatagramPacket(buf, buf.size)
+                receiver.receive(p)
+                if (String(buf, 0, p.length, Charsets.UTF_8).startsWith("{\"type\":\"sample\"")) samples++
+            }
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1)) // the screen's refresh
+            val udp = (graph.graph.stream.state.value as StreamState.On).udp as UdpView.Pushing
+            // The receiver may see the last datagram before the sender has counted it.
+            assertTrue("$udp", udp.sent >= 99)
+            assertEquals(
+                "Pushing to 127.0.0.1:${receiver.localPort}: ${udp.sent} sent, 0 dropped",
+                a.findViewById<TextView>(R.id.stream_udp_status).text.toString(),
+            )
+            Screenshots.captureScreen(a, "stream-udp")
+        }
+
         switch.performClick()
+        assertEquals(StreamState.Stopping, graph.graph.stream.state.value)
+        assertFalse(switch.isChecked)
+        assertFalse(switch.isEnabled)
+        assertEquals("Closing the connections…", a.findViewById<TextView>(R.id.stream_message).text.toString())
         graph.settle()
+        assertTrue(switch.isEnabled)
         assertEquals(StreamState.Off, graph.graph.stream.state.value)
         assertTrue(client!!.awaitClose(5_000))
         assertEquals(View.GONE, a.findViewById<View>(R.id.stream_details).visibility)
+    }
+
+    @Test
+    fun `a client that stopped reading is shown as stalled`() {
+        // A small queue per client, so that the sockets' buffers fill sooner.
+        graph = TestGraph(streamPort = StreamController.PORT, streamSettings = StreamServerSettings(clientQueueFrames = 16))
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
+        graph.settle()
+        val on = graph.graph.stream.state.value as StreamState.On
+        val stalled = AtomicBoolean(false)
+        client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { if (stalled.get()) unstall.await() }
+        client!!.connect()
+        stalled.set(true)
+        val v = floatArrayOf(0.01f, -0.02f, 0.003f)
+        var t = 1_000_000_000L
+        var rounds = 0
+        while (true) {
+            // Five seconds of gyroscope samples a round, until the sockets' buffers are full and the phone drops.
+            check(rounds++ < 400) { "the client was never shown as stalled: ${graph.graph.stream.state.value}" }
+            for (i in 0 until 1000) {
+                graph.capture.ring.offer(SessionStream.GYROSCOPE, t, 3, v, 3)
+                t += 5_000_000L
+            }
+            graph.pump()
+            // The screen's refresh.
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+            val c = (graph.graph.stream.state.value as StreamState.On).clients.single()
+            if (c.stalled) break
+        }
+        val c = (graph.graph.stream.state.value as StreamState.On).clients.single()
+        assertTrue("$c", c.dropped > 0)
+        assertEquals(
+            "127.0.0.1: stalled, not keeping up; ${c.sent} sent, ${c.dropped} dropped",
+            a.findViewById<TextView>(R.id.stream_clients).text.toString(),
+        )
+        Screenshots.captureScreen(a, "stream-stalled")
     }
 
     @Test

@@ -1,0 +1,238 @@
+package dev.motionfusion.app.stream
+
+import android.app.Notification
+import android.app.PendingIntent
+import android.app.Service
+import android.content.Context
+import android.content.Intent
+import android.content.pm.ServiceInfo
+import android.net.wifi.WifiManager
+import android.os.Build
+import android.os.IBinder
+import androidx.core.app.NotificationCompat
+import androidx.core.app.ServiceCompat
+import androidx.core.content.ContextCompat
+import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.Clock
+import dev.motionfusion.app.platform.Foreground
+import dev.motionfusion.app.platform.RenewedWakeLock
+import kotlinx.coroutines.CoroutineScope
+import kotlinx.coroutines.Dispatchers
+import kotlinx.coroutines.SupervisorJob
+import kotlinx.coroutines.cancel
+import kotlinx.coroutines.launch
+
+/** What the stream's service needs, from the application's object graph. */
+internal interface StreamDependencies {
+    val streamController: StreamController
+    val clock: Clock
+
+    /** Enters the foreground (ServiceCompat.startForeground); tests make it refuse as the system can. */
+    fun startForeground(service: Service, id: Int, notification: Notification, type: Int)
+
+    /** The Wi-Fi locks ([StreamService.systemWifiLocks]; tests record the modes). */
+    val wifiLocks: WifiLocks
+
+    /** Implemented by the application. */
+    interface Provider {
+        val streamDependencies: StreamDependencies
+    }
+}
+
+/** Takes Wi-Fi locks. */
+internal fun interface WifiLocks {
+    /** Takes a lock of [mode] (a `WifiManager.WIFI_MODE_*`) named [tag]; returns what releases it, or null when the phone has no Wi-Fi. */
+    fun acquire(mode: Int, tag: String): (() -> Unit)?
+}
+
+/**
+ * Keeps the live stream going with the screen off and the app in the background: a foreground service
+ * of type `specialUse` (as the recording's, docs/RECORDING.md), started by [StreamController.start],
+ * that holds a partial wake lock (renewed while streaming, [RenewedWakeLock]) and Wi-Fi locks
+ * ([wifiLockModes]) and shows an ongoing notification with the clients and a Stop action. It follows
+ * the controller's state and ends itself when streaming is off, however it was turned off (the
+ * screen's switch, the notification's Stop, a failure). The controller does not depend on it: a
+ * refused foreground start stops the stream and is shown on the Stream screen. Not sticky: a killed
+ * process loses its server and pairing code, so nothing is resumed.
+ *
+ * Recording and streaming together are two services, each holding the capture for itself.
+ */
+class StreamService : Service() {
+    private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
+    private lateinit var deps: StreamDependencies
+    private lateinit var wakeLock: RenewedWakeLock
+    /** The Wi-Fi locks held, with their modes. */
+    private val wifiLocks = ArrayList<Pair<Int, () -> Unit>>()
+    private var begun = false
+    private var ended = false
+    private var ongoing: NotificationCompat.Builder? = null
+    private var shownText: String? = null
+
+    /** Notifications posted by updates (for tests: one per change of what it says, not one a second). */
+    internal var notificationUpdates = 0
+        private set
+
+    override fun onCreate() {
+        super.onCreate()
+        deps = (application as StreamDependencies.Provider).streamDependencies
+        wakeLock = RenewedWakeLock(this, "MotionFusion:streaming", deps.clock)
+    }
+
+    override fun onBind(intent: Intent?): IBinder? = null
+
+    override fun onStartCommand(intent: Intent?, flags: Int, startId: Int): Int {
+        when (intent?.action) {
+            // The notification's Stop: the service ends when the controller is off.
+            ACTION_STOP -> {
+                deps.streamController.stop()
+                if (!begun) stopSelf()
+            }
+            else -> begin()
+        }
+        return START_NOT_STICKY
+    }
+
+    /** Foreground at once (startForegroundService() must be answered within seconds), then the locks, then follows the controller. */
+    private fun begin() {
+        if (begun) return
+        begun = true
+        Foreground.createChannels(this)
+        val controller = deps.streamController
+        Foreground.enter(this, NOTIFICATION_ID, notification(controller.state.value), FOREGROUND_SERVICE_TYPE, deps::startForeground)?.let { reason ->
+            controller.stop(failure = reason)
+            end()
+            return
+        }
+        wakeLock.hold()
+        holdWifiLocks()
+        scope.launch {
+            controller.state.collect { s ->
+                when (s) {
+                    StreamState.Off, is StreamState.Failed -> end()
+                    else -> {
+                        wakeLock.renewIfDue()
+                        update(s)
+                    }
+                }
+            }
+        }
+    }
+
+    /** Keeps Wi-Fi out of power save while streaming ([wifiLockModes]); none on a phone without Wi-Fi. */
+    private fun holdWifiLocks() {
+        for (mode in wifiLockModes(Build.VERSION.SDK_INT)) {
+            deps.wifiLocks.acquire(mode, "MotionFusion:streaming")?.let { wifiLocks += mode to it }
+        }
+    }
+
+    private fun end() {
+        if (ended) return
+        ended = true
+        releaseLocks()
+        scope.cancel()
+        ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
+        stopSelf()
+    }
+
+    private fun releaseLocks() {
+        wakeLock.release()
+        for ((_, release) in wifiLocks) release()
+        wifiLocks.clear()
+    }
+
+    override fun onDestroy() {
+        releaseLocks()
+        scope.cancel()
+        super.onDestroy()
+    }
+
+    private fun update(state: StreamState) {
+        val text = text(state)
+        if (text == shownText) return
+        notificationUpdates++
+        getSystemService(android.app.NotificationManager::class.java).notify(NOTIFICATION_ID, notification(state))
+    }
+
+    /** What the notification says: the paired clients (stalled ones named) and the code, or that the server starts or stops. */
+    private fun text(state: StreamState): String = when (state) {
+        is StreamState.On -> {
+            val paired = state.clients.filter { it.paired }
+            val stalled = paired.count { it.stalled }
+            val clients = if (paired.isEmpty()) getString(R.string.stream_notification_waiting)
+            else resources.getQuantityString(R.plurals.stream_notification_clients, paired.size, paired.size)
+            val line = getString(R.string.stream_notification_text, clients, state.code)
+            if (stalled == 0) line else getString(R.string.stream_notification_stalled, line, stalled)
+        }
+        StreamState.Stopping -> getString(R.string.stream_stopping)
+        else -> getString(R.string.stream_starting)
+    }
+
+    private fun notification(state: StreamState): Notification {
+        val text = text(state)
+        shownText = text
+        val builder = ongoing ?: NotificationCompat.Builder(this, Foreground.CHANNEL_STREAMING)
+            .setSmallIcon(R.drawable.ic_stream)
+            .setContentTitle(getString(R.string.stream_notification_title))
+            .setOngoing(true)
+            .setOnlyAlertOnce(true)
+            .setCategory(NotificationCompat.CATEGORY_SERVICE)
+            .setForegroundServiceBehavior(NotificationCompat.FOREGROUND_SERVICE_IMMEDIATE)
+            .setContentIntent(
+                PendingIntent.getActivity(
+                    this, 0, Intent(this, StreamActivity::class.java).addFlags(Intent.FLAG_ACTIVITY_SINGLE_TOP), PendingIntent.FLAG_IMMUTABLE,
+                ),
+            )
+            .addAction(
+                0, getString(R.string.stream_stop),
+                PendingIntent.getService(
+                    this, 1, Intent(this, StreamService::class.java).setAction(ACTION_STOP), PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
+                ),
+            )
+            .also { ongoing = it }
+        return builder.setContentText(text).build()
+    }
+
+    companion object {
+        internal const val ACTION_START = "dev.motionfusion.app.stream.START"
+        internal const val ACTION_STOP = "dev.motionfusion.app.stream.STOP"
+        internal const val NOTIFICATION_ID = 7003
+
+        /** The manifest's android:foregroundServiceType, as the recording's (ForegroundServiceTest). */
+        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE
+
+        /**
+         * The Wi-Fi locks held while streaming, by API level. `WIFI_MODE_FULL_HIGH_PERF` keeps Wi-Fi out of
+         * power save with the screen off; Android 14 deprecated it and treats it as `WIFI_MODE_FULL_LOW_LATENCY`
+         * (API 29+), which works only while the screen is on and the app in the foreground. So: high-perf
+         * below 29; both on 29–33 (low latency with the screen on, high-perf when it is off); low latency
+         * from 34 (with the screen off the partial wake lock and the foreground service are what remain).
+         */
+        @Suppress("DEPRECATION")
+        internal fun wifiLockModes(sdk: Int): List<Int> = when {
+            sdk < 29 -> listOf(WifiManager.WIFI_MODE_FULL_HIGH_PERF)
+            sdk < 34 -> listOf(WifiManager.WIFI_MODE_FULL_HIGH_PERF, WifiManager.WIFI_MODE_FULL_LOW_LATENCY)
+            else -> listOf(WifiManager.WIFI_MODE_FULL_LOW_LATENCY)
+        }
+
+        /** The phone's Wi-Fi locks (WifiManager, of the application context). */
+        internal fun systemWifiLocks(context: Context): WifiLocks = WifiLocks { mode, tag ->
+            val wifi = context.applicationContext.getSystemService(WifiManager::class.java) ?: return@WifiLocks null
+            val lock = wifi.createWifiLock(mode, tag)
+            lock.setReferenceCounted(false)
+            lock.acquire()
+            val release: () -> Unit = { if (lock.isHeld) lock.release() }
+            release
+        }
+
+        /**
+         * Starts the service (from [StreamController.start], a user's action: Android 12+ forbids a start from
+         * the background). Returns why the system refused, or null.
+         */
+        fun start(context: Context): String? = try {
+            ContextCompat.startForegroundService(context, Intent(context, StreamService::class.java).setAction(ACTION_START))
+            null
+        } catch (e: IllegalStateException) {
+            e.message ?: e.javaClass.simpleName
+        }
+    }
+}

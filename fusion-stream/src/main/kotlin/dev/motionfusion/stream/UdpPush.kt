@@ -1,0 +1,122 @@
+package dev.motionfusion.stream
+
+import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.stream.StreamCodec
+import dev.motionfusion.core.stream.StreamMessage
+import java.io.IOException
+import java.net.DatagramPacket
+import java.net.DatagramSocket
+import java.net.InetSocketAddress
+import java.util.concurrent.ArrayBlockingQueue
+import java.util.concurrent.atomic.AtomicLong
+
+/**
+ * The live stream pushed over UDP (docs/STREAMING.md, "UDP push"): every message of schema 1 as one JSON line
+ * (StreamCodec, then `\n`) in one datagram to [target], which must be on the local network
+ * ([StreamServer.isLocalNetwork]). The hello goes first and again every [helloIntervalNs] of sample time (a
+ * receiver started later learns the metadata), a status every [statusIntervalNs].
+ *
+ * As the server, capture never waits for the network: the publish methods offer a message to a bounded queue of
+ * [capacity] and return; a full queue drops it, and a datagram the system would not send counts as dropped too.
+ * One thread encodes and sends.
+ */
+public class UdpPush(
+    public val target: InetSocketAddress,
+    private val offer: () -> StreamOffer,
+    private val capacity: Int = 4096,
+    private val statusIntervalNs: Long = 1_000_000_000L,
+    private val helloIntervalNs: Long = 10_000_000_000L,
+) {
+    init {
+        require(!target.isUnresolved) { "cannot resolve ${target.hostString}" }
+        require(StreamServer.isLocalNetwork(target.address)) { "${target.address.hostAddress} is not on the local network" }
+        require(capacity in 16..1_000_000) { "capacity must be 16 to 1,000,000" }
+    }
+
+    private val queue = ArrayBlockingQueue<StreamMessage>(capacity)
+    private val dropped = AtomicLong()
+    private val socket = DatagramSocket()
+    private val sender = Thread(::sendLoop, "stream-udp").apply { isDaemon = true }
+
+    @Volatile private var running = false
+
+    @Volatile public var sent: Long = 0L
+        private set
+
+    /** Messages not sent: the queue was full, or the system refused the datagram. */
+    public val droppedCount: Long get() = dropped.get()
+
+    public fun start() {
+        check(!running) { "already started" }
+        running = true
+        sender.start()
+    }
+
+    /** Stops sending; what is queued is dropped. */
+    public fun stop() {
+        running = false
+        sender.interrupt()
+        socket.close()
+        sender.join(1000)
+    }
+
+    /** Hands a sensor sample to the sender; never blocks. [values] is copied. */
+    public fun publishSample(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
+        put(StreamMessage.Sample(stream, timestampNs, values.copyOf(stream.valueCount.coerceAtMost(values.size)), accuracy))
+    }
+
+    /** Hands the fused orientation (sensor → ENU, [w, x, y, z]) to the sender; never blocks. */
+    public fun publishOrientation(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double) {
+        put(StreamMessage.Orientation(timestampNs, qw, qx, qy, qz))
+    }
+
+    private fun put(m: StreamMessage) {
+        if (!queue.offer(m)) dropped.incrementAndGet()
+    }
+
+    private fun sendLoop() {
+        val sb = StringBuilder(256)
+        var helloT = Long.MIN_VALUE
+        var statusT = Long.MIN_VALUE
+        var sentAtStatus = 0L
+        while (running) {
+            val m = try {
+                queue.take()
+            } catch (_: InterruptedException) {
+                return
+            }
+            val t = when (m) {
+                is StreamMessage.Sample -> m.timestampNs
+                is StreamMessage.Orientation -> m.timestampNs
+                else -> continue
+            }
+            if (helloT == Long.MIN_VALUE || t - helloT >= helloIntervalNs) {
+                helloT = t
+                val o = offer()
+                send(sb, StreamMessage.Hello(o.source, o.metadata, o.streams, null))
+            }
+            if (send(sb, m)) sent++ else dropped.incrementAndGet()
+            if (statusT == Long.MIN_VALUE) statusT = t
+            if (t - statusT >= statusIntervalNs) {
+                val rate = (sent - sentAtStatus) * 1e9 / (t - statusT)
+                sentAtStatus = sent
+                statusT = t
+                send(sb, StreamMessage.Status(t, sent, dropped.get(), rate))
+            }
+        }
+    }
+
+    /** One line in one datagram; false when the system would not send it (no route, the port unreachable, closed). */
+    private fun send(sb: StringBuilder, m: StreamMessage): Boolean {
+        sb.setLength(0)
+        StreamCodec.encodeTo(sb, m)
+        sb.append('\n')
+        val bytes = sb.toString().toByteArray(Charsets.UTF_8)
+        return try {
+            socket.send(DatagramPacket(bytes, bytes.size, target))
+            true
+        } catch (_: IOException) {
+            false
+        }
+    }
+}
