@@ -26,9 +26,19 @@ import kotlinx.coroutines.flow.StateFlowKt;
 final class FloodCapture {
     private FloodCapture() {}
 
-    /** Every live-screen kind present; registration does nothing. */
+    /**
+     * Every live-screen kind present; registration does nothing. With a report latency (hardware
+     * batching), flushes complete at once: the benchmark, as the sensor thread, delivers a FIFO's
+     * events when it offers them.
+     */
     static final class Kinds implements SensorSource {
+        private final int latencyUs;
         private SamplingRate rate;
+        private int registeredLatencyUs;
+
+        Kinds() { this(0); }
+
+        Kinds(int latencyUs) { this.latencyUs = latencyUs; }
 
         // Raw Map: the Android framework (android.hardware.Sensor) is not on this module's classpath.
         @SuppressWarnings("rawtypes")
@@ -36,8 +46,14 @@ final class FloodCapture {
         @Override public Set<SensorKind> getAvailableKinds() { return EnumSet.allOf(SensorKind.class); }
         @Override public Map<SensorKind, SensorInfo> getInfo() { return Collections.emptyMap(); }
         @Override public SamplingRate getRegisteredRate() { return rate; }
-        @Override public void start(SamplingRate r, Set<? extends SessionStream> streams) { rate = r; }
-        @Override public void stop() { rate = null; }
+        @Override public void start(SamplingRate r, Set<? extends SessionStream> streams) { rate = r; registeredLatencyUs = latencyUs; }
+        @Override public void stop() { rate = null; registeredLatencyUs = 0; }
+        @Override public int reportLatencyUs(SamplingRate r, Set<? extends SessionStream> streams) { return latencyUs; }
+        @Override public int getRegisteredLatencyUs() { return registeredLatencyUs; }
+        @Override public double getMaxEventsPerSecond() { return rate == null ? 0.0 : 200.0; }
+        @Override public void immediate(boolean on) { }
+        @Override public void flush() { }
+        @Override public boolean getFlushed() { return true; }
     }
 
     /** A capture with its own capture thread, running. */
