@@ -58,16 +58,21 @@ final class FloodCapture {
 
     /** A capture with its own capture thread, running. */
     static Capture threaded(EventRing ring) {
-        return create(ring, true);
+        return create(ring, true, 0);
+    }
+
+    /** A capture with its own capture thread, running, its sensors registered with a report latency of [latencyUs] (hardware batching). */
+    static Capture threaded(EventRing ring, int latencyUs) {
+        return create(ring, true, latencyUs);
     }
 
     /** A capture without a thread: the caller pumps it. */
     static Capture manual(EventRing ring) {
-        return create(ring, false);
+        return create(ring, false, 0);
     }
 
-    private static Capture create(EventRing ring, boolean thread) {
-        Capture c = new Capture(ring, new Kinds(), StateFlowKt.MutableStateFlow(new LiveSettings()),
+    private static Capture create(EventRing ring, boolean thread, int latencyUs) {
+        Capture c = new Capture(ring, new Kinds(latencyUs), StateFlowKt.MutableStateFlow(new LiveSettings()),
             CoroutineScopeKt.CoroutineScope(Dispatchers.getUnconfined()), StateFlowKt.MutableStateFlow(null), 30_000_000L, System::nanoTime, thread, 4_000_000L, 100_000_000L);
         c.acquire();
         return c;

@@ -37,6 +37,9 @@ internal class ReorderWindow(capacity: Int = DEFAULT_CAPACITY, windowNs: Long = 
 
     private val stride = SensorStreams.maxValues
     private val queues = arrayOfNulls<Queue>(SessionStream.entries.size)
+
+    /** The ordinals that have a queue, ascending: the streams looked at for the oldest event. */
+    private var active = IntArray(0)
     private var count = 0
     private var newestNs = Long.MIN_VALUE
     private var releasedNs = Long.MIN_VALUE
@@ -59,7 +62,10 @@ internal class ReorderWindow(capacity: Int = DEFAULT_CAPACITY, windowNs: Long = 
     /** Adds one event ([values] at [offset], [SensorStreams.maxValues] floats) and releases what is due to [sink]. */
     fun add(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int, afterGap: Boolean, sink: EventRing.Consumer) {
         val ord = stream.ordinal
-        val q = queues[ord] ?: Queue(capacity).also { queues[ord] = it }
+        val q = queues[ord] ?: Queue(capacity).also {
+            queues[ord] = it
+            active = (active + ord).sortedArray()
+        }
         while (q.count == capacity) releaseOne(sink)
         if (timestampNs < releasedNs || (timestampNs == releasedNs && ord < releasedOrdinal)) {
             late++
@@ -92,8 +98,10 @@ internal class ReorderWindow(capacity: Int = DEFAULT_CAPACITY, windowNs: Long = 
     private fun oldest(): Int {
         var best = -1
         var bestT = Long.MAX_VALUE
-        for (o in queues.indices) {
-            val q = queues[o] ?: continue
+        val a = active
+        for (i in a.indices) {
+            val o = a[i]
+            val q = queues[o]!!
             if (q.count == 0) continue
             val t = q.headTime()
             if (best < 0 || t < bestT) { best = o; bestT = t }
