@@ -333,13 +333,14 @@ class Capture internal constructor(
     }
 
     /**
-     * With a screen showing the events, the wide window narrows once the FIFOs flushed when the
-     * screen came have been drained ([flushedBefore]: read before the drain, which [drainedAll]),
+     * With a screen showing the events ([screen], read before [flushedBefore]), the wide window
+     * narrows once the FIFOs flushed when the screen came have been drained ([flushedBefore]: read
+     * before the drain, which [drainedAll]),
      * or after as long as a batch can take; narrowed earlier, one sensor's flushed batch would be
      * released before another's older events arrived.
      */
-    private fun narrowAfterDrain(flushedBefore: Boolean, drainedAll: Boolean, now: Long) {
-        if (onScreen == 0 || reorder.windowNs <= baseWindowNs) return
+    private fun narrowAfterDrain(screen: Boolean, flushedBefore: Boolean, drainedAll: Boolean, now: Long) {
+        if (!screen || reorder.windowNs <= baseWindowNs) return
         if ((flushedBefore && drainedAll) || now - screenSinceNs >= batchWindowNs) reorder.windowNs = baseWindowNs
     }
 
@@ -356,6 +357,8 @@ class Capture internal constructor(
     /** One batch of the capture thread: returns the events drained. Tests call it directly. */
     internal fun pump(): Int = synchronized(pipeline) {
         configureReorder()
+        // The screen count first: a screen seen here had its flush asked before, so the flag read next is that flush's.
+        val screen = onScreen > 0
         val flushedBefore = hub.flushed
         val requestReady = (attachRequest == null && detachRequest == null) || flushArrived(nanoTime())
         attachRequest?.takeIf { requestReady }?.let { a ->
@@ -371,7 +374,7 @@ class Capture internal constructor(
         }
         val n = ring.drain(toReorder, BATCH)
         val now = nanoTime()
-        narrowAfterDrain(flushedBefore, n < BATCH, now)
+        narrowAfterDrain(screen, flushedBefore, n < BATCH, now)
         if (n > 0) {
             lastEventNs = now
             changed = true
