@@ -7,6 +7,10 @@
  * voluntary context switches, from /proc/self/task/TID/status: each is one sleep ended) per
  * second and its CPU time (ThreadMXBean) per minute. The sensor thread's own wake-ups (one per
  * event delivered by Android) are not the capture's and are not counted.
+ * A third case records with hardware batching: the sensors registered with a report latency
+ * (2 s, what half of a shared FIFO of 2000 events holds at these rates), and the benchmark, as
+ * the sensor thread, delivers as the FIFO would: every 2 s each sensor's gathered events at once,
+ * one sensor after another.
  * Run: java -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.CaptureWakeUps [seconds]
  * (Linux only: /proc.)
  */
@@ -32,14 +36,29 @@ public final class CaptureWakeUps {
 
     public static void main(String[] args) throws Exception {
         double seconds = args.length > 0 ? Double.parseDouble(args[0]) : 30.0;
-        run("recording, nothing on screen", seconds, false);
-        run("live screen visible, not recording", seconds, true);
+        run("recording, nothing on screen", seconds, false, 0);
+        if (batching()) run("recording, nothing on screen, hardware batching (2 s)", seconds, false, BATCH_LATENCY_US);
+        run("live screen visible, not recording", seconds, true, 0);
     }
 
-    private static void run(String what, double seconds, boolean onScreen) throws Exception {
+    /** The report latency of the batching case: half of a shared FIFO of 2000 events at 500 events/s. */
+    static final int BATCH_LATENCY_US = 2_000_000;
+
+    /** True when the capture on the class path can batch (not before issue 23's batching). */
+    private static boolean batching() {
+        try {
+            FloodCapture.class.getDeclaredMethod("threaded", EventRing.class, int.class);
+            Class.forName("dev.motionfusion.app.sensor.ReportLatency");
+            return true;
+        } catch (ReflectiveOperationException e) {
+            return false;
+        }
+    }
+
+    private static void run(String what, double seconds, boolean onScreen, int latencyUs) throws Exception {
         Path dir = Files.createTempDirectory("capture-wakeups");
         EventRing ring = new EventRing(Capture.DEFAULT_RING_CAPACITY);
-        Capture capture = FloodCapture.threaded(ring); // acquired once, with its thread
+        Capture capture = latencyUs > 0 ? FloodCapture.threaded(ring, latencyUs) : FloodCapture.threaded(ring); // acquired once, with its thread
         if (onScreen) user(capture, "acquire"); // and by a screen showing it
         Recorder recorder = null;
         if (!onScreen) {
@@ -60,15 +79,35 @@ public final class CaptureWakeUps {
         long cpu0 = mx.getThreadCpuTime(thread.getId());
         long end = start + (long) (seconds * 1e9);
         long events = 0;
-        while (true) {
-            int k = 0;
-            for (int i = 1; i < 3; i++) if (next[i] < next[k]) k = i;
-            if (next[k] >= end) break;
-            long wait = next[k] - System.nanoTime();
-            if (wait > 0) LockSupport.parkNanos(wait);
-            ring.offer(streams[k], next[k], 3, v, 3);
-            next[k] += periodNs[k];
-            events++;
+        long deliveries = 0;
+        if (latencyUs == 0) {
+            // Without batching: each event at its own time.
+            while (true) {
+                int k = 0;
+                for (int i = 1; i < 3; i++) if (next[i] < next[k]) k = i;
+                if (next[k] >= end) break;
+                long wait = next[k] - System.nanoTime();
+                if (wait > 0) LockSupport.parkNanos(wait);
+                ring.offer(streams[k], next[k], 3, v, 3);
+                next[k] += periodNs[k];
+                events++;
+                deliveries++;
+            }
+        } else {
+            // As a FIFO: every latency, each sensor's events since the last delivery, one sensor after another.
+            long latencyNs = latencyUs * 1000L;
+            for (long at = start + latencyNs; at <= end; at += latencyNs) {
+                long wait = at - System.nanoTime();
+                if (wait > 0) LockSupport.parkNanos(wait);
+                for (int k = 0; k < 3; k++) {
+                    while (next[k] <= at) {
+                        ring.offer(streams[k], next[k], 3, v, 3);
+                        next[k] += periodNs[k];
+                        events++;
+                    }
+                }
+                deliveries++;
+            }
         }
         long elapsed = System.nanoTime() - start;
         long switches = switches(task) - switches0;
@@ -76,10 +115,19 @@ public final class CaptureWakeUps {
         if (recorder != null) FloodCapture.detach(capture, recorder);
         if (onScreen) user(capture, "release");
         capture.release();
-        System.out.printf("%s: %,d events in %.1f s; capture thread: %.1f wake-ups/s, %.0f ms CPU per minute%n",
-            what, events, elapsed / 1e9, switches / (elapsed / 1e9), cpu / 1e6 / (elapsed / 6e10));
+        System.out.printf("%s: %,d events in %.1f s, delivered %.1f times a second; capture thread: %.1f wake-ups/s, %.0f ms CPU per minute; late %d%n",
+            what, events, elapsed / 1e9, deliveries / (elapsed / 1e9), switches / (elapsed / 1e9), cpu / 1e6 / (elapsed / 6e10), lateEvents(capture));
         try (Stream<Path> files = Files.walk(dir)) {
             files.sorted(Comparator.reverseOrder()).forEach(p -> p.toFile().delete());
+        }
+    }
+
+    /** Events the capture's reorder window passed on out of order (-1 where it does not count them). */
+    private static long lateEvents(Capture c) {
+        try {
+            return c.getLateEvents();
+        } catch (NoSuchMethodError e) {
+            return -1;
         }
     }
 

@@ -3,6 +3,7 @@ package dev.motionfusion.app.live
 import dev.motionfusion.app.sensor.EventRing
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.sensor.ReorderWindow
+import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorHub
 import dev.motionfusion.app.sensor.SensorSource
 import dev.motionfusion.app.sensor.SensorInfo
@@ -83,6 +84,15 @@ internal sealed interface TapEnd {
  * and rate changes wait while a recording is attached, so that a session has one set of
  * settings, the one in its meta.json. [acquire], [release] and [attach]/[detach] are called on
  * the main thread.
+ *
+ * Hardware batching: while no holder shows the results on screen (only a recording holds it), the
+ * sensors deliver in batches of up to their report latency ([SensorSource.reportLatencyUs], from
+ * their FIFO sizes); the reorder window then widens to the latency and a margin ([windowFor]) and
+ * its queues grow to hold it ([capacityFor]), so that the sensors' separate batches still come out
+ * in the order a replay of the recording reads them. When a screen acquires it again, the events
+ * come at once ([SensorSource.immediate]), the FIFOs are flushed, and the window narrows back once
+ * they have arrived. A recording's start and end wait (at most [FLUSH_TIMEOUT_NS]) for the FIFOs'
+ * events, so that every event up to the request belongs to the recording, and none after it.
  */
 class Capture internal constructor(
     /** The one queue between the sensor thread and the capture thread. */
@@ -100,7 +110,12 @@ class Capture internal constructor(
     /** With no event for this long (monotonic clock), the reorder window is emptied. */
     private val quietFlushNs: Long = 100_000_000L,
 ) {
+    private val baseWindowNs = reorderWindowNs
     private val reorder = ReorderWindow(windowNs = reorderWindowNs)
+
+    /** The report latency the reorder window is set up for, and the window it needs (capture thread). */
+    private var batchLatencyUs = 0
+    private var batchWindowNs = reorderWindowNs
 
     /** The live-screen kinds the device has. */
     val available: Set<SensorKind> = hub.availableKinds
@@ -203,8 +218,26 @@ class Capture internal constructor(
     /** The settings of the filter in use. */
     internal fun filterSettingsInUse(): FilterSettings = synchronized(pipeline) { pipeline.filterSettings }
 
-    /** Users showing the capture on screen (the live screen, calibration): the thread wakes more often while there are any. */
+    /** Users showing the capture on screen (the live screen, calibration, the stream): the thread wakes more often while there are any. */
     @Volatile private var onScreen = 0
+
+    /** When (monotonic) the last screen came after none: the wide reorder window narrows once the FIFOs flushed then have arrived. */
+    @Volatile private var screenSinceNs = 0L
+
+    /** When (monotonic) the pending attach or detach asked the sensors to flush their FIFOs. */
+    @Volatile private var flushAskedNs = 0L
+
+    /** The report latency the sensors are registered with now (0: every event as it comes). */
+    val reportLatencyUs: Int get() = hub.registeredLatencyUs
+
+    /** The report latency a recording of [streams] (null: all) at [rate] is registered with, for its meta.json. */
+    internal fun reportLatencyUsFor(rate: SamplingRate, streams: Set<SessionStream>? = null): Int = hub.reportLatencyUs(rate, streams)
+
+    /** The reorder window in force now (sensor time; capture thread, tests). */
+    internal val reorderWindowNs: Long get() = synchronized(pipeline) { reorder.windowNs }
+
+    /** Events each stream's reorder queue holds now (tests). */
+    internal val reorderCapacity: Int get() = synchronized(pipeline) { reorder.capacity }
 
     /**
      * One more user (the visible live screen, a recording): the first one registers the sensors.
@@ -212,7 +245,14 @@ class Capture internal constructor(
      */
     @JvmOverloads
     fun acquire(onScreen: Boolean = false) {
-        if (onScreen) this.onScreen++
+        if (onScreen) {
+            if (this.onScreen == 0) {
+                // Before the count: the capture thread must not see a screen without the flush it waits for.
+                hub.immediate(true)
+                screenSinceNs = nanoTime()
+            }
+            this.onScreen++
+        }
         users++
         if (users > 1) return
         hub.start(settings.value.rate)
@@ -229,7 +269,10 @@ class Capture internal constructor(
     @JvmOverloads
     fun release(onScreen: Boolean = false) {
         if (users == 0) return
-        if (onScreen && this.onScreen > 0) this.onScreen--
+        if (onScreen && this.onScreen > 0) {
+            this.onScreen--
+            if (this.onScreen == 0) hub.immediate(false)
+        }
         users--
         if (users > 0) return
         hub.stop()
@@ -256,21 +299,69 @@ class Capture internal constructor(
         check(isRunning) { "attach needs a running capture" }
         recording = true
         hub.start(settings.rate, streams)
+        askFlush()
         attachRequest = Attach(tap, settings, calibrationFor(calibration))
         thread?.let(LockSupport::unpark)
     }
 
     private class Attach(val tap: CaptureTap, val settings: LiveSettings, val calibration: Calibration?)
 
+    /** Batching: asks for the FIFOs' events, which the pending attach or detach waits for. */
+    private fun askFlush() {
+        if (hub.registeredLatencyUs == 0) return
+        flushAskedNs = nanoTime()
+        hub.flush()
+    }
+
+    /** Every event up to the last flush request is in the ring, or the sensors did not say so in time. */
+    private fun flushArrived(now: Long): Boolean = hub.flushed || now - flushAskedNs >= FLUSH_TIMEOUT_NS
+
+    /**
+     * Sets the reorder window up for the registered report latency, before a batch is drained:
+     * its queues sized for it (allocated here, not per event), and wide while batching with
+     * nothing on screen. Narrowing waits for [narrowAfterDrain].
+     */
+    private fun configureReorder() {
+        val latency = hub.registeredLatencyUs
+        if (latency != batchLatencyUs) {
+            batchLatencyUs = latency
+            batchWindowNs = windowFor(latency, baseWindowNs)
+            reorder.ensureCapacity(capacityFor(hub.maxEventsPerSecond, batchWindowNs))
+        }
+        if (latency == 0) reorder.windowNs = baseWindowNs
+        else if (onScreen == 0) reorder.windowNs = batchWindowNs
+    }
+
+    /**
+     * With a screen showing the events ([screen], read before [flushedBefore]), the wide window
+     * narrows once the FIFOs flushed when the screen came have been drained ([flushedBefore]: read
+     * before the drain, which [drainedAll]),
+     * or after as long as a batch can take; narrowed earlier, one sensor's flushed batch would be
+     * released before another's older events arrived.
+     */
+    private fun narrowAfterDrain(screen: Boolean, flushedBefore: Boolean, drainedAll: Boolean, now: Long) {
+        if (!screen || reorder.windowNs <= baseWindowNs) return
+        if ((flushedBefore && drainedAll) || now - screenSinceNs >= batchWindowNs) reorder.windowNs = baseWindowNs
+    }
+
+    /** With no event for this long the reorder window is emptied: longer than the time between two batches. */
+    private fun quietNs(): Long = quietFlushNs + (reorder.windowNs - baseWindowNs).coerceAtLeast(0L)
+
     /** Hands [tap] every event up to now, then ends it ([CaptureTap.end] on the capture thread). */
     internal fun detach(tap: CaptureTap) {
+        askFlush()
         detachRequest = tap
         thread?.let(LockSupport::unpark)
     }
 
     /** One batch of the capture thread: returns the events drained. Tests call it directly. */
     internal fun pump(): Int = synchronized(pipeline) {
-        attachRequest?.let { a ->
+        configureReorder()
+        // The screen count first: a screen seen here had its flush asked before, so the flag read next is that flush's.
+        val screen = onScreen > 0
+        val flushedBefore = hub.flushed
+        val requestReady = (attachRequest == null && detachRequest == null) || flushArrived(nanoTime())
+        attachRequest?.takeIf { requestReady }?.let { a ->
             attachRequest = null
             // Events queued before the start belong to the time before it.
             ring.drain(toReorder)
@@ -283,15 +374,16 @@ class Capture internal constructor(
         }
         val n = ring.drain(toReorder, BATCH)
         val now = nanoTime()
+        narrowAfterDrain(screen, flushedBefore, n < BATCH, now)
         if (n > 0) {
             lastEventNs = now
             changed = true
-        } else if (reorder.size > 0 && now - lastEventNs >= quietFlushNs) {
+        } else if (reorder.size > 0 && now - lastEventNs >= quietNs()) {
             reorder.flush(dispatch)
             changed = true
         }
         val t = tap
-        if (t != null && detachRequest === t) {
+        if (t != null && detachRequest === t && requestReady) {
             detachRequest = null
             ring.drain(toReorder)
             reorder.flush(dispatch)
@@ -325,7 +417,9 @@ class Capture internal constructor(
         while (running) {
             val n = pump()
             wakeUps++
-            val wait = waitAfter(n, reorder.size, tap != null, onScreen > 0, quietFlushNs)
+            var wait = waitAfter(n, reorder.size, tap != null, onScreen > 0, quietNs())
+            // An attach or detach waiting for the FIFOs' events: looked at again soon.
+            if (attachRequest != null || detachRequest != null) wait = minOf(wait, ON_SCREEN_WAIT_NS)
             if (n == 0) ring.awaitEvent(wait) else if (wait > 0) LockSupport.parkNanos(wait)
         }
     }
@@ -439,5 +533,24 @@ class Capture internal constructor(
             else -> IDLE_WAIT_NS
         }
         private val NOT_OFFERED = Any()
+
+        /** The longest a recording's start or end waits for the sensors to deliver their FIFOs. */
+        const val FLUSH_TIMEOUT_NS = 1_000_000_000L
+
+        /**
+         * The reorder window for a report latency of [latencyUs]: [baseNs] without batching; with it,
+         * the latency and a quarter (rates are hints, a sensor's batch may come late) plus [baseNs]:
+         * another sensor's batch holding older events arrives, at the latest, a latency after them.
+         */
+        fun windowFor(latencyUs: Int, baseNs: Long = ReorderWindow.DEFAULT_WINDOW_NS): Long =
+            if (latencyUs <= 0) baseNs else baseNs + latencyUs * 1_250L
+
+        /**
+         * Events per stream the reorder window must hold for [windowNs] of a stream delivering
+         * [eventsPerSecond]: twice that (a device may deliver faster than asked), at least
+         * [ReorderWindow.DEFAULT_CAPACITY].
+         */
+        fun capacityFor(eventsPerSecond: Double, windowNs: Long): Int =
+            maxOf(ReorderWindow.DEFAULT_CAPACITY, kotlin.math.ceil(2.0 * eventsPerSecond * windowNs / 1e9).toInt())
     }
 }

@@ -249,6 +249,8 @@ class RecordingService : Service() {
         val applied = if (stored?.appliedInLiveFilter == true) capture.calibrationFor(stored.calibration) else null
         val calibration = stored?.copy(appliedInLiveFilter = applied != null)
         val rate = live.rate
+        // The latency the recording's listener is registered with (it stays registered so while the recording runs).
+        val latencyUs = capture.reportLatencyUsFor(rate, if (still) STILL_STREAMS else null)
         val continues = continues
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
@@ -264,7 +266,7 @@ class RecordingService : Service() {
                 dir = d
                 val metadata = RecordingMetadata.create(
                     version,
-                    sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, 0) },
+                    sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, latencyUs) },
                     filterSettings,
                     anchor,
                     calibration,

@@ -72,12 +72,13 @@ class CoreRecordingTest {
      * sensor's batch of [batch] events in turn (so the merged stream steps back by up to a batch),
      * the capture thread pumping between batches.
      */
-    private fun recordSimulated(dir: File, seconds: Double, stopAtEnd: Boolean = true, batch: Int = 5): Pair<Recorder, TestCapture> {
+    private fun recordSimulated(dir: File, seconds: Double, stopAtEnd: Boolean = true, batch: Int = 5, latencyUs: Int = 0): Pair<Recorder, TestCapture> {
         val sim = MotionSimulator(SimulationSettings(seed = 7, rateHz = 200.0, durationS = seconds)).run().toList()
-        val c = TestCapture()
+        val c = TestCapture(latencyUs = latencyUs)
         val recorder = Recorder(CoreSessionFormat.create(dir, metadata.copy(filterSettings = c.capture.filterSettingsFor(c.settings.value))), onEnd = {}, flushIntervalNs = 100_000_000L)
         c.record(recorder)
-        for (chunk in sim.chunked(batch)) {
+        if (latencyUs > 0) deliverBatched(c, sim, latencyUs * 1000L)
+        else for (chunk in sim.chunked(batch)) {
             for (s in chunk) c.offer(SessionStream.GYROSCOPE, s.timestampNs + 200_000, s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat())
             c.capture.pump()
             for (s in chunk) c.offer(SessionStream.ACCELEROMETER, s.timestampNs, s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat())
@@ -96,6 +97,34 @@ class CoreRecordingTest {
         assertEquals(0L, c.capture.lateEvents, "every event was put in order")
         if (stopAtEnd) c.stop(recorder)
         return recorder to c
+    }
+
+    /**
+     * The simulated motion delivered as sensors with hardware FIFOs deliver it while nothing is on
+     * screen: each sensor's events gathered for [latencyNs] and handed over whole, the gyroscope's,
+     * the accelerometer's with the rotation vector's (one shared FIFO) and the magnetometer's at
+     * their own phases, the capture thread pumping after each sensor's batch.
+     */
+    private fun deliverBatched(c: TestCapture, sim: List<dev.motionfusion.core.sim.SimulatedSample>, latencyNs: Long) {
+        class E(val stream: SessionStream, val t: Long, val v: FloatArray)
+        val events = ArrayList<E>()
+        for (s in sim) {
+            events += E(SessionStream.GYROSCOPE, s.timestampNs + 200_000, floatArrayOf(s.gyro.x.toFloat(), s.gyro.y.toFloat(), s.gyro.z.toFloat()))
+            events += E(SessionStream.ACCELEROMETER, s.timestampNs, floatArrayOf(s.acc.x.toFloat(), s.acc.y.toFloat(), s.acc.z.toFloat()))
+            val q = s.truth
+            events += E(SessionStream.ROTATION_VECTOR, s.timestampNs + 300_000, floatArrayOf(q.x.toFloat(), q.y.toFloat(), q.z.toFloat(), q.w.toFloat(), 0.1f))
+            events += E(SessionStream.MAGNETOMETER, s.timestampNs + 100_000, floatArrayOf(s.mag.x.toFloat(), s.mag.y.toFloat(), s.mag.z.toFloat()))
+        }
+        val phase = mapOf(
+            SessionStream.GYROSCOPE to 0L, SessionStream.ACCELEROMETER to latencyNs * 2 / 5,
+            SessionStream.ROTATION_VECTOR to latencyNs * 2 / 5, SessionStream.MAGNETOMETER to latencyNs * 3 / 4,
+        )
+        val order = listOf(SessionStream.GYROSCOPE, SessionStream.ROTATION_VECTOR, SessionStream.ACCELEROMETER, SessionStream.MAGNETOMETER)
+        for (b in dev.motionfusion.app.sensor.FifoBatches.of(events, { it.stream }, { it.t }, latencyNs, { phase.getValue(it) }, order)) {
+            c.nowNs = b.deliveredNs
+            for (e in b.events) c.offer(e.stream, e.t, *e.v)
+            c.capture.pump()
+        }
     }
 
     /**
@@ -141,9 +170,16 @@ class CoreRecordingTest {
     }
 
     @Test
-    fun `an exported zip replays to the same orientation as the live output`() {
+    fun `an exported zip replays to the same orientation as the live output`() = replaysAsLive(latencyUs = 0)
+
+    /** The same with the sensors' batches of 2 s delivered separately, as hardware batching with nothing on screen does. */
+    @Test
+    fun `with hardware batching the replay still equals the live output`() = replaysAsLive(latencyUs = 2_000_000)
+
+    private fun replaysAsLive(latencyUs: Int) {
         val dir = File(tmp, "session_motion")
-        recordSimulated(dir, 20.0)
+        val (_, c) = recordSimulated(dir, 20.0, latencyUs = latencyUs)
+        if (latencyUs > 0) assertEquals(dev.motionfusion.app.live.Capture.windowFor(latencyUs), c.capture.reorderWindowNs)
         val zip = File(tmp, "out/session_motion.zip")
         Exporter.writeZip(dir, zip)
         SessionReader.open(zip.toPath()).use { r ->

@@ -90,4 +90,61 @@ class ReorderWindowTest {
         w.flush(sink)
         assertEquals(listOf(false, false, true, false, false, false), out.map { it.gap })
     }
+
+    /**
+     * Eight streams at 400 Hz (the magnetometer at 100 Hz) for 60 s, delivered as FIFOs with a
+     * 5-s report latency would: each stream's batch whole, at its own phase. The window set up for
+     * that latency puts them all in order; narrower, or with the queues of the default size, it
+     * passes events on out of order (a queue of 1024 holds 2.6 s of one stream: half a batch).
+     */
+    @Test
+    fun `hardware batches of several seconds, interleaved by sensor, come out in order with the window set for the latency`() {
+        val latencyUs = 5_000_000
+        val rnd = Random(11)
+        val events = ArrayList<Pair<SessionStream, Long>>()
+        for (s in SensorStreams.all) {
+            val period = if (s == SessionStream.MAGNETOMETER) 10_000_000L else 2_500_000L
+            var t = rnd.nextLong(period)
+            while (t < 60_000_000_000L) {
+                events += s to t
+                t += period + rnd.nextLong(-100_000L, 100_000L) // jitter
+            }
+        }
+        val phases = SensorStreams.all.associateWith { if (it.ordinal % 3 == 0) 0L else rnd.nextLong(latencyUs * 1000L) }
+        val batches = FifoBatches.of(events, { it.first }, { it.second }, latencyUs * 1000L, { phases.getValue(it) })
+
+        fun run(w: ReorderWindow): ReorderWindow {
+            out.clear()
+            for (b in batches) for ((s, t) in b.events) w.add(s, t)
+            w.flush(sink)
+            assertEquals(events.size, out.size)
+            return w
+        }
+        val window = dev.motionfusion.app.live.Capture.windowFor(latencyUs)
+        val set = run(ReorderWindow(windowNs = window).apply { ensureCapacity(dev.motionfusion.app.live.Capture.capacityFor(400.0, window)) })
+        assertEquals(0L, set.late, "no event passed on out of order")
+        val key = compareBy<Out>({ it.t }, { it.stream.ordinal })
+        assertEquals(out.sortedWith(key).map { it.t to it.stream }, out.map { it.t to it.stream })
+        assertTrue(window >= latencyUs * 1000L + ReorderWindow.DEFAULT_WINDOW_NS)
+        // The mechanism off: the window of unbatched delivery, or queues too small for a batch.
+        val narrow = run(ReorderWindow(windowNs = ReorderWindow.DEFAULT_WINDOW_NS).apply { ensureCapacity(1 shl 14) }).late
+        val small = run(ReorderWindow(windowNs = window)).late
+        println("batched delivery, 5-s latency, ${events.size} events: late with the unbatched window $narrow, with the default queues $small")
+        assertTrue(narrow > 10_000)
+        assertTrue(small > 0)
+    }
+
+    @Test
+    fun `growing the queues keeps the events waiting, in order`() {
+        val w = ReorderWindow(capacity = 4, windowNs = 1_000)
+        for (t in 0L until 3L) w.add(SessionStream.GYROSCOPE, t * 10)
+        for (t in 0L until 3L) w.add(SessionStream.ACCELEROMETER, t * 10 + 5)
+        w.ensureCapacity(64)
+        assertEquals(64, w.capacity)
+        for (t in 3L until 40L) w.add(SessionStream.GYROSCOPE, t * 10)
+        assertTrue(out.isEmpty(), "nothing released early: the queues grew")
+        w.flush(sink)
+        assertEquals(out.map { it.t }.sorted(), out.map { it.t })
+        assertEquals(43, out.size)
+    }
 }
