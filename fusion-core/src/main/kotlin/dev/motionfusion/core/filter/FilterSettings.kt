@@ -62,7 +62,8 @@ public enum class Initialisation {
  *   Default 0.1 (10 %).
  * @property magDipTolerance allowed deviation of the dip angle from the reference, rad. Default 10°.
  * @property magMaxRejectionTime after this long continuously disturbed, the current field becomes
- *   the new reference (a new environment), s. Default 60 s.
+ *   the new reference (a new environment), s; with magRejectionFactor, the budget of the hold instead.
+ *   Default 60 s.
  * @property magReferenceTime time constant with which the reference follows an undisturbed field,
  *   s. Default 20 s.
  * @property accRejection skip the accelerometer correction during strong non-gravitational
@@ -103,6 +104,16 @@ public enum class Initialisation {
  *   linearly over this time after a disturbance ends or a new reference is taken, s, instead of at once (and
  *   a new reference then does not restart the fast heading convergence): the heading carried by the
  *   gyroscope is pulled onto the field without a jump. 0: at once, as before. Default 0.
+ * @property magRejectionFactor with magDisturbanceRejection, a hold limited in time: the time rejected
+ *   counts up while the field is disturbed and down at this factor while it is not; once it exceeds
+ *   magMaxRejectionTime the disturbed field is used again at headingGain divided by this factor, and the
+ *   reference stays (VQF's counting). 0: after magMaxRejectionTime continuously disturbed the field of
+ *   that moment becomes the reference, as before. Default 0.
+ * @property magFirstFieldTime with magDisturbanceRejection, the first reading is not the reference: the
+ *   field is used until one has stayed within the tolerances of its own running mean for this long
+ *   (counted as for magNewFieldMinGyro), which becomes the reference, s. 0: the first reading. Default 0.
+ * @property magUndisturbedTime with magDisturbanceRejection, a disturbance ends only once the field has
+ *   agreed with the reference for this long, s. 0: at once. Default 0.
  * @property inclinationRecoveryBeta re-convergence of inclination after violent motion, rad/s: at the
  *   start (a first reading taken in motion) and after a saturated gyroscope reading (gyroSaturation),
  *   once the accelerometer's magnitude has stayed within accNormTolerance of standard gravity for
@@ -150,6 +161,9 @@ public data class FilterSettings(
     val magNewFieldTime: Double = 0.0,
     val magNewFieldMinGyro: Double = 0.0,
     val magResumeTime: Double = 0.0,
+    val magRejectionFactor: Double = 0.0,
+    val magFirstFieldTime: Double = 0.0,
+    val magUndisturbedTime: Double = 0.0,
     val accRejection: Boolean = false,
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
@@ -190,6 +204,9 @@ public data class FilterSettings(
         requireFinite("magNewFieldTime", magNewFieldTime, min = 0.0)
         requireFinite("magNewFieldMinGyro", magNewFieldMinGyro, min = 0.0)
         requireFinite("magResumeTime", magResumeTime, min = 0.0)
+        requireFinite("magRejectionFactor", magRejectionFactor, min = 0.0)
+        requireFinite("magFirstFieldTime", magFirstFieldTime, min = 0.0)
+        requireFinite("magUndisturbedTime", magUndisturbedTime, min = 0.0)
         requireFinite("inclinationRecoveryBeta", inclinationRecoveryBeta, min = 0.0)
         requirePositive("accTrustTime", accTrustTime)
         require(recoveryAngle.isFinite() && recoveryAngle >= 0.0 && recoveryAngle < PI) { "recoveryAngle must be in [0, π) rad: $recoveryAngle" }

@@ -64,6 +64,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val bias = GyroBiasEstimate(settings)
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val magResume = magDetector != null && settings.magResumeTime > 0.0
+    private val magScaled = magDetector != null && (settings.magResumeTime > 0.0 || settings.magRejectionFactor > 0.0)
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val lowPass = AccelerometerLowPass(settings)
     private val recovery = InclinationRecovery(settings)
@@ -202,8 +203,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             else -> gyroStep(dt, x, y, z)
         }
         if (useMag && heading.enabled) {
-            // After a disturbance the gain comes back as a ramp (magResumeTime), the bias estimate with it.
-            val f = if (magResume) magDetector!!.gainFactor else 1.0
+            // After a disturbance the gain comes back as a ramp (magResumeTime), the bias estimate with it;
+            // a disturbed field used after the hold's budget is spent enters at a reduced gain (magRejectionFactor).
+            val f = if (magScaled) magDetector!!.gainFactor else 1.0
             val sinDelta = headingStep(dt * heading.gain(dt, f))
             heading.observe(sinDelta)
             if (bias.inMotion) bias.motion(dt * f, sinDelta, upX(), upY(), upZ())

@@ -13,6 +13,13 @@
  * is learnt only from the time the phone turns (a field that is steady because nothing moves says nothing
  * about whether it is the environment's), and once the field is trusted again the heading gain comes back
  * as a ramp ([gainFactor]) instead of at once, so the heading the gyroscope carried is not pulled with a jump.
+ *
+ * A hold limited in time (magRejectionFactor, magFirstFieldTime, magUndisturbedTime; the counting of VQF,
+ * Laidig & Seel 2023): the time rejected is a budget that fills while the field is disturbed and drains at
+ * magRejectionFactor while it is not; with the budget spent the disturbed field is used at a reduced gain and
+ * the reference is kept. The first reference is a field that stayed steady for magFirstFieldTime rather than
+ * the first reading (until then the field is used), and a disturbance ends once the field has agreed with the
+ * reference for magUndisturbedTime.
  */
 package dev.motionfusion.core.filter
 
@@ -27,12 +34,27 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val newFieldTime = settings.magNewFieldTime
     private val newFieldMinGyro2 = settings.magNewFieldMinGyro * settings.magNewFieldMinGyro
     private val resumeRate = if (settings.magResumeTime > 0.0) 1.0 / settings.magResumeTime else Double.POSITIVE_INFINITY
+    private val rejectionFactor = settings.magRejectionFactor
+    private val reducedGain = if (rejectionFactor > 0.0) 1.0 / rejectionFactor else 1.0
+    private val firstFieldTime = settings.magFirstFieldTime
+    private val undisturbedTime = settings.magUndisturbedTime
+
+    // Time the field has agreed with the reference without a break, s.
+    private var agreeTime = 0.0
+
+    // The hold's budget (magRejectionFactor > 0): time rejected, s; and whether it is spent.
+    private var rejectTime = 0.0
+    private var overBudget = false
 
     // Time since the field was last disturbed (or since a new reference), s; infinite before any disturbance.
     private var sinceDisturbed = Double.POSITIVE_INFINITY
 
     /** Fraction of the heading gain to apply to the current reading: 0 while disturbed, then a ramp up to 1 over magResumeTime. */
-    val gainFactor: Double get() = if (disturbed) 0.0 else minOf(1.0, sinceDisturbed * resumeRate)
+    val gainFactor: Double get() = when {
+        disturbed -> if (overBudget) reducedGain else 0.0
+        resumeRate == Double.POSITIVE_INFINITY -> 1.0
+        else -> minOf(1.0, sinceDisturbed * resumeRate)
+    }
 
     // A disturbed field's own running mean (the candidate for a new reference) and how long the
     // field has stayed within the tolerances of it.
@@ -53,7 +75,8 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         private set
 
     /** True when the next reading will become the reference (so its raw dip is needed). */
-    val needsReference: Boolean get() = !hasReference || disturbedTime > maxRejectionTime
+    val needsReference: Boolean get() =
+        (!hasReference && firstFieldTime == 0.0) || (rejectionFactor == 0.0 && disturbedTime > maxRejectionTime)
 
     /**
      * Classifies one magnetometer reading of magnitude [norm] whose dip has sine [sinDip] (the
@@ -75,7 +98,33 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             disturbed = false
             return true
         }
-        disturbed = !matches(norm, sinDip, refNorm, refSinDip)
+        if (!hasReference) {
+            // magFirstFieldTime: the field is used while a steady one is awaited.
+            if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
+                if (rate2 >= newFieldMinGyro2) steadyTime += dt
+                val k = minOf(1.0, dt / steadyTime)
+                candNorm += k * (norm - candNorm)
+                candSinDip += k * (sinDip - candSinDip)
+            } else {
+                candNorm = norm
+                candSinDip = sinDip
+                steadyTime = dt
+            }
+            if (steadyTime >= firstFieldTime) {
+                refNorm = candNorm
+                refSinDip = candSinDip
+                hasReference = true
+                steadyTime = 0.0
+            }
+            return true
+        }
+        if (matches(norm, sinDip, refNorm, refSinDip)) {
+            agreeTime += dt
+            if (agreeTime >= undisturbedTime) disturbed = false
+        } else {
+            agreeTime = 0.0
+            disturbed = true
+        }
         if (disturbed && newFieldTime > 0.0) {
             if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
                 // Only time in motion counts (magNewFieldMinGyro); the candidate mean still follows.
@@ -96,6 +145,17 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
                 sinceDisturbed = 0.0
             }
         }
+        if (rejectionFactor > 0.0) {
+            if (!disturbed) {
+                rejectTime = maxOf(0.0, rejectTime - rejectionFactor * dt)
+                overBudget = false
+            } else if (rejectTime <= maxRejectionTime) {
+                rejectTime += dt
+                overBudget = false
+            } else {
+                overBudget = true
+            }
+        }
         if (disturbed) {
             disturbedTime += dt
             sinceDisturbed = 0.0
@@ -107,7 +167,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             refNorm += k * (norm - refNorm)
             refSinDip += k * (sinDip - refSinDip)
         }
-        return !disturbed
+        return !disturbed || overBudget
     }
 
     // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
@@ -126,6 +186,9 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         disturbedTime = 0.0
         disturbed = false
         newReference = false
+        agreeTime = 0.0
+        rejectTime = 0.0
+        overBudget = false
     }
 
     fun writeState(d: DoubleArray, at: Int): Int {
@@ -138,6 +201,9 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         d[at + 6] = candSinDip
         d[at + 7] = steadyTime
         d[at + 8] = sinceDisturbed
+        d[at + 9] = agreeTime
+        d[at + 10] = rejectTime
+        d[at + 11] = if (overBudget) 1.0 else 0.0
         return at + STATE_SIZE
     }
 
@@ -151,10 +217,13 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         candSinDip = d[at + 6]
         steadyTime = d[at + 7]
         sinceDisturbed = d[at + 8]
+        agreeTime = d[at + 9]
+        rejectTime = d[at + 10]
+        overBudget = d[at + 11] != 0.0
         return at + STATE_SIZE
     }
 
     companion object {
-        const val STATE_SIZE = 9
+        const val STATE_SIZE = 12
     }
 }

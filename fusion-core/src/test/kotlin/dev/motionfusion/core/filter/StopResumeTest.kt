@@ -100,8 +100,15 @@ class StopResumeTest {
         case("during the heading gain's ramp after the disturbance", phone) {
             middle(phone, 0.0) { it.magneticGainFactor > 0.0 && it.magneticGainFactor < 1.0 }
         },
+        budget.let { s ->
+            case("with the hold's budget spent, the disturbed field used at half the gain", s) {
+                middle(s, 0.0) { it.diagnostics().magneticDisturbance && it.magneticGainFactor == 0.5 }
+            }
+        },
         margZeta.let { s -> case("the report's MARG gradient with ζ, the accelerometer rejected", s) { middle(s, 0.0) { it.diagnostics().accelerometerRejected } } },
     )
+
+    private val budget = phone.copy(magRejectionFactor = 2.0, magMaxRejectionTime = 3.0, magFirstFieldTime = 2.0, magUndisturbedTime = 0.5)
 
     private val margZeta = FilterSettings(headingGain = 0.0, zeta = 0.002, accRejection = true)
 
