@@ -186,7 +186,10 @@ public class StreamServer(
         client.subscribe(streams, request.rateHz)
         // The hello and the flag together: the sender waits for both, so every message published after the
         // client got its hello reaches it, and none goes before the hello.
+        // [Client.accepted] is set before the hello goes out, so that whoever has received it finds the client
+        // listed as paired.
         synchronized(client.pairing) {
+            client.accepted = true
             client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
             client.paired = true
         }
@@ -232,6 +235,11 @@ public class StreamServer(
     private inner class Client(val conn: WebSocketImpl, val address: String) {
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
+
+        /** The code was right: set just before the hello is queued (what [info] reports as paired). */
+        @Volatile var accepted = false
+
+        /** The hello is queued: the sender may send this client messages. */
         @Volatile var paired = false
         @Volatile private var streams: List<SessionStream> = emptyList()
         @Volatile private var rateHz: Double? = null
@@ -304,7 +312,7 @@ public class StreamServer(
         }
 
         fun info() = StreamClientInfo(
-            address, paired, streams, rateHz, sent, dropped, achievedRateHz,
+            address, accepted, streams, rateHz, sent, dropped, achievedRateHz,
             stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
         )
     }
