@@ -21,6 +21,16 @@ import java.io.File
 /** One row of the list: a readable summary (size, duration, rates), or why the session cannot be read. */
 internal data class SessionItem(val dir: File, val summary: SessionSummary?, val error: String?, val recordingNow: Boolean = false)
 
+/**
+ * Why the session in [dir] cannot be read, as the list and the detail screen show it: the reader's message
+ * with the session folder's own path left out (the files are named as inside the session, "meta.json:3:14: …",
+ * not by the app's private storage path).
+ */
+internal fun readError(dir: File, e: Exception): String {
+    val message = e.message ?: e.javaClass.simpleName
+    return listOf(dir.absolutePath, dir.path).distinct().fold(message) { m, p -> m.replace(p + File.separator, "") }
+}
+
 /** The sessions list: loading, the sessions (newest first; none: the empty text), or why the folder cannot be listed. */
 internal sealed interface SessionsUiState {
     data object Loading : SessionsUiState
@@ -54,7 +64,7 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
             try {
                 SessionItem(dir, deps.library.summary(dir), null, deps.sessions.isRecording(dir))
             } catch (e: Exception) {
-                SessionItem(dir, null, e.message ?: e.javaClass.simpleName)
+                SessionItem(dir, null, readError(dir, e))
             }
         }
     }
@@ -116,7 +126,7 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
                 val (summary, angles, rates) = data
                 flow.value.copy(loading = false, summary = summary, angles = angles, rates = rates, recordingNow = deps.sessions.isRecording(dir), error = null)
             } catch (e: Exception) {
-                flow.value.copy(loading = false, error = e.message ?: e.javaClass.simpleName)
+                flow.value.copy(loading = false, error = readError(folder(), e))
             }
         }
     }
