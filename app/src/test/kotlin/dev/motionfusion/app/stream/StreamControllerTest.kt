@@ -14,12 +14,17 @@ import java.net.InetAddress
 import java.net.InetSocketAddress
 import java.net.ServerSocket
 import java.security.SecureRandom
+import java.util.concurrent.CountDownLatch
 import java.util.concurrent.Executor
+import java.util.concurrent.TimeUnit
 import java.util.concurrent.ConcurrentLinkedQueue
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.cancel
+import kotlinx.coroutines.flow.first
+import kotlinx.coroutines.runBlocking
+import kotlinx.coroutines.withTimeoutOrNull
 import org.junit.jupiter.api.AfterEach
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
@@ -68,12 +73,9 @@ class StreamControllerTest {
         scope.cancel()
     }
 
-    private fun until(what: String, timeoutMs: Long = 10_000, done: () -> Boolean) {
-        val end = System.nanoTime() + timeoutMs * 1_000_000
-        while (!done()) {
-            check(System.nanoTime() < end) { "timed out waiting for $what" }
-            Thread.sleep(5)
-        }
+    /** Waits for the controller's state to say [what] (it is refreshed about once a second); fails after 10 s. */
+    private fun awaitState(what: String, done: (StreamState) -> Boolean) {
+        runBlocking { withTimeoutOrNull(10_000) { controller.state.first(done) } } ?: error("timed out waiting for $what")
     }
 
     @Test
@@ -86,14 +88,21 @@ class StreamControllerTest {
         assertTrue(on.port > 0)
 
         val received = ConcurrentLinkedQueue<StreamMessage>()
-        val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { received += it }
+        val rounds = 200
+        // Every sample, and the orientation of every step once the filter has started (the first gyroscope reading starts it).
+        val samplesDue = CountDownLatch(rounds * 3)
+        val orientationsDue = CountDownLatch(rounds - 1)
+        val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) {
+            received += it
+            if (it is StreamMessage.Sample) samplesDue.countDown()
+            if (it is StreamMessage.Orientation) orientationsDue.countDown()
+        }
         try {
             val hello = client.connect()
             assertEquals(metadata, hello.metadata)
             assertTrue(SessionStream.ORIENTATION in hello.streams && SessionStream.GYROSCOPE in hello.streams, hello.streams.toString())
-            until("the client listed as paired") { controller.state.value.let { it is StreamState.On && it.clients.any { c -> c.paired } } }
+            awaitState("the client listed as paired") { it is StreamState.On && it.clients.any { c -> c.paired } }
 
-            val rounds = 200
             for (i in 0 until rounds) {
                 val t = 1_000_000_000L + i * 5_000_000L
                 c.offer(SessionStream.ACCELEROMETER, t, 0.1f, 0.2f, 9.81f, accuracy = 3)
@@ -104,9 +113,7 @@ class StreamControllerTest {
             c.nowNs += 1_000_000_000L
             c.drain()
 
-            until("every sample and orientation") {
-                received.count { it is StreamMessage.Sample } >= rounds * 3 && received.count { it is StreamMessage.Orientation } >= rounds - 1
-            }
+            assertTrue(samplesDue.await(10, TimeUnit.SECONDS) && orientationsDue.await(10, TimeUnit.SECONDS), "every sample and orientation")
             val samples = received.filterIsInstance<StreamMessage.Sample>()
             assertEquals(rounds * 3, samples.size)
             val gyro = samples.filter { it.stream == SessionStream.GYROSCOPE }

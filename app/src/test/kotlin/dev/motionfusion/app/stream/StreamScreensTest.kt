@@ -19,8 +19,8 @@ import java.net.InetSocketAddress
 import java.net.URI
 import java.time.Duration
 import java.util.concurrent.CountDownLatch
+import java.util.concurrent.TimeUnit
 import java.util.concurrent.atomic.AtomicBoolean
-import java.util.concurrent.atomic.AtomicInteger
 import dev.motionfusion.stream.StreamServerSettings
 import org.junit.After
 import org.junit.Assert.assertEquals
@@ -69,16 +69,6 @@ class StreamScreensTest {
         graph.settle()
     }
 
-    private fun waitFor(what: String, done: () -> Boolean) {
-        val end = System.nanoTime() + 10_000_000_000L
-        while (!done()) {
-            check(System.nanoTime() < end) { "timed out waiting for $what" }
-            Thread.sleep(10)
-            // The screen's refresh, about once a second.
-            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(200))
-        }
-    }
-
     @Test
     fun `off, on and waiting, and a paired client with its rate and drops`() {
         val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
@@ -106,17 +96,18 @@ class StreamScreensTest {
         assertEquals("adb forward tcp:8765 tcp:8765, then ws://127.0.0.1:8765", a.findViewById<TextView>(R.id.stream_usb).text.toString())
         Screenshots.captureScreen(a, "stream-waiting")
 
-        val got = AtomicInteger()
-        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.incrementAndGet() }
+        val got = CountDownLatch(400)
+        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.countDown() }
         client!!.connect()
         val v = floatArrayOf(0.01f, -0.02f, 0.003f)
         for (i in 0 until 400) graph.capture.ring.offer(SessionStream.GYROSCOPE, 1_000_000_000L + i * 5_000_000L, 3, v, 3)
         graph.pump()
-        waitFor("the samples at the client and on the screen") {
-            val c = (graph.graph.stream.state.value as StreamState.On).clients.singleOrNull()
-            got.get() >= 400 && c != null && c.sent >= 400 && c.achievedRateHz > 0 &&
-                a.findViewById<TextView>(R.id.stream_clients).text.contains("${c.sent} sent")
-        }
+        assertTrue("the client got the samples", got.await(10, TimeUnit.SECONDS))
+        // The sender counted them before they left; the screen shows them at its next refresh.
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+        val c = (graph.graph.stream.state.value as StreamState.On).clients.single()
+        assertTrue("$c", c.sent >= 400 && c.achievedRateHz > 0)
+        assertTrue(a.findViewById<TextView>(R.id.stream_clients).text.contains("${c.sent} sent"))
         val line = a.findViewById<TextView>(R.id.stream_clients).text.toString()
         assertTrue(line, line.startsWith("127.0.0.1: ") && line.endsWith("0 dropped") && "stalled" !in line)
         Screenshots.captureScreen(a, "stream-client")
