@@ -100,16 +100,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         }
         if (!hasReference) {
             // magFirstFieldTime: the field is used while a steady one is awaited.
-            if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
-                if (rate2 >= newFieldMinGyro2) steadyTime += dt
-                val k = minOf(1.0, dt / steadyTime)
-                candNorm += k * (norm - candNorm)
-                candSinDip += k * (sinDip - candSinDip)
-            } else {
-                candNorm = norm
-                candSinDip = sinDip
-                steadyTime = dt
-            }
+            followCandidate(norm, sinDip, rate2, dt)
             if (steadyTime >= firstFieldTime) {
                 refNorm = candNorm
                 refSinDip = candSinDip
@@ -126,17 +117,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
             disturbed = true
         }
         if (disturbed && newFieldTime > 0.0) {
-            if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
-                // Only time in motion counts (magNewFieldMinGyro); the candidate mean still follows.
-                if (rate2 >= newFieldMinGyro2) steadyTime += dt
-                val k = minOf(1.0, dt / steadyTime)
-                candNorm += k * (norm - candNorm)
-                candSinDip += k * (sinDip - candSinDip)
-            } else {
-                candNorm = norm
-                candSinDip = sinDip
-                steadyTime = dt
-            }
+            followCandidate(norm, sinDip, rate2, dt)
             if (steadyTime >= newFieldTime) {
                 refNorm = candNorm
                 refSinDip = candSinDip
@@ -171,6 +152,24 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     }
 
     // cos(δ − δ_ref) = cos δ cos δ_ref + sin δ sin δ_ref, with cos δ ≥ 0 for a dip in [−90°, 90°].
+    /**
+     * Follows the candidate field (a new reference, or the first one): a reading that matches the candidate adds
+     * to its steady time (only time in motion counts, magNewFieldMinGyro) and moves the candidate's mean towards
+     * it; any other reading starts a new candidate.
+     */
+    private fun followCandidate(norm: Double, sinDip: Double, rate2: Double, dt: Double) {
+        if (steadyTime > 0.0 && matches(norm, sinDip, candNorm, candSinDip)) {
+            if (rate2 >= newFieldMinGyro2) steadyTime += dt
+            val k = minOf(1.0, dt / steadyTime)
+            candNorm += k * (norm - candNorm)
+            candSinDip += k * (sinDip - candSinDip)
+        } else {
+            candNorm = norm
+            candSinDip = sinDip
+            steadyTime = dt
+        }
+    }
+
     private fun matches(norm: Double, sinDip: Double, rNorm: Double, rSinDip: Double): Boolean =
         kotlin.math.abs(norm - rNorm) <= normTolerance * rNorm &&
             sqrt((1.0 - sinDip * sinDip) * (1.0 - rSinDip * rSinDip)) + sinDip * rSinDip >= cosDipTolerance
