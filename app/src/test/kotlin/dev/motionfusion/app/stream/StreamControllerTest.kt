@@ -89,13 +89,14 @@ class StreamControllerTest {
 
         val received = ConcurrentLinkedQueue<StreamMessage>()
         val rounds = 200
-        // Every sample, and the orientation of every step once the filter has started (the first gyroscope reading starts it).
+        // Every sample, and the orientation of the last gyroscope reading (orientations come in order, so all before it too).
         val samplesDue = CountDownLatch(rounds * 3)
-        val orientationsDue = CountDownLatch(rounds - 1)
+        val lastOrientation = CountDownLatch(1)
+        val lastGyroNs = 1_000_000_000L + (rounds - 1) * 5_000_000L + 2_000_000
         val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) {
             received += it
             if (it is StreamMessage.Sample) samplesDue.countDown()
-            if (it is StreamMessage.Orientation) orientationsDue.countDown()
+            if (it is StreamMessage.Orientation && it.timestampNs == lastGyroNs) lastOrientation.countDown()
         }
         try {
             val hello = client.connect()
@@ -113,7 +114,7 @@ class StreamControllerTest {
             c.nowNs += 1_000_000_000L
             c.drain()
 
-            assertTrue(samplesDue.await(10, TimeUnit.SECONDS) && orientationsDue.await(10, TimeUnit.SECONDS), "every sample and orientation")
+            assertTrue(samplesDue.await(10, TimeUnit.SECONDS) && lastOrientation.await(10, TimeUnit.SECONDS), "every sample and orientation")
             val samples = received.filterIsInstance<StreamMessage.Sample>()
             assertEquals(rounds * 3, samples.size)
             val gyro = samples.filter { it.stream == SessionStream.GYROSCOPE }
