@@ -80,7 +80,8 @@ def fusion(*args):
 
 
 def last_row(table):
-    return [c.strip() for c in table.strip().splitlines()[-1].strip("|").split("|")]
+    """The cells of a Markdown table's last row, without the bold marks the mean row carries."""
+    return [c.strip().strip("*") for c in table.strip().splitlines()[-1].strip("|").split("|")]
 
 
 def trial_figures(data, offline):
