@@ -11,6 +11,7 @@ import org.junit.jupiter.api.Assertions.assertThrows
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.DynamicTest
 import org.junit.jupiter.api.TestFactory
+import org.junit.jupiter.api.io.TempDir
 import java.nio.file.Files
 import java.nio.file.Path
 import kotlin.math.abs
@@ -23,7 +24,8 @@ import kotlin.math.sqrt
  * the same table without the fault (within 0.5°) with the fault counted as skipped.
  */
 class PlausibilityTest {
-    private val tmp: Path = Files.createTempDirectory("fusion-plausibility")
+    @TempDir
+    lateinit var tmp: Path
 
     /** One row of a 100 Hz table turning slowly about z: t, gyroscope, accelerometer, magnetometer. */
     private class Row(var t: Double, val g: DoubleArray, val a: DoubleArray, val m: DoubleArray)
