@@ -20,8 +20,10 @@ Usage:
       numpy, pandas and a built fusion command. Intermediate files go to a temporary folder.
 See docs/ACCURACY.md ("Peer figures").
 """
+import csv
+import decimal
+import io
 import os
-import re
 import subprocess
 import sys
 import tempfile
@@ -79,9 +81,15 @@ def fusion(*args):
     return subprocess.run([FUSION, *args], check=True, capture_output=True, text=True).stdout
 
 
-def last_row(table):
-    """The cells of a Markdown table's last row, without the bold marks the mean row carries."""
-    return [c.strip().strip("*") for c in table.strip().splitlines()[-1].strip("|").split("|")]
+def csv_row(text):
+    """The one data row of `fusion eval --csv`'s output, as a dict of column name to cell."""
+    return next(csv.DictReader(io.StringIO(text)))
+
+
+def figure(cell):
+    """A committed figure: two decimals rounded half up from the CSV's six (as the Markdown table rounds), or the
+    dash of a figure without samples."""
+    return str(decimal.Decimal(cell).quantize(decimal.Decimal("0.01"), decimal.ROUND_HALF_UP)) if cell else "\u2014"
 
 
 def trial_figures(data, offline):
@@ -98,9 +106,8 @@ def trial_figures(data, offline):
                 truth = next(os.path.join(d, f) for f in ("truth.csv.gz", "truth.csv") if os.path.exists(os.path.join(d, f)))
                 run_vqf(inp, est, offline)
                 has_mag = "mx" in pd.read_csv(inp, nrows=1).columns
-                cells = last_row(fusion("eval", *([] if has_mag else ["--6d"]), "--truth", truth, est))
-                numbers = [c for c in cells if re.fullmatch(r"-?[0-9.]+", c)]
-                out.append(("%s/%s" % (subset, trial), numbers[0]))
+                row = csv_row(fusion("eval", "--csv", *([] if has_mag else ["--6d"]), "--truth", truth, est))
+                out.append(("%s/%s" % (subset, trial), figure(row["total_deg"])))
     return out
 
 
@@ -115,8 +122,10 @@ def figures(data, out_path):
             fusion("replay", "--quiet", os.path.join(data, "realdata", name), "-o", os.devnull, "--rows", rows)
             run_vqf(rows, est)
             window = AFTER_MOTION.get(name)
-            args = ["eval", "--rows", rows] + (["--after", "%g:%g" % window] if window else []) + [est]
-            still_n, still, after_n, after = last_row(fusion(*args))
+            args = ["eval", "--csv", "--rows", rows] + (["--after", "%g:%g" % window] if window else []) + [est]
+            row = csv_row(fusion(*args))
+            still_n, still = row["still_samples"], figure(row["still_tilt_median_deg"])
+            after_n, after = row["after_motion_samples"], figure(row["after_motion_tilt_median_deg"])
             lines.append("realdata/%s,still_tilt_median_deg,%s,%s" % (name, still, still_n))
             if window:
                 lines.append("realdata/%s,after_motion_tilt_median_deg_%g_%g_s,%s,%s" % (name, window[0], window[1], after, after_n))

@@ -37,7 +37,9 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |heading 2·atan|e_z/e_w|, inclination 2·acos √(e_w² + e_z²); RMSE in degrees over the
         |scored samples (truth column movement = 1; all rows without that column), samples
         |without truth skipped. A 6D filter (--mode 6d) is scored with one constant heading
-        |offset per trial removed. Prints a Markdown table: one row per trial, then the mean.
+        |offset per trial removed. Prints a Markdown table: one row per trial, then the mean
+        |(--csv: CSV for scripts, trial,total_deg,heading_deg,inclination_deg to 1e-6°, one row per
+        |trial, no mean row and no filter line).
         |A trial folder with rotation_vector.csv[.gz] (t_s,qw,qx,qy,qz: the phone's own
         |orientation, as in the Tyrex subset) also gets that scored, in columns beside the filter's.
         |
@@ -60,6 +62,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |(to 1 µs); a row without an orientation is not scored.
         |  --rows FILE          the rows the orientation was computed from
         |  --after FROM:TO      the window after violent motion, s
+        |With --csv: still_samples,still_tilt_median_deg,after_motion_samples,
+        |after_motion_tilt_median_deg (a median without samples is empty).
         |
         |All inputs are streamed: memory does not grow with their length. Scoring a 6D filter
         |reads each input twice (the first pass finds the heading offset). Several inputs (and a
@@ -72,7 +76,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("--truth", "--rows", "--after") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("--truth", "--rows", "--after") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d", "--csv") + FilterOptions.FLAGS)
+        val csv = o.has("--csv")
         if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
         val rowsFile = o.value("--rows")
         if (rowsFile != null) {
@@ -82,6 +87,12 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                     ?: throw UsageException("--after takes FROM:TO in seconds, not '$w'")
             }
             val tilt = stillTilt(InputOptions.path(rowsFile), InputOptions.path(est), window, o)
+            if (csv) {
+                fun c(v: Double) = if (v.isNaN()) "" else String.format(java.util.Locale.ROOT, "%.6f", v)
+                out.println("still_samples,still_tilt_median_deg,after_motion_samples,after_motion_tilt_median_deg")
+                out.println("${tilt.still.count},${c(tilt.still.percentile(0.5))},${if (window == null) "" else tilt.afterMotion.count},${c(tilt.afterMotion.percentile(0.5))}")
+                return ExitCode.OK
+            }
             out.println("| still samples | still tilt, median (°) | after-motion samples | after-motion tilt, median (°) |")
             out.println("|---|---|---|---|")
             fun f(v: Double) = if (v.isNaN()) "—" else String.format(java.util.Locale.ROOT, "%.2f", v)
@@ -92,7 +103,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         if (truthFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --truth give exactly one ORIENTATION file")
             val r = scoreTables(InputOptions.path(est), InputOptions.path(truthFile), o.has("--6d"), o)
-            out.print(Evaluation.table(listOf(r)))
+            out.print(if (csv) Evaluation.csv(listOf(r)) else Evaluation.table(listOf(r)))
             return ExitCode.OK
         }
         val settings = FilterOptions.settings(o)
@@ -110,7 +121,9 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         }
         val results = outcomes.mapNotNull { it.value?.first }
         val rotationVector = outcomes.mapNotNull { r -> r.value?.let { (t, rv) -> rv?.let { t.trial to it } } }.toMap()
-        if (results.isNotEmpty()) {
+        if (results.isNotEmpty() && csv) {
+            out.print(Evaluation.csv(results, rotationVector))
+        } else if (results.isNotEmpty()) {
             out.println("Filter: ${describe(settings)}" + (offline?.let { ", offline (backward weight ${it.backwardWeight})" } ?: ""))
             out.println()
             out.print(if (rotationVector.isEmpty()) Evaluation.table(results) else PhoneComparison.table(results, rotationVector))

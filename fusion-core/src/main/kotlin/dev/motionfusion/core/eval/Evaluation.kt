@@ -98,5 +98,30 @@ public object Evaluation {
         )
     }
 
+    /**
+     * The same figures as CSV for scripts: `trial,total_deg,heading_deg,inclination_deg`, one row per trial and no mean
+     * row, values to 1e-6°; with [rotationVector] (the phone's own orientation per trial, as [PhoneComparison.table])
+     * three more columns `rv_total_deg,rv_heading_deg,rv_inclination_deg`, empty for a trial without one. A trial name
+     * with a comma, quote or line break is quoted (RFC 4180).
+     */
+    @JvmOverloads
+    public fun csv(results: List<TrialResult>, rotationVector: Map<String, ErrorRmse> = emptyMap()): String = buildString {
+        val rv = rotationVector.isNotEmpty()
+        append("trial,total_deg,heading_deg,inclination_deg")
+        appendLine(if (rv) ",rv_total_deg,rv_heading_deg,rv_inclination_deg" else "")
+        fun cells(e: ErrorRmse?) = if (e == null) ",," else "${c(e.totalDeg)},${c(e.headingDeg)},${c(e.inclinationDeg)}"
+        for (r in results) {
+            append(csvField(r.trial)).append(',').append(cells(r.error))
+            appendLine(if (rv) "," + cells(rotationVector[r.trial]) else "")
+        }
+    }
+
+    /** [v] for a CSV cell: 6 decimals, empty when NaN. */
+    private fun c(v: Double): String = if (v.isNaN()) "" else String.format(java.util.Locale.ROOT, "%.6f", v)
+
+    /** [s] as one CSV field (RFC 4180): quoted, with quotes doubled, when it holds a comma, quote or line break. */
+    private fun csvField(s: String): String =
+        if (s.none { it == ',' || it == '"' || it == '\n' || it == '\r' }) s else "\"" + s.replace("\"", "\"\"") + "\""
+
     private fun f(v: Double) = String.format(java.util.Locale.ROOT, "%.2f", v)
 }
