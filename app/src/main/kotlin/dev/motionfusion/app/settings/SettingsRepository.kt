@@ -28,9 +28,10 @@ class SettingsRepository(private val store: SettingsStore, private val io: Corou
     val settings: StateFlow<LiveSettings> = flow.asStateFlow()
 
     private val loaded: Job = scope.launch {
-        val (stored, answered) = withContext(io) { store.load() to store.loadNotificationsAnswered() }
+        val (stored, answered, target) = withContext(io) { Triple(store.load(), store.loadNotificationsAnswered(), store.loadUdpTarget()) }
         if (!changedBeforeLoad) flow.value = stored
         if (answered) notificationsAnswered = true
+        if (udpTarget.isEmpty()) udpTarget = target
     }
 
     /** Waits until the stored settings have been read (at once when they have). */
@@ -56,6 +57,17 @@ class SettingsRepository(private val store: SettingsStore, private val io: Corou
     fun markNotificationsAnswered() {
         notificationsAnswered = true
         scope.launch(io) { store.saveNotificationsAnswered() }
+    }
+
+    /** The last `host:port` a UDP push started to ("" before the first, and until the store has been read). */
+    @Volatile var udpTarget: String = ""
+        private set
+
+    /** Keeps [target] as the Stream screen's UDP target for next time. Main thread. */
+    fun rememberUdpTarget(target: String) {
+        if (target == udpTarget) return
+        udpTarget = target
+        scope.launch(io) { synchronized(writing) { store.saveUdpTarget(udpTarget) } }
     }
 
     /** What the settings screen needs, from the application's object graph. */

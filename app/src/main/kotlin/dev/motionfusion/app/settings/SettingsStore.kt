@@ -52,9 +52,17 @@ class SettingsStore(open: () -> SharedPreferences, private val settings: List<Se
         prefs.edit().putBoolean(NOTIFICATIONS_ANSWERED, true).apply()
     }
 
+    /** The last `host:port` the Stream screen pushed UDP to ("" before the first). */
+    fun loadUdpTarget(): String = prefs.getString(UDP_TARGET, null) ?: ""
+
+    fun saveUdpTarget(target: String) {
+        prefs.edit().putString(UDP_TARGET, target).apply()
+    }
+
     companion object {
         const val FILE = "live_settings"
         private const val NOTIFICATIONS_ANSWERED = "notifications_answered"
+        private const val UDP_TARGET = "stream_udp_target"
 
         /** Keys of the first settings screen, by the key that replaced them. */
         private val LEGACY = mapOf(

@@ -12,6 +12,7 @@ import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.R
+import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
@@ -20,12 +21,14 @@ import kotlinx.coroutines.launch
  * [StreamController]; while on, the addresses a laptop connects to (Wi-Fi and USB), the pairing
  * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
  * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
- * dropped or why it did not start). While the server starts or stops (off the main thread) the switch waits.
+ * dropped or why it did not start; the field offers the last target a push started to). While the server starts
+ * or stops (off the main thread) the switch waits.
  * Streaming goes on when the screen is left, under its foreground service ([StreamService]); the
  * switch here or the notification's Stop turns it off.
  */
 class StreamActivity : AppCompatActivity() {
     private val controller: StreamController get() = (application as StreamDependencies.Provider).streamDependencies.streamController
+    private val settings: SettingsRepository get() = (application as SettingsRepository.Provider).settingsRepository
     private lateinit var switch: CompoundButton
 
     override fun onCreate(savedInstanceState: Bundle?) {
@@ -43,6 +46,11 @@ class StreamActivity : AppCompatActivity() {
         findViewById<View>(R.id.stream_udp_button).setOnClickListener {
             val udp = (controller.state.value as? StreamState.On)?.udp
             if (udp is UdpView.Pushing || udp is UdpView.Starting) controller.stopUdp() else controller.pushUdp(target.text.toString())
+        }
+        lifecycleScope.launch {
+            // The last target, once the store has been read, unless something was typed meanwhile.
+            settings.awaitLoaded()
+            if (target.text.isEmpty()) target.setText(settings.udpTarget)
         }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { controller.state.collect { show(it) } }
@@ -103,6 +111,7 @@ class StreamActivity : AppCompatActivity() {
     }
 
     private fun showUdp(udp: UdpView?) {
+        if (udp is UdpView.Pushing) settings.rememberUdpTarget(udp.target)
         val active = udp is UdpView.Pushing || udp is UdpView.Starting
         findViewById<TextView>(R.id.stream_udp_button).setText(if (active) R.string.stream_udp_stop else R.string.stream_udp_start)
         findViewById<EditText>(R.id.stream_udp_target).isEnabled = !active

@@ -34,4 +34,27 @@ class SettingsRepositoryTest {
         assertEquals(last, offMainThread { store.load() })
         assertEquals(last, repository.settings.value)
     }
+
+    @Test
+    fun `the UDP target is kept for the next start, and one given before the store is read wins`() {
+        val held = HeldDispatcher()
+        val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
+        val first = SettingsRepository(store, held, scope)
+        held.runNewestFirst()
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals("", first.udpTarget)
+        first.rememberUdpTarget("192.168.1.20:9000")
+        held.runNewestFirst()
+        assertEquals("192.168.1.20:9000", offMainThread { store.loadUdpTarget() })
+        val next = SettingsRepository(store, held, scope)
+        held.runNewestFirst()
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals("192.168.1.20:9000", next.udpTarget)
+        val early = SettingsRepository(store, held, scope)
+        early.rememberUdpTarget("laptop.local:9001")
+        held.runNewestFirst()
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals("laptop.local:9001", early.udpTarget)
+        assertEquals("laptop.local:9001", offMainThread { store.loadUdpTarget() })
+    }
 }

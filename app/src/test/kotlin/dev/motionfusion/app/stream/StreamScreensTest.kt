@@ -143,6 +143,12 @@ class StreamScreensTest {
                 a.findViewById<TextView>(R.id.stream_udp_status).text.toString(),
             )
             Screenshots.captureScreen(a, "stream-udp")
+            // The target is kept (SettingsRepositoryTest: across a restart too): the screen opened again offers it.
+            graph.settle()
+            val b = Robolectric.buildActivity(StreamActivity::class.java).setup()
+            graph.settle()
+            assertEquals("127.0.0.1:${receiver.localPort}", b.get().findViewById<android.widget.EditText>(R.id.stream_udp_target).text.toString())
+            b.pause().stop().destroy()
         }
 
         switch.performClick()
