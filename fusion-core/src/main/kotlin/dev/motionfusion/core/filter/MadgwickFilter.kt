@@ -389,13 +389,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * replay/Offline.kt): the gyroscope readings of such a pass are negated, so the bias estimate and the
      * rest detector's gyroscope low-pass are negated too; the orientation, the field reference, the
      * low-passed accelerometer and the held readings stay. [timestampNs] is the time, on the new pass's
-     * clock, of the last step taken: the held readings count as taken then.
+     * clock, of the last step taken: the held readings keep their age then, so one that had gone stale
+     * (a stream that ended before the gyroscope's) is not used again by the new pass.
      */
     internal fun turnAround(timestampNs: Long) {
         bias.reverse()
+        accT = timestampNs - (lastT - accT)
+        magT = timestampNs - (lastT - magT)
         lastT = timestampNs
-        accT = timestampNs
-        magT = timestampNs
         firstAccT = timestampNs
     }
 

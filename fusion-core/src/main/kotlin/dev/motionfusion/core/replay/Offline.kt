@@ -351,13 +351,16 @@ internal class HeadingSmoother(s: OfflineSettings) {
                 val cw = q[0] * p0 + q[1] * p1 + q[2] * p2 + q[3] * p3
                 val cz = -q[0] * p3 - q[1] * p2 + q[2] * p1 + q[3] * p0
                 u = -2.0 * atan(cz / cw)
+                // A reading the filter skipped (not finite): the step's turn is unknown, so x carries on unchanged
+                // and only its uncertainty grows; a NaN here would otherwise stay in x to the start of the pass.
+                if (!u.isFinite()) u = 0.0
                 x += u - b * dt
                 val n11 = p11 - 2.0 * dt * p12 + dt * dt * p22 + qx * dt
                 val n12 = p12 - dt * p22
                 p22 += qb * dt
                 p11 = n11; p12 = n12
             }
-            if (magFresh && dt > 0.0 && !disturbed) {
+            if (magFresh && dt > 0.0 && !disturbed && usable(m)) {
                 // The reading's measure of x, its variance, and the update (P ← (I − K H) P, H = [1, 0]).
                 val r = (if (rest) rRest else rMotion) / dt
                 val e = wrap(magHeading(m, q) - x)
@@ -439,6 +442,12 @@ internal class HeadingSmoother(s: OfflineSettings) {
         const val B0 = 0.2 * PI / 180.0
 
         fun wrap(a: Double): Double = if (a > PI) a - 2 * PI else if (a < -PI) a + 2 * PI else a
+
+        /** A magnetometer reading that can measure the heading: finite and not zero (an empty field of a table is NaN). */
+        fun usable(m: DoubleArray): Boolean {
+            val n = m[0] * m[0] + m[1] * m[1] + m[2] * m[2]
+            return n > 0.0 && n.isFinite()
+        }
 
         /** The correction about the vertical (rad) that turns [q] (sensor → ENU) so that the field [m] points north. */
         fun magHeading(m: DoubleArray, q: DoubleArray): Double {

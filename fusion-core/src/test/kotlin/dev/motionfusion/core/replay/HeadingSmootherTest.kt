@@ -49,34 +49,64 @@ class HeadingSmootherTest {
         out
     }
 
-    @Test
-    fun `between two rests the smoother takes out the gyroscope's drift and the magnetometer's error in motion`() {
-        val rests = listOf(TimeWindow(0.0, 25.0), TimeWindow(105.0, 130.0))
-        val samples = MotionSimulator(SimulationSettings(durationS = 130.0, rateHz = 100.0, seed = 5, angularRate = 0.8, restWindows = rests)).run()
+    private val rests = listOf(TimeWindow(0.0, 25.0), TimeWindow(105.0, 130.0))
+    private val samples by lazy { MotionSimulator(SimulationSettings(durationS = 130.0, rateHz = 100.0, seed = 5, angularRate = 0.8, restWindows = rests)).run() }
+
+    /**
+     * The rest–motion–rest table: the gyroscope drifting 0.15°/s about the vertical and the field's heading 4° off, both in
+     * motion only; [cell] may replace a row's text cells (index, the nine values as text) to put a fault in.
+     */
+    private fun restMotionRest(name: String, cell: (Int, List<String>) -> List<String> = { _, v -> v }): Path {
         val drift = 0.15 * PI / 180.0 // rad/s about the vertical, in motion only
         val magTurn = Quaternion.fromAxisAngle(Vector3(0.0, 0.0, 1.0), -4.0 * PI / 180.0) // the field's heading in motion
-        val file = dir.resolve("rest-motion-rest.csv")
+        val file = dir.resolve(name)
         Files.newBufferedWriter(file).use { w ->
             w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
-            for (s in samples) {
+            for ((i, s) in samples.withIndex()) {
                 val t = s.timestampNs * 1e-9
                 val moving = rests.none { t in it }
                 val g = if (moving) s.gyro + s.truth.inverseRotate(Vector3(0.0, 0.0, drift)) else s.gyro
                 val m = if (moving) s.truth.inverseRotate(magTurn.rotate(s.truth.rotate(s.mag))) else s.mag
-                val v = listOf(g.x, g.y, g.z, s.acc.x, s.acc.y, s.acc.z, m.x, m.y, m.z)
+                val v = cell(i, listOf(g.x, g.y, g.z, s.acc.x, s.acc.y, s.acc.z, m.x, m.y, m.z).map { it.toString() })
                 w.write(String.format(Locale.ROOT, "%.6f", t) + v.joinToString("") { "," + it } + "\n")
             }
         }
+        return file
+    }
+
+    /** Heading RMSE in motion, °: the smoother alone, the default weight, without the smoother. */
+    private fun inMotion(file: Path): Triple<Double, Double, Double> {
         val times = samples.map { it.timestampNs * 1e-9 }
         val truth = samples.map { it.truth }
-        val with = headingRms(replay(file, OfflineSettings()), times, truth, 25.0, 105.0)
-        val without = headingRms(replay(file, OfflineSettings(headingSmoothing = 0.0)), times, truth, 25.0, 105.0)
-        val alone = headingRms(replay(file, OfflineSettings(headingSmoothing = 1.0)), times, truth, 25.0, 105.0)
+        fun rms(o: OfflineSettings) = headingRms(replay(file, o), times, truth, 25.0, 105.0)
+        return Triple(rms(OfflineSettings(headingSmoothing = 1.0)), rms(OfflineSettings()), rms(OfflineSettings(headingSmoothing = 0.0)))
+    }
+
+    @Test
+    fun `between two rests the smoother takes out the gyroscope's drift and the magnetometer's error in motion`() {
+        val (alone, with, without) = inMotion(restMotionRest("rest-motion-rest.csv"))
         val msg = String.format(Locale.ROOT, "heading RMSE in motion: smoother alone %.2f°, default weight %.2f°, without %.2f°", alone, with, without)
         println(msg)
         assertTrue(without > 2.0, msg)
         assertTrue(alone < 0.4 * without, msg)
         assertTrue(with < 0.75 * without, msg)
+    }
+
+    @Test
+    fun `one empty magnetometer cell or one non-finite gyroscope reading late in the recording leaves the smoother working before it`() {
+        // In the last rest, where the smoother's backward filter starts: without care the bad value would stay in its
+        // state from there back to the start, and every row before it would go unsmoothed.
+        val row = 11_000
+        val cases = mapOf(
+            "an empty magnetometer cell" to restMotionRest("blank-mag.csv") { i, v -> if (i == row) v.take(6) + listOf("", "", "") else v },
+            "a non-finite gyroscope reading" to restMotionRest("nan-gyro.csv") { i, v -> if (i == row) listOf("NaN", "NaN", "NaN") + v.drop(3) else v },
+        )
+        for ((what, file) in cases) {
+            val (alone, _, without) = inMotion(file)
+            val msg = String.format(Locale.ROOT, "%s: heading RMSE in motion, smoother alone %.2f°, without %.2f°", what, alone, without)
+            println(msg)
+            assertTrue(without > 2.0 && alone < 0.4 * without, msg)
+        }
     }
 
     @Test
