@@ -7,6 +7,7 @@ import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
 import org.java_websocket.WebSocket
 import org.java_websocket.WebSocketImpl
+import org.java_websocket.framing.CloseFrame
 import org.java_websocket.exceptions.WebsocketNotConnectedException
 import org.java_websocket.handshake.ClientHandshake
 import org.java_websocket.server.WebSocketServer
@@ -144,12 +145,17 @@ public class StreamServer(
         sender.start()
     }
 
-    /** Closes every connection and stops; waits at most [timeoutMs] for the connections to close. */
+    /**
+     * Closes every connection and stops; waits at most [timeoutMs] for the connections to close. A connection
+     * still open then (a stalled client: the library closes one only once its queue of frames has been sent)
+     * is closed at once, its socket with it.
+     */
     public fun stop(timeoutMs: Int = 1000) {
         running = false
         sender.interrupt()
         server.stop(timeoutMs, "the phone stopped streaming")
         sender.join(timeoutMs.toLong())
+        for (conn in server.connections) (conn as? WebSocketImpl)?.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
         clients.clear()
     }
 

@@ -150,6 +150,30 @@ class StreamServerTest {
     }
 
     @Test
+    fun `stopping closes a stalled client's connection too, whose queue never empties`() {
+        val s = server(StreamServerSettings(clientQueueFrames = 512))
+        val fast = Counting(s)
+        fast.client.connect()
+        val stalled = Counting(s)
+        stalled.client.connect()
+        stalled.stalled = true
+        // At the sensors' pace (the fast client keeps up), until the stalled one's queue is full and it is dropped.
+        val perSecond = 200L * 8
+        var tenth = 0
+        while (s.clients().none { it.dropped > 0 }) {
+            check(tenth < 600) { "the stalled client was never dropped: ${s.clients()}" }
+            publish(s, tenth * 20, 20)
+            fast.awaitCount(++tenth * perSecond / 10)
+        }
+        s.stop()
+        assertTrue(fast.client.awaitClose(10_000), "the fast client's connection is still open after stop")
+        // The stalled client reads what had reached it, then finds the connection closed; before, the server closed
+        // only connections whose queue had emptied, and this one stayed open with the server gone.
+        stalled.release.countDown()
+        assertTrue(stalled.client.awaitClose(10_000), "the stalled client's connection is still open after stop")
+    }
+
+    @Test
     fun `every message arrives exactly as published, subsets and rates as asked`() {
         val s = server()
         val all = Counting(s).apply { keep = true }

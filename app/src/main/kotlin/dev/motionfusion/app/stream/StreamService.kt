@@ -20,6 +20,7 @@ import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob
 import kotlinx.coroutines.cancel
+import kotlinx.coroutines.delay
 import kotlinx.coroutines.launch
 
 /** What the stream's service needs, from the application's object graph. */
@@ -109,11 +110,15 @@ class StreamService : Service() {
             controller.state.collect { s ->
                 when (s) {
                     StreamState.Off, is StreamState.Failed -> end()
-                    else -> {
-                        wakeLock.renewIfDue()
-                        update(s)
-                    }
+                    else -> update(s)
                 }
+            }
+        }
+        // On a timer, not on the state: while nothing changes (no client yet) the state emits nothing.
+        scope.launch {
+            while (true) {
+                delay(RENEW_TICK_MS)
+                wakeLock.renewIfDue()
             }
         }
     }
@@ -196,6 +201,9 @@ class StreamService : Service() {
         internal const val ACTION_START = "dev.motionfusion.app.stream.START"
         internal const val ACTION_STOP = "dev.motionfusion.app.stream.STOP"
         internal const val NOTIFICATION_ID = 7003
+
+        /** How often the wake lock's renewal is looked at (it renews once a minute of the clock). */
+        internal const val RENEW_TICK_MS = 10_000L
 
         /** The manifest's android:foregroundServiceType, as the recording's (ForegroundServiceTest). */
         internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE

@@ -8,6 +8,7 @@ import android.net.wifi.WifiManager
 import android.os.Build
 import dev.motionfusion.app.TestGraph
 import dev.motionfusion.app.platform.Foreground
+import dev.motionfusion.app.platform.RenewedWakeLock
 import dev.motionfusion.app.platform.Sdks
 import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.record.RecordingState
@@ -108,6 +109,26 @@ class StreamServiceTest {
         assertEquals(emptyList<Int>(), graph.wifiLocks.held.toList())
         assertTrue(service.isForegroundStopped)
         assertTrue(service.isStoppedBySelf)
+    }
+
+    @Test
+    fun `the wake lock is renewed every minute of the injected clock while waiting for a client, when nothing else changes`() {
+        val c = startStreaming()
+        val lock = ShadowPowerManager.getLatestWakeLock()
+        val held = shadowOf(lock).timesHeld
+        val main = shadowOf(Looper.getMainLooper())
+        main.idleFor(Duration.ofMillis(StreamService.RENEW_TICK_MS))
+        assertEquals("not renewed before a minute", held, shadowOf(lock).timesHeld)
+        for (k in 1..3) {
+            graph.clock.elapsedNs += RenewedWakeLock.RENEW_NS
+            main.idleFor(Duration.ofMillis(StreamService.RENEW_TICK_MS))
+            assertEquals("renewed $k times, with no client and no change of state", held + k, shadowOf(lock).timesHeld)
+        }
+        assertTrue(controller.state.value is StreamState.On)
+        controller.stop()
+        graph.settle()
+        assertFalse(lock.isHeld)
+        assertTrue(shadowOf(c.get()).isStoppedBySelf)
     }
 
     @Test
