@@ -33,19 +33,28 @@ public data class StreamOffer(val source: String, val metadata: SessionMetadata,
  * Limits of a [StreamServer]: at most [maxClients] connections; each client's queue of frames not yet
  * written to its socket holds at most [clientQueueFrames] (beyond that its messages are dropped and
  * counted); the hand-off from the capture thread holds [handOffCapacity] messages; a status message
- * every [statusIntervalNs] of sample time.
+ * every [statusIntervalNs] of sample time. Pairing: a connection that has not sent a right code within
+ * [pairingTimeoutNs] is closed (it would hold one of the [maxClients] places); an address that sent
+ * [maxWrongCodes] wrong codes in a row is refused for [wrongCodeLockoutNs], so that the 6-digit code cannot be
+ * found by trying (at 5 tries a minute, 10⁶ codes take about a year).
  */
 public data class StreamServerSettings(
     val maxClients: Int = 8,
     val clientQueueFrames: Int = 2048,
     val handOffCapacity: Int = 16384,
     val statusIntervalNs: Long = 1_000_000_000L,
+    val pairingTimeoutNs: Long = 10_000_000_000L,
+    val maxWrongCodes: Int = 5,
+    val wrongCodeLockoutNs: Long = 60_000_000_000L,
 ) {
     init {
         require(maxClients in 1..64) { "maxClients must be 1 to 64" }
         require(clientQueueFrames in 16..1_000_000) { "clientQueueFrames must be 16 to 1,000,000" }
         require(handOffCapacity in 16..1_000_000) { "handOffCapacity must be 16 to 1,000,000" }
         require(statusIntervalNs > 0) { "statusIntervalNs must be positive" }
+        require(pairingTimeoutNs > 0) { "pairingTimeoutNs must be positive" }
+        require(maxWrongCodes >= 1) { "maxWrongCodes must be at least 1" }
+        require(wrongCodeLockoutNs >= 0) { "wrongCodeLockoutNs must not be negative" }
     }
 }
 
@@ -76,13 +85,15 @@ public data class StreamClientInfo(
  * already fill its queue (then it is dropped for that client alone, counted, and reported to it in the
  * next status message). A client must send the pairing code first; one from outside the local network
  * (not loopback, link-local, site-local or unique-local), a wrong code or a malformed first message is
- * refused and closed.
+ * refused and closed, as is one that sends no code in time or comes from an address locked out after wrong
+ * codes ([StreamServerSettings]). [nanoTime] is the clock of those limits.
  */
 public class StreamServer(
     address: InetSocketAddress,
     pairingCode: String,
     private val offer: () -> StreamOffer,
     private val settings: StreamServerSettings = StreamServerSettings(),
+    private val nanoTime: () -> Long = System::nanoTime,
 ) {
     private val code = pairingCode.toByteArray(Charsets.UTF_8)
     private val clients = CopyOnWriteArrayList<Client>()
@@ -102,8 +113,12 @@ public class StreamServer(
             val remote = conn.remoteSocketAddress?.address
             when {
                 remote == null || !isLocalNetwork(remote) -> conn.close(CLOSE_NOT_LOCAL, "only the local network and USB")
-                clients.size >= settings.maxClients -> conn.close(CLOSE_TOO_MANY, "too many clients (${settings.maxClients})")
-                else -> Client(conn as WebSocketImpl, remote.hostAddress).also { conn.setAttachment(it); clients.add(it) }
+                lockedOut(remote.hostAddress) -> conn.close(CLOSE_LOCKED_OUT, "too many wrong pairing codes from this address: try again later")
+                else -> synchronized(clients) {
+                    // Checked and added together: connections open on several of the library's threads.
+                    if (clients.size >= settings.maxClients) conn.close(CLOSE_TOO_MANY, "too many clients (${settings.maxClients})")
+                    else Client(conn as WebSocketImpl, remote.hostAddress, nanoTime()).also { conn.setAttachment(it); clients.add(it) }
+                }
             }
         }
 
@@ -143,6 +158,7 @@ public class StreamServer(
         if (!started.await(10, TimeUnit.SECONDS)) throw IOException("the stream server did not start within 10 s")
         startError?.let { running = false; throw IOException("cannot listen on port ${server.address.port}: ${it.message}", it) }
         sender.start()
+        pairingWatch.scheduleWithFixedDelay(::closeUnpaired, 1, 1, TimeUnit.SECONDS)
     }
 
     /**
@@ -153,6 +169,7 @@ public class StreamServer(
     public fun stop(timeoutMs: Int = 1000) {
         running = false
         sender.interrupt()
+        pairingWatch.shutdownNow()
         server.stop(timeoutMs, "the phone stopped streaming")
         sender.join(timeoutMs.toLong())
         for (conn in server.connections) (conn as? WebSocketImpl)?.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
@@ -185,7 +202,11 @@ public class StreamServer(
             return refuse(client, e.message ?: "malformed request")
         }
         if (request !is StreamMessage.Pair) return refuse(client, "the first message must be of type \"pair\"")
-        if (!MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code)) return refuse(client, "pairing code wrong")
+        if (!MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code)) {
+            wrongCode(client.address)
+            return refuse(client, "pairing code wrong")
+        }
+        wrongCodes.remove(client.address)
         val offered = offer()
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
@@ -199,6 +220,45 @@ public class StreamServer(
             client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
             client.paired = true
         }
+    }
+
+    /** Wrong codes in a row per address, and until when (on [nanoTime]) the address is refused. */
+    private class WrongCodes(var count: Int = 0, var lockedUntilNs: Long = 0L, var locked: Boolean = false)
+
+    private val wrongCodes = java.util.concurrent.ConcurrentHashMap<String, WrongCodes>()
+
+    private fun wrongCode(address: String) {
+        val w = wrongCodes.computeIfAbsent(address) { WrongCodes() }
+        synchronized(w) {
+            if (++w.count >= settings.maxWrongCodes) {
+                w.count = 0
+                w.locked = true
+                w.lockedUntilNs = nanoTime() + settings.wrongCodeLockoutNs
+            }
+        }
+    }
+
+    private fun lockedOut(address: String): Boolean {
+        val w = wrongCodes[address] ?: return false
+        return synchronized(w) { w.locked && nanoTime() - w.lockedUntilNs < 0 }
+    }
+
+    /**
+     * Closes the connections that have not sent a right code within [StreamServerSettings.pairingTimeoutNs]; run
+     * every second while the server runs (and by tests, with their clock).
+     */
+    internal fun closeUnpaired() {
+        val now = nanoTime()
+        for (c in clients) {
+            if (!c.accepted && now - c.openedNs > settings.pairingTimeoutNs) {
+                clients.remove(c)
+                refuse(c, "no pairing code within ${settings.pairingTimeoutNs / 1_000_000_000} s")
+            }
+        }
+    }
+
+    private val pairingWatch = java.util.concurrent.Executors.newSingleThreadScheduledExecutor { r ->
+        Thread(r, "stream-pairing").apply { isDaemon = true }
     }
 
     private fun refuse(client: Client, reason: String) {
@@ -238,7 +298,7 @@ public class StreamServer(
         }
     }
 
-    private inner class Client(val conn: WebSocketImpl, val address: String) {
+    private inner class Client(val conn: WebSocketImpl, val address: String, val openedNs: Long) {
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
 
@@ -324,10 +384,11 @@ public class StreamServer(
     }
 
     public companion object {
-        /** Close codes (4000–4999 are the application's): refused request, not from the local network, too many clients. */
+        /** Close codes (4000–4999 are the application's): refused request, not from the local network, too many clients, an address locked out after wrong codes. */
         public const val CLOSE_REFUSED: Int = 4001
         public const val CLOSE_NOT_LOCAL: Int = 4003
         public const val CLOSE_TOO_MANY: Int = 4008
+        public const val CLOSE_LOCKED_OUT: Int = 4029
 
         /** Loopback, link-local, site-local (10/8, 172.16/12, 192.168/16) or IPv6 unique-local (fc00::/7). */
         @JvmStatic

@@ -214,6 +214,57 @@ class StreamServerTest {
     }
 
     @Test
+    fun `five wrong codes lock the address out for a minute of the server's clock, then the right code pairs`() {
+        var now = 0L
+        val s = StreamServer(InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(), nanoTime = { now })
+            .also { it.start(); servers += it }
+        fun attempt(code: String): String? = try {
+            StreamClient(uri(s), StreamMessage.Pair(code)) {}.also { clients += it }.connect()
+            null
+        } catch (e: IOException) {
+            e.message
+        }
+        for (k in 1..5) assertTrue(attempt("00000$k")!!.contains("pairing code wrong"))
+        val locked = attempt("482913")
+        assertTrue(locked != null && "too many wrong pairing codes" in locked, "the right code while locked out: $locked")
+        now += 59_000_000_000L
+        assertTrue(attempt("482913") != null, "still locked out after 59 s")
+        now += 2_000_000_000L
+        assertEquals(null, attempt("482913"), "the right code after the lockout")
+        // A right code resets the count: four wrong ones then do not lock the address out.
+        for (k in 1..4) assertTrue(attempt("00000$k")!!.contains("pairing code wrong"))
+        assertEquals(null, attempt("482913"))
+    }
+
+    @Test
+    fun `a connection that sends no code is closed after the pairing timeout of the server's clock`() {
+        var now = 0L
+        val s = StreamServer(InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(), nanoTime = { now })
+            .also { it.start(); servers += it }
+        val closed = CountDownLatch(1)
+        var closeCode = 0
+        val silent = object : org.java_websocket.client.WebSocketClient(uri(s)) {
+            override fun onOpen(handshake: org.java_websocket.handshake.ServerHandshake) {}
+            override fun onMessage(message: String) {}
+            override fun onClose(code: Int, reason: String?, remote: Boolean) {
+                closeCode = code
+                closed.countDown()
+            }
+            override fun onError(ex: Exception) {}
+        }.also { clients += AutoCloseable { it.close() } }
+        assertTrue(silent.connectBlocking(10, TimeUnit.SECONDS))
+        awaitUntil({ s.clients() }) { s.clients().size == 1 }
+        now += 9_000_000_000L
+        s.closeUnpaired()
+        assertEquals(1, s.clients().size, "open within the timeout")
+        now += 2_000_000_000L
+        s.closeUnpaired()
+        assertTrue(closed.await(10, TimeUnit.SECONDS), "still open after the timeout")
+        assertEquals(StreamServer.CLOSE_REFUSED, closeCode)
+        assertTrue(s.clients().isEmpty())
+    }
+
+    @Test
     fun `clients that vanish are removed and the port is refused when taken`() {
         val s = server()
         val c = StreamClient(uri(s), StreamMessage.Pair("482913")) {}
