@@ -88,7 +88,7 @@ public data class StreamClientInfo(
  * refused and closed, as is one that sends no code in time or comes from an address locked out after wrong
  * codes ([StreamServerSettings]). [nanoTime] is the clock of those limits.
  */
-public class StreamServer(
+public class StreamServer @JvmOverloads constructor(
     address: InetSocketAddress,
     pairingCode: String,
     private val offer: () -> StreamOffer,
