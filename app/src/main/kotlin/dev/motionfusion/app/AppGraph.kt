@@ -92,6 +92,8 @@ internal class AppGraph(
     streamSettings: StreamServerSettings = StreamServerSettings(),
     /** Starts the stream's foreground service (StreamService.start); returns why the system refused, or null. */
     streamKeepAlive: () -> String? = { null },
+    /** Where the UDP push's target is looked up (StreamController's lookup). */
+    streamLookup: Executor = StreamController.LOOKUP,
     /** The Wi-Fi locks the stream's service holds (StreamService.systemWifiLocks; none by default). */
     override val wifiLocks: WifiLocks = WifiLocks { _, _ -> null },
 ) : RecordingDependencies, SessionsDependencies, CalibrationDependencies, StreamDependencies {
@@ -121,7 +123,7 @@ internal class AppGraph(
             RecordingMetadata.anchorNow(),
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
         )
-    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive)
+    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup)
     override val streamController: StreamController get() = stream
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }

@@ -152,6 +152,7 @@ internal class TestGraph(
         calibrationCompute = Dispatchers.Main.immediate, calibrationSource = calibrationSource,
         streamPort = streamPort, streamAddresses = { streamAddresses },
         streamControl = { r -> streamControl.execute(null) { r.run() } }, streamSettings = streamSettings, streamKeepAlive = streamKeepAlive,
+        streamLookup = { r -> streamControl.execute(null) { r.run() } },
         wifiLocks = wifiLocks,
     ).also { app.graph = it }
     val capture get() = graph.capture

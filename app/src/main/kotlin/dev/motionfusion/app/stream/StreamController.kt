@@ -78,7 +78,8 @@ internal sealed interface UdpView {
  * also asks [keepAlive] for the foreground service that keeps streaming going with the screen off
  * (StreamService), which follows [state] and ends itself when it is off. [state] is refreshed about
  * once a second while on. While on, [pushUdp] also sends every message to a host and port on the local
- * network ([UdpPush]), set up on [control] (the name is resolved there). [start], [stop], [pushUdp] and
+ * network ([UdpPush]), set up on [lookup] (the name is resolved there, so that a slow lookup never holds up a
+ * stop on [control]). [start], [stop], [pushUdp] and
  * [stopUdp] are called on [scope]'s thread (the main thread), and the controller's own steps come back to
  * it there.
  */
@@ -96,6 +97,8 @@ internal class StreamController(
     private val serverSettings: StreamServerSettings = StreamServerSettings(),
     /** Starts the foreground service that keeps the stream going; returns why the system refused, or null. */
     private val keepAlive: () -> String? = { null },
+    /** Where a UDP push's target is looked up and its socket opened: a thread of its own for each push. */
+    private val lookup: Executor = LOOKUP,
 ) {
     private val stateFlow = MutableStateFlow<StreamState>(StreamState.Off)
     val state: StateFlow<StreamState> = stateFlow.asStateFlow()
@@ -188,7 +191,7 @@ internal class StreamController(
 
     /**
      * While on: also pushes every message over UDP to [target] (`host:port`, a name or an address on the local
-     * network), replacing an earlier push. Resolved and opened on [control]; meanwhile [UdpView.Starting].
+     * network), replacing an earlier push. Resolved and opened on [lookup]; meanwhile [UdpView.Starting].
      */
     fun pushUdp(target: String) {
         val r = running ?: return
@@ -203,7 +206,7 @@ internal class StreamController(
         }
         udpView = UdpView.Starting(text)
         showNow()
-        control.execute {
+        lookup.execute {
             val result = runCatching {
                 // The name is looked up here, off the main thread.
                 UdpPush(InetSocketAddress(hostPort.first, hostPort.second), offerNow).also { it.start() }
@@ -271,6 +274,9 @@ internal class StreamController(
 
     companion object {
         const val PORT = 8765
+
+        /** The UDP push's lookup: each task on a daemon thread of its own. */
+        val LOOKUP: Executor = Executor { r -> Thread(r, "stream-udp-lookup").apply { isDaemon = true }.start() }
         const val STOP_TIMEOUT_MS = 500
         private val MAX_VALUES = SessionStream.entries.maxOf { it.valueCount }
 

@@ -44,6 +44,7 @@ class StreamControllerTest {
     private val c = TestCapture()
     private val controller = StreamController(
         c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, random = SecureRandom(), control = Executor { it.run() },
+        lookup = Executor { it.run() },
     )
 
     /** A control executor whose tasks wait until the test runs them. */
@@ -61,14 +62,18 @@ class StreamControllerTest {
 
     private val queued = Queued()
     private var refusal: String? = null
+    /** The UDP push's lookups of [held], apart from its control tasks. */
+    private val lookups = Queued()
     private val held = StreamController(
-        c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, control = queued, keepAlive = { refusal },
+        c.capture, { metadata }, scope, port = 0, addresses = { listOf("192.168.1.23") }, control = queued, keepAlive = { refusal }, lookup = lookups,
     )
 
     @AfterEach
     fun end() {
         controller.stop()
         held.stop()
+        queued.runAll()
+        lookups.runAll()
         queued.runAll()
         scope.cancel()
     }
@@ -271,6 +276,26 @@ class StreamControllerTest {
             val refused = (controller.state.value as StreamState.On).udp as UdpView.Failed
             assertTrue(refused.reason!!.contains("not on the local network"), refused.reason)
         }
+    }
+
+    @Test
+    fun `a UDP lookup that has not finished does not hold up a stop, and its push is closed when it finishes late`() {
+        held.start()
+        queued.runAll()
+        assertTrue(held.state.value is StreamState.On)
+        held.pushUdp("127.0.0.1:9000")
+        assertEquals(UdpView.Starting("127.0.0.1:9000"), (held.state.value as StreamState.On).udp)
+        assertEquals(1, lookups.pending)
+        // The lookup still running (a slow name), the user stops: the server closes on the control thread at once.
+        held.stop()
+        assertEquals(StreamState.Stopping, held.state.value)
+        queued.runAll()
+        assertEquals(StreamState.Off, held.state.value)
+        // The lookup finishes late: its push is given up (closed on the control thread), nothing is shown.
+        lookups.runAll()
+        assertEquals(1, queued.pending)
+        queued.runAll()
+        assertEquals(StreamState.Off, held.state.value)
     }
 
     @Test
