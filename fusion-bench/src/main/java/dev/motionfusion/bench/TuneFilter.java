@@ -131,7 +131,7 @@ public final class TuneFilter {
 
     /** The properties of OfflineSettings in its constructor's order. */
     static final String[] OFFLINE_NAMES = {"backwardWeight", "inclinationBackwardWeight", "headingSmoothing", "smootherRestNoise", "smootherMotionNoise",
-        "smootherHeadingNoise", "smootherBiasNoise"};
+        "smootherHeadingNoise", "smootherBiasNoise", "smootherRestSpread"};
 
     /**
      * The offline settings of [spec] ("offline:" before the overrides, OfflineSettings' properties among
@@ -143,17 +143,17 @@ public final class TuneFilter {
         if (!body.startsWith("offline")) return null;
         OfflineSettings d = new OfflineSettings();
         double[] v = {d.getBackwardWeight(), d.getInclinationBackwardWeight(), d.getHeadingSmoothing(), d.getSmootherRestNoise(), d.getSmootherMotionNoise(),
-            d.getSmootherHeadingNoise(), d.getSmootherBiasNoise()};
+            d.getSmootherHeadingNoise(), d.getSmootherBiasNoise(), d.getSmootherRestSpread()};
         for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
             String t = a.trim();
             for (int k = 0; k < OFFLINE_NAMES.length; k++) {
                 if (t.startsWith(OFFLINE_NAMES[k] + "=")) {
                     double x = Double.parseDouble(t.substring(OFFLINE_NAMES[k].length() + 1));
-                    v[k] = k >= 3 ? Math.toRadians(x) : x; // the smoother's noises in degrees here
+                    v[k] = k >= 3 && k <= 6 ? Math.toRadians(x) : x; // the smoother's noises in degrees here
                 }
             }
         }
-        return new OfflineSettings(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+        return new OfflineSettings(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
     }
 
     static boolean offlineName(String a) {

@@ -58,15 +58,22 @@ import kotlin.math.sqrt
  * @property smootherMotionNoise the same in motion, rad·√s.
  * @property smootherHeadingNoise the random walk of the heading the gyroscope integrates, rad/√s.
  * @property smootherBiasNoise the random walk of the gyroscope's bias about the vertical, rad/s/√s.
+ * @property smootherRestSpread the largest spread of the field's magnitude while the device moves (a robust
+ *   standard deviation, 1.4826 × the median absolute deviation, relative to the median magnitude) at which the
+ *   smoother gives rest its trust ([smootherRestNoise]); above it a rest's readings count as the motion's
+ *   ([smootherMotionNoise]). A magnitude that changes as the device turns means a magnetometer that is not
+ *   calibrated or carries a magnet along: its heading error then depends on the orientation, and a rest holds one
+ *   orientation's error however long it lasts ([FieldReference.motionSpread]).
  */
 public data class OfflineSettings @JvmOverloads constructor(
     val backwardWeight: Double = 0.0,
     val inclinationBackwardWeight: Double = 0.5,
-    val headingSmoothing: Double = 0.5,
+    val headingSmoothing: Double = 0.8,
     val smootherRestNoise: Double = 1.0 * DEGREE,
     val smootherMotionNoise: Double = 30.0 * DEGREE,
     val smootherHeadingNoise: Double = 0.02 * DEGREE,
     val smootherBiasNoise: Double = 0.005 * DEGREE,
+    val smootherRestSpread: Double = 0.04,
 ) {
     init {
         require(backwardWeight in 0.0..1.0) { "backwardWeight must be within 0…1, not $backwardWeight" }
@@ -75,6 +82,7 @@ public data class OfflineSettings @JvmOverloads constructor(
         for ((name, v) in listOf(
             "smootherRestNoise" to smootherRestNoise, "smootherMotionNoise" to smootherMotionNoise,
             "smootherHeadingNoise" to smootherHeadingNoise, "smootherBiasNoise" to smootherBiasNoise,
+            "smootherRestSpread" to smootherRestSpread,
         )) require(v.isFinite() && v > 0.0) { "$name must be finite and > 0, not $v" }
     }
 
@@ -103,7 +111,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         if (fresh(step.timestampNs, step.accelerometerNs)) flags = flags or ACC_FRESH
         if (fresh(step.timestampNs, step.magnetometerNs)) {
             flags = flags or MAG_FRESH
-            field.add(step.magneticField, step.orientation)
+            field.add(step.magneticField, step.orientation, forward.atRest)
         }
         spill.putStep(flags, step.timestampNs, step.timeS, step.angularVelocity, step.specificForce, step.magneticField, step.orientation)
     }
@@ -133,6 +141,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         var pending = false
         var later = Long.MIN_VALUE
         field.settle()
+        smoother?.trustRest = field.motionSpread <= offline.smootherRestSpread
         // How recently, on this pass's clock, the field was disturbed: 1 then, decaying at the heading gain.
         var backRecent = 0.0
         val mb = DoubleArray(3)
@@ -320,6 +329,9 @@ internal class HeadingSmoother(s: OfflineSettings) {
     private var started = false
     private val prev = DoubleArray(4)
 
+    /** Whether a reading at rest gets the rest's noise (else the motion's); set before the filter runs ([OfflineSettings.smootherRestSpread]). */
+    var trustRest = true
+
     // The smoothing pass: the previous record's smoothed state and its increment.
     private var xs = Double.NaN
     private var bs = 0.0
@@ -362,7 +374,7 @@ internal class HeadingSmoother(s: OfflineSettings) {
             }
             if (magFresh && dt > 0.0 && !disturbed && usable(m)) {
                 // The reading's measure of x, its variance, and the update (P ← (I − K H) P, H = [1, 0]).
-                val r = (if (rest) rRest else rMotion) / dt
+                val r = (if (rest && trustRest) rRest else rMotion) / dt
                 val e = wrap(magHeading(m, q) - x)
                 val sInv = 1.0 / (p11 + r)
                 val k1 = p11 * sInv
@@ -464,7 +476,8 @@ internal class HeadingSmoother(s: OfflineSettings) {
  * magnitude (µT) and dip angle (the angle below the horizontal, from the first pass's orientation) over the
  * whole recording, kept as histograms (memory fixed whatever the length). A reading is disturbed when its
  * magnitude departs from that median by more than FilterSettings.magNormTolerance (relative) or its dip, by
- * the orientation given, by more than magDipTolerance: the causal filter's own tolerances. Frames: field
+ * the orientation given, by more than magDipTolerance: the causal filter's own tolerances. It also keeps the
+ * magnitudes read while the device moves (the first pass's rest detector), for [motionSpread]. Frames: field
  * in the device frame, orientation sensor → ENU.
  */
 internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSettings) {
@@ -474,6 +487,15 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
     /** The rate at which the heading correction pulls an error out, 1/s (headingGain; the default's with the report's step). */
     private val rate = if (settings.headingGain > 0.0) settings.headingGain else DEFAULT_RATE
     private val norms = IntArray(NORM_BINS)
+    private val motionNorms = IntArray(NORM_BINS)
+    private var motionCount = 0L
+
+    /**
+     * The spread of the field's magnitude while the device moved: 1.4826 × its median absolute deviation, relative
+     * to its median (so a standard deviation for normal noise); 0 without such readings. Set by [settle].
+     */
+    var motionSpread = 0.0
+        private set
 
     // Sines of the dip (monotonic in the dip, so their median is the sine of the median dip): no arcsine per reading.
     private val sinDips = IntArray(SIN_BINS)
@@ -485,10 +507,16 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
     private var decayNs = -1L
     private var decayFactor = 1.0
 
-    fun add(m: DoubleArray, q: DoubleArray) {
+    /** Takes the reading [m] at the orientation [q]; [rest]: the rest detector's flag then. */
+    fun add(m: DoubleArray, q: DoubleArray, rest: Boolean) {
         val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
         if (!(n > 0.0) || n.isInfinite() || q[0].isNaN()) return
-        norms[(n / NORM_BIN).toInt().coerceIn(0, NORM_BINS - 1)]++
+        val bin = (n / NORM_BIN).toInt().coerceIn(0, NORM_BINS - 1)
+        norms[bin]++
+        if (!rest) {
+            motionNorms[bin]++
+            motionCount++
+        }
         sinDips[((sinDip(m, n, q) + 1.0) / SIN_BIN).toInt().coerceIn(0, SIN_BINS - 1)]++
         count++
     }
@@ -496,10 +524,17 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
     /** Fixes the medians and the limits around them; before any reading was added nothing is disturbed. */
     fun settle() {
         if (count == 0L) return
-        val norm = (median(norms) + 0.5) * NORM_BIN
+        if (motionCount > 0L) {
+            // The median absolute deviation from the histogram: the deviations' histogram in the same bins.
+            val mid = median(motionNorms, motionCount)
+            val deviations = IntArray(NORM_BINS)
+            for (i in motionNorms.indices) if (motionNorms[i] != 0) deviations[kotlin.math.abs(i - mid)] += motionNorms[i]
+            motionSpread = MAD_TO_SD * median(deviations, motionCount) / (mid + 0.5)
+        }
+        val norm = (median(norms, count) + 0.5) * NORM_BIN
         normLow = norm * (1.0 - normTolerance)
         normHigh = norm * (1.0 + normTolerance)
-        val dip = asin(((median(sinDips) + 0.5) * SIN_BIN - 1.0).coerceIn(-1.0, 1.0))
+        val dip = asin(((median(sinDips, count) + 0.5) * SIN_BIN - 1.0).coerceIn(-1.0, 1.0))
         sinLow = sin(maxOf(-PI / 2, dip - dipTolerance))
         sinHigh = sin(minOf(PI / 2, dip + dipTolerance))
     }
@@ -524,7 +559,7 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
         return if (r < 1e-4) 0.0 else r
     }
 
-    private fun median(h: IntArray): Int {
+    private fun median(h: IntArray, count: Long): Int {
         var seen = 0L
         for (i in h.indices) {
             seen += h[i]
@@ -539,6 +574,9 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
         const val SIN_BINS = 4000
         const val SIN_BIN = 2.0 / SIN_BINS
         const val DEFAULT_RATE = 0.05
+
+        /** A normal distribution's standard deviation over its median absolute deviation. */
+        const val MAD_TO_SD = 1.4826
 
         /** Sine of the dip angle: of [m] (magnitude [n]) below the horizontal of the orientation [q] (sensor → ENU). */
         fun sinDip(m: DoubleArray, n: Double, q: DoubleArray): Double {

@@ -6,6 +6,7 @@ import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
+import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.io.TempDir
@@ -90,6 +91,42 @@ class HeadingSmootherTest {
         assertTrue(without > 2.0, msg)
         assertTrue(alone < 0.4 * without, msg)
         assertTrue(with < 0.75 * without, msg)
+    }
+
+    @Test
+    fun `a field whose magnitude changes in motion gets no trust at rest, a consistent one keeps it`() {
+        // The magnetometer's heading 4° off at rest only, and in motion a magnitude that swings by ±8 % (its heading
+        // right): a field that changes as the device moves, as with a magnet carried along, where a rest holds one
+        // orientation's error however long it lasts. Then the rest must not pin the heading.
+        val times = samples.map { it.timestampNs * 1e-9 }
+        val truth = samples.map { it.truth }
+        val restTurn = Quaternion.fromAxisAngle(Vector3(0.0, 0.0, 1.0), 4.0 * PI / 180.0)
+        fun table(name: String, swing: Double): Path {
+            val file = dir.resolve(name)
+            Files.newBufferedWriter(file).use { w ->
+                w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
+                for (s in samples) {
+                    val t = s.timestampNs * 1e-9
+                    val moving = rests.none { t in it }
+                    val m = if (moving) s.mag * (1.0 + swing * kotlin.math.sin(2.0 * PI * t / 3.0)) else s.truth.inverseRotate(restTurn.rotate(s.truth.rotate(s.mag)))
+                    val v = listOf(s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z, m.x, m.y, m.z)
+                    w.write(String.format(Locale.ROOT, "%.6f", t) + v.joinToString("") { "," + it } + "\n")
+                }
+            }
+            return file
+        }
+        val gated = OfflineSettings(headingSmoothing = 1.0)
+        val trusting = gated.copy(smootherRestSpread = 10.0)
+        fun rms(file: Path, o: OfflineSettings) = headingRms(replay(file, o), times, truth, 0.0, 130.0)
+        val swinging = table("swinging.csv", 0.08)
+        val withGate = rms(swinging, gated)
+        val withoutGate = rms(swinging, trusting)
+        val msg = String.format(Locale.ROOT, "heading RMSE: rest trusted only for a consistent field %.2f°, always %.2f°", withGate, withoutGate)
+        println(msg)
+        assertTrue(withGate < 0.7 * withoutGate, msg)
+        // The same rest error with a steady magnitude: the field is consistent, so the rest keeps its trust.
+        val steady = table("steady.csv", 0.0)
+        assertEquals(rms(steady, trusting), rms(steady, gated), 0.0)
     }
 
     @Test

@@ -78,8 +78,8 @@ class OfflineCombinationTest {
         val level = doubleArrayOf(1.0, 0.0, 0.0, 0.0) // device frame = ENU
         // 50 µT dipping 60° below north, with a few disturbed readings among them.
         fun reading(norm: Double, dipDeg: Double) = doubleArrayOf(0.0, norm * kotlin.math.cos(dipDeg * PI / 180), -norm * kotlin.math.sin(dipDeg * PI / 180))
-        repeat(1000) { field.add(reading(50.0 + (it % 7) * 0.3, 60.0 + (it % 5) * 0.5), level) }
-        repeat(300) { field.add(reading(90.0, 20.0), level) }
+        repeat(1000) { field.add(reading(50.0 + (it % 7) * 0.3, 60.0 + (it % 5) * 0.5), level, rest = true) }
+        repeat(300) { field.add(reading(90.0, 20.0), level, rest = true) }
         assertFalse(field.disturbed(reading(50.0, 60.0), level), "before the medians are fixed nothing is disturbed")
         field.settle()
         assertFalse(field.disturbed(reading(51.0, 61.0), level))
@@ -89,6 +89,20 @@ class OfflineCombinationTest {
         val tilted = about(Vector3(1.0, 0.0, 0.0), 30.0)
         assertTrue(field.disturbed(reading(50.0, 60.0), tilted))
         assertEquals(0.5 * kotlin.math.exp(-settings.headingGain * 2.0), field.decay(0.5, 2_000_000_000L), 1e-12)
+    }
+
+    @Test
+    fun `the spread of the field's magnitude counts the readings in motion only`() {
+        val field = FieldReference(FilterSettings())
+        val level = doubleArrayOf(1.0, 0.0, 0.0, 0.0)
+        fun reading(norm: Double) = doubleArrayOf(0.0, norm * 0.5, -norm * kotlin.math.sqrt(0.75))
+        field.settle()
+        assertEquals(0.0, field.motionSpread, "no readings")
+        // In motion a third each at 48, 50 and 52 µT: median 50, median absolute deviation 2 µT; at rest anything.
+        for (k in 0 until 900) field.add(reading(48.05 + 2.0 * (k % 3)), level, rest = false)
+        for (k in 0 until 2000) field.add(reading(10.0 + k * 0.05), level, rest = true)
+        field.settle()
+        assertEquals(1.4826 * 2.0 / 50.05, field.motionSpread, 2e-3)
     }
 
     /** Total error, °, RMS over the rows whose time is in [from, to) s; [orientations] in row order. */
