@@ -63,7 +63,7 @@ import kotlin.math.sqrt
  *   smoother gives rest its trust ([smootherRestNoise]); above it a rest's readings count as the motion's
  *   ([smootherMotionNoise]). A magnitude that changes as the device turns means a magnetometer that is not
  *   calibrated or carries a magnet along: its heading error then depends on the orientation, and a rest holds one
- *   orientation's error however long it lasts ([FieldReference.motionSpread]).
+ *   orientation's error however long it lasts (docs/ACCURACY.md, "Trust at rest only in a steady field").
  */
 public data class OfflineSettings @JvmOverloads constructor(
     val backwardWeight: Double = 0.0,
@@ -306,8 +306,8 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
  * so x follows the gyroscope, and b lets the gyroscope drift steadily between two stretches where the
  * magnetometer is trusted. Each fresh magnetometer reading measures x (the turn that brings its
  * horizontal part onto north) with a variance of [OfflineSettings.smootherRestNoise]² / Δt at rest (the
- * rest detector's flag) and [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field
- * check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
+ * rest detector's flag, where [trustRest]) and [OfflineSettings.smootherMotionNoise]² / Δt in motion; a
+ * reading the field check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
  * there and the gyroscope's drift between rests is taken out, and the magnetometer in motion, which the
  * rest of the estimate follows, counts little.
  *
