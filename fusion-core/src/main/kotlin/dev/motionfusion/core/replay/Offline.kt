@@ -34,6 +34,7 @@ import java.nio.file.Path
 import java.nio.file.StandardOpenOption
 import java.util.concurrent.ConcurrentHashMap
 import kotlin.math.PI
+import kotlin.math.abs
 import kotlin.math.asin
 import kotlin.math.atan
 import kotlin.math.atan2
@@ -61,7 +62,7 @@ import kotlin.math.sqrt
  * @property smootherRestSpread the largest spread of the field's magnitude while the device moves (a robust
  *   standard deviation, 1.4826 × the median absolute deviation, relative to the median magnitude) at which the
  *   smoother gives rest its trust ([smootherRestNoise]); above it a rest's readings count as the motion's
- *   ([smootherMotionNoise]). A magnitude that changes as the device turns means a magnetometer that is not
+ *   ([smootherMotionNoise]); [Double.POSITIVE_INFINITY] trusts every rest. A magnitude that changes as the device turns means a magnetometer that is not
  *   calibrated or carries a magnet along: its heading error then depends on the orientation, and a rest holds one
  *   orientation's error however long it lasts (docs/ACCURACY.md, "Trust at rest only in a steady field").
  */
@@ -82,8 +83,8 @@ public data class OfflineSettings @JvmOverloads constructor(
         for ((name, v) in listOf(
             "smootherRestNoise" to smootherRestNoise, "smootherMotionNoise" to smootherMotionNoise,
             "smootherHeadingNoise" to smootherHeadingNoise, "smootherBiasNoise" to smootherBiasNoise,
-            "smootherRestSpread" to smootherRestSpread,
         )) require(v.isFinite() && v > 0.0) { "$name must be finite and > 0, not $v" }
+        require(smootherRestSpread > 0.0) { "smootherRestSpread must be > 0 (infinite: rest always trusted), not $smootherRestSpread" }
     }
 
     public companion object {
@@ -141,7 +142,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         var pending = false
         var later = Long.MIN_VALUE
         field.settle()
-        smoother?.trustRest = field.motionSpread <= offline.smootherRestSpread
+        val trustRest = field.motionSpread <= offline.smootherRestSpread
         // How recently, on this pass's clock, the field was disturbed: 1 then, decaying at the heading gain.
         var backRecent = 0.0
         val mb = DoubleArray(3)
@@ -178,7 +179,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
             b.putDouble(at + Spill.RECENT, backRecent)
             if (smoother != null) {
                 back.gyroBiasInto(gb)
-                smoother.filterStep(b, at, q, linked, hx - gb[0], hy - gb[1], hz - gb[2], stepS, flags and MAG_FRESH != 0L, mb, back.atRest, disturbed)
+                smoother.filterStep(b, at, q, linked, hx - gb[0], hy - gb[1], hz - gb[2], stepS, flags and MAG_FRESH != 0L, mb, back.atRest && trustRest, disturbed)
             }
         }
         // Forward again, from where the backward pass ended.
@@ -306,8 +307,8 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
  * so x follows the gyroscope, and b lets the gyroscope drift steadily between two stretches where the
  * magnetometer is trusted. Each fresh magnetometer reading measures x (the turn that brings its
  * horizontal part onto north) with a variance of [OfflineSettings.smootherRestNoise]² / Δt at rest (the
- * rest detector's flag, where [trustRest]) and [OfflineSettings.smootherMotionNoise]² / Δt in motion; a
- * reading the field check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
+ * rest detector's flag, where the field holds steady in motion: [OfflineSettings.smootherRestSpread]) and
+ * [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
  * there and the gyroscope's drift between rests is taken out, and the magnetometer in motion, which the
  * rest of the estimate follows, counts little.
  *
@@ -328,9 +329,6 @@ internal class HeadingSmoother(s: OfflineSettings) {
     private var p22 = 0.0
     private var started = false
     private val prev = DoubleArray(4)
-
-    /** Whether a reading at rest gets the rest's noise (else the motion's); set before the filter runs ([OfflineSettings.smootherRestSpread]). */
-    var trustRest = true
 
     // The smoothing pass: the previous record's smoothed state and its increment.
     private var xs = Double.NaN
@@ -374,7 +372,7 @@ internal class HeadingSmoother(s: OfflineSettings) {
             }
             if (magFresh && dt > 0.0 && !disturbed && usable(m)) {
                 // The reading's measure of x, its variance, and the update (P ← (I − K H) P, H = [1, 0]).
-                val r = (if (rest && trustRest) rRest else rMotion) / dt
+                val r = (if (rest) rRest else rMotion) / dt
                 val e = wrap(magHeading(m, q) - x)
                 val sInv = 1.0 / (p11 + r)
                 val k1 = p11 * sInv
@@ -528,7 +526,7 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
             // The median absolute deviation from the histogram: the deviations' histogram in the same bins.
             val mid = median(motionNorms, motionCount)
             val deviations = IntArray(NORM_BINS)
-            for (i in motionNorms.indices) if (motionNorms[i] != 0) deviations[kotlin.math.abs(i - mid)] += motionNorms[i]
+            for (i in motionNorms.indices) if (motionNorms[i] != 0) deviations[abs(i - mid)] += motionNorms[i]
             motionSpread = MAD_TO_SD * median(deviations, motionCount) / (mid + 0.5)
         }
         val norm = (median(norms, count) + 0.5) * NORM_BIN

@@ -71,8 +71,11 @@ class SubsetAccuracyTest {
         groups().map { (subset, group) ->
             DynamicTest.dynamicTest("offline against causal $subset $group") {
                 assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not evaluated")
-                fun mean(r: Map<String, List<TrialResult>>) =
-                    r.getValue(subset).filter { group == "overall" || PeerFigures.group(it.trial) == group }.map { it.error.totalDeg }.average()
+                fun mean(r: Map<String, List<TrialResult>>): Double {
+                    val trials = r.getValue(subset).filter { group == "overall" || PeerFigures.group(it.trial) == group }
+                    assertTrue(trials.isNotEmpty(), "no $group trial in $subset")
+                    return trials.map { it.error.totalDeg }.average()
+                }
                 val before = mean(causal)
                 val after = mean(offline)
                 val msg = String.format(Locale.ROOT, "%s %s: offline %.2f°, causal %.2f° (%+.0f %%)", subset, group, after, before, 100 * (after - before) / before)

@@ -116,7 +116,7 @@ class HeadingSmootherTest {
             return file
         }
         val gated = OfflineSettings(headingSmoothing = 1.0)
-        val trusting = gated.copy(smootherRestSpread = 10.0)
+        val trusting = gated.copy(smootherRestSpread = Double.POSITIVE_INFINITY)
         fun rms(file: Path, o: OfflineSettings) = headingRms(replay(file, o), times, truth, 0.0, 130.0)
         val swinging = table("swinging.csv", 0.08)
         val withGate = rms(swinging, gated)

@@ -92,17 +92,28 @@ class OfflineCombinationTest {
     }
 
     @Test
+    fun `the rest condition's spread is a positive number, infinity trusting every rest`() {
+        for (bad in listOf(0.0, -0.01, Double.NaN)) {
+            val e = org.junit.jupiter.api.assertThrows<IllegalArgumentException> { OfflineSettings(smootherRestSpread = bad) }
+            assertTrue(e.message!!.contains("smootherRestSpread"), e.message)
+        }
+        assertEquals(Double.POSITIVE_INFINITY, OfflineSettings(smootherRestSpread = Double.POSITIVE_INFINITY).smootherRestSpread)
+    }
+
+    @Test
     fun `the spread of the field's magnitude counts the readings in motion only`() {
         val field = FieldReference(FilterSettings())
         val level = doubleArrayOf(1.0, 0.0, 0.0, 0.0)
         fun reading(norm: Double) = doubleArrayOf(0.0, norm * 0.5, -norm * kotlin.math.sqrt(0.75))
-        field.settle()
-        assertEquals(0.0, field.motionSpread, "no readings")
-        // In motion a third each at 48, 50 and 52 µT: median 50, median absolute deviation 2 µT; at rest anything.
-        for (k in 0 until 900) field.add(reading(48.05 + 2.0 * (k % 3)), level, rest = false)
+        // At rest anything: without a reading in motion the spread is 0.
         for (k in 0 until 2000) field.add(reading(10.0 + k * 0.05), level, rest = true)
         field.settle()
-        assertEquals(1.4826 * 2.0 / 50.05, field.motionSpread, 2e-3)
+        assertEquals(0.0, field.motionSpread, "readings at rest only")
+        // In motion a third each at 48, 50 and 52 µT: median 50, median absolute deviation 2 µT (in 0.1-µT bins: 20 of
+        // them, the median in the bin from 50.0, whose middle is 50.05).
+        for (k in 0 until 900) field.add(reading(48.05 + 2.0 * (k % 3)), level, rest = false)
+        field.settle()
+        assertEquals(1.4826 * 2.0 / 50.05, field.motionSpread, 1e-9)
     }
 
     /** Total error, °, RMS over the rows whose time is in [from, to) s; [orientations] in row order. */
