@@ -62,9 +62,10 @@ import kotlin.math.sqrt
  * @property smootherRestSpread the largest spread of the field's magnitude while the device moves (a robust
  *   standard deviation, 1.4826 × the median absolute deviation, relative to the median magnitude) at which the
  *   smoother gives rest its trust ([smootherRestNoise]); above it a rest's readings count as the motion's
- *   ([smootherMotionNoise]); [Double.POSITIVE_INFINITY] trusts every rest. A magnitude that changes as the device turns means a magnetometer that is not
- *   calibrated or carries a magnet along: its heading error then depends on the orientation, and a rest holds one
- *   orientation's error however long it lasts (docs/ACCURACY.md, "Trust at rest only in a steady field").
+ *   ([smootherMotionNoise]); [Double.POSITIVE_INFINITY] trusts every rest. A magnitude that changes as the
+ *   device turns means a magnetometer that is not calibrated or carries a magnet along: its heading error then
+ *   depends on the orientation, and a rest holds one orientation's error however long it lasts
+ *   (docs/ACCURACY.md, "Trust at rest only in a steady field").
  */
 public data class OfflineSettings @JvmOverloads constructor(
     val backwardWeight: Double = 0.0,
@@ -308,9 +309,10 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
  * magnetometer is trusted. Each fresh magnetometer reading measures x (the turn that brings its
  * horizontal part onto north) with a variance of [OfflineSettings.smootherRestNoise]² / Δt at rest (the
  * rest detector's flag, where the field holds steady in motion: [OfflineSettings.smootherRestSpread]) and
- * [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field check finds disturbed ([FieldReference]) is left out. So where a recording rests, the heading is pinned
- * there and the gyroscope's drift between rests is taken out, and the magnetometer in motion, which the
- * rest of the estimate follows, counts little.
+ * [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field check finds disturbed
+ * ([FieldReference]) is left out. So where a recording rests, the heading is pinned there and the
+ * gyroscope's drift between rests is taken out, and the magnetometer in motion, which the rest of the
+ * estimate follows, counts little.
  *
  * The filter runs in the backward pass (its own time order, the recording's backward) and keeps each
  * record's filtered state (x, b and their covariance, and u) in the spill file; the smoothing runs in the
