@@ -42,6 +42,12 @@ import java.util.concurrent.Future;
  *   --trials     print per-trial total/heading/inclination for every set (default: group means only)
  *   --rv         also score each trial's rotation_vector.csv[.gz] (the phone's own orientation)
  *   --cv         cross-validation over the sets: leave one trial out, and tune on one group, test on the other
+ *   --lodo       leave one data set out: choose the set best on the other data sets, score it on the one left out
+ *                (objective: the worst group's mean over the peer's mean on the same trials with --peers, else
+ *                the mean over groups)
+ *   --peers CSV  the peer's figures (input,metric,value[,samples]: fusion-core's test resource peers/vqf.csv);
+ *                the metric total_rmse_deg for causal sets, offline_total_rmse_deg for offline ones
+ *   --offset SET score the data set SET (a folder of trial folders) with one heading offset per trial removed
  * </pre>
  */
 public final class TuneFilter {
@@ -52,6 +58,8 @@ public final class TuneFilter {
     static final class Loaded {
         final String name;
         final String group;
+        final String sub; // the group inside the data set: meta.json's venue or motion, else disturbed/undisturbed from the name
+        final boolean offsetRemoved;
         final long[] tNs;
         final double[] rows; // 9 per row
         final boolean hasMag;
@@ -60,11 +68,13 @@ public final class TuneFilter {
         final double[][] rotationVector; // null without one
         final File dir;
 
-        Loaded(File dir, boolean withRv) throws IOException {
+        Loaded(File dir, boolean withRv, List<String> offsetSets) throws IOException {
             this.dir = dir;
             Trial t = Trial.Companion.load(dir);
             name = t.getName();
             group = dir.getParentFile().getName();
+            sub = subGroup(dir, name);
+            offsetRemoved = offsetSets.contains(group);
             long[] times = new long[1 << 16];
             double[] imu = new double[9 << 16];
             List<double[]> truthRows = new ArrayList<>();
@@ -107,6 +117,7 @@ public final class TuneFilter {
         /** The offline estimate (Replayer.runOffline through the library's trial evaluation; reads the trial's files). */
         ErrorRmse run(FilterSettings s, OfflineSettings offline) {
             if (offline == null) return run(s);
+            if (offsetRemoved) throw new IllegalArgumentException("--offset with offline sets is not supported: " + name);
             return Evaluation.INSTANCE.evaluate(Trial.Companion.load(dir), s, offline).getError();
         }
 
@@ -124,9 +135,24 @@ public final class TuneFilter {
                 }
                 f.orientationInto(est[i], 0);
             }
-            boolean sixD = s.getMode() == FilterMode.IMU || !hasMag;
+            boolean sixD = s.getMode() == FilterMode.IMU || !hasMag || offsetRemoved;
             return BroadMetric.INSTANCE.rmse(est, truth, movement, sixD);
         }
+    }
+
+    /** The group of a trial inside its data set: disturbed/undisturbed from the name, else meta.json's "venue" or "motion" string. */
+    static String subGroup(File dir, String name) throws IOException {
+        if (name.contains("undisturbed") || name.contains("NoDist")) return "undisturbed";
+        if (name.contains("disturbed") || name.contains("Dist")) return "disturbed";
+        File meta = new File(dir, "meta.json");
+        if (meta.isFile()) {
+            String text = Files.readString(meta.toPath(), StandardCharsets.UTF_8);
+            for (String key : new String[] {"venue", "motion"}) {
+                java.util.regex.Matcher m = java.util.regex.Pattern.compile("\"" + key + "\"\\s*:\\s*\"([^\"]*)\"").matcher(text);
+                if (m.find()) return m.group(1);
+            }
+        }
+        return "all";
     }
 
     /** The properties of OfflineSettings in its constructor's order. */
@@ -196,6 +222,9 @@ public final class TuneFilter {
         boolean perTrial = false;
         boolean rv = false;
         boolean cv = false;
+        List<String> offsetSets = new ArrayList<>();
+        boolean lodo = false;
+        Map<String, Double> peers = new LinkedHashMap<>();
         for (int i = 0; i < args.length; i++) {
             String a = args[i];
             switch (a) {
@@ -203,6 +232,19 @@ public final class TuneFilter {
                 case "--trials" -> perTrial = true;
                 case "--rv" -> rv = true;
                 case "--cv" -> cv = true;
+                case "--offset" -> offsetSets.add(args[++i]);
+                case "--lodo" -> lodo = true;
+                case "--peers" -> {
+                    for (String line : Files.readAllLines(new File(args[++i]).toPath(), StandardCharsets.UTF_8)) {
+                        String[] c = line.split(",");
+                        if (c.length < 3 || line.startsWith("#")) continue;
+                        try {
+                            peers.put(c[0] + "," + c[1], Double.parseDouble(c[2]));
+                        } catch (NumberFormatException e) {
+                            // a header or a "—" (no figure)
+                        }
+                    }
+                }
                 case "--sets" -> {
                     for (String line : Files.readAllLines(new File(args[++i]).toPath(), StandardCharsets.UTF_8)) {
                         String l = line.strip();
@@ -225,7 +267,7 @@ public final class TuneFilter {
         long t0 = System.nanoTime();
         ExecutorService pool = Executors.newFixedThreadPool(threads);
         try {
-            run(pool, dirs, specs, settings, offline, perTrial, rv, cv, t0);
+            run(pool, dirs, specs, settings, offline, perTrial, rv, cv, offsetSets, t0, lodo, peers);
         } finally {
             // A trial that fails to load must end the run, not leave the workers waiting for more work.
             pool.shutdownNow();
@@ -233,11 +275,11 @@ public final class TuneFilter {
     }
 
     static void run(ExecutorService pool, List<File> dirs, List<String> specs, List<FilterSettings> settings, List<OfflineSettings> offline,
-                    boolean perTrial, boolean rv, boolean cv, long t0) throws Exception {
+                    boolean perTrial, boolean rv, boolean cv, List<String> offsetSets, long t0, boolean lodo, Map<String, Double> peers) throws Exception {
         List<File> trialDirs = Evaluation.INSTANCE.findTrials(dirs);
         final boolean withRv = rv;
         List<Future<Loaded>> lf = new ArrayList<>();
-        for (File d : trialDirs) lf.add(pool.submit(() -> new Loaded(d, withRv)));
+        for (File d : trialDirs) lf.add(pool.submit(() -> new Loaded(d, withRv, offsetSets)));
         List<Loaded> trials = new ArrayList<>();
         for (Future<Loaded> f : lf) trials.add(f.get());
         System.err.printf(Locale.ROOT, "loaded %d trials in %.1f s%n", trials.size(), (System.nanoTime() - t0) * 1e-9);
@@ -287,6 +329,11 @@ public final class TuneFilter {
                 line.append(String.format(Locale.ROOT, " | %s %.2f (h %.2f, i %.2f)", g.getKey(), m[0], m[1], m[2]));
             }
             System.out.println(line);
+            StringBuilder subs = new StringBuilder("    groups:");
+            for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
+                subs.append(String.format(Locale.ROOT, " %s %.2f", g.getKey(), mean(res[si], g.getValue())[0]));
+            }
+            System.out.println(subs);
             if (perTrial) {
                 for (int ti = 0; ti < trials.size(); ti++) {
                     ErrorRmse e = res[si][ti];
@@ -295,6 +342,74 @@ public final class TuneFilter {
             }
         }
         if (cv) crossValidate(specs, trials, groups, res);
+        if (lodo) leaveOneDataSetOut(specs, offline, trials, res, peers);
+    }
+
+    /** The peer's figure for trial [t] (NaN without one). */
+    static double peer(Map<String, Double> peers, Loaded t, boolean offline) {
+        Double v = peers.get(t.group + "/" + t.name + "," + (offline ? "offline_total_rmse_deg" : "total_rmse_deg"));
+        return v == null ? Double.NaN : v;
+    }
+
+    /**
+     * The objective of set [si] on the data sets other than [heldOut]: the largest ratio of a group's mean to the peer's
+     * mean on the same trials (with peer figures), else the mean over the groups of their means.
+     */
+    static double lodoObjective(int si, String heldOut, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline) {
+        double worst = 0;
+        double sum = 0;
+        int n = 0;
+        boolean ratio = !peers.isEmpty();
+        for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
+            if (trials.get(g.getValue().get(0)).group.equals(heldOut)) continue;
+            double ours = mean(res[si], g.getValue())[0];
+            if (ratio) {
+                double p = 0;
+                for (int ti : g.getValue()) p += peer(peers, trials.get(ti), offline);
+                p /= g.getValue().size();
+                if (Double.isNaN(p)) throw new IllegalArgumentException("no peer figure for a trial of " + g.getKey());
+                worst = Math.max(worst, ours / p);
+            }
+            sum += ours;
+            n++;
+        }
+        return ratio ? worst : sum / n;
+    }
+
+    static void leaveOneDataSetOut(List<String> specs, List<OfflineSettings> offline, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers) {
+        System.out.println("## leave one data set out (choose the set best on the other data sets, score it on the one left out)");
+        List<String> sets = new ArrayList<>();
+        for (Loaded t : trials) if (!sets.contains(t.group)) sets.add(t.group);
+        for (String held : sets) {
+            int b = -1;
+            double bo = Double.POSITIVE_INFINITY;
+            for (int si = 0; si < specs.size(); si++) {
+                double o = lodoObjective(si, held, trials, res, peers, offline.get(si) != null);
+                if (o < bo) {
+                    bo = o;
+                    b = si;
+                }
+            }
+            StringBuilder line = new StringBuilder(String.format(Locale.ROOT, "held out %s: chosen %s (objective on the others %.3f):", held, label(specs.get(b)), bo));
+            for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
+                if (!trials.get(g.getValue().get(0)).group.equals(held)) continue;
+                double p = 0;
+                for (int ti : g.getValue()) p += peer(peers, trials.get(ti), offline.get(b) != null);
+                p /= g.getValue().size();
+                line.append(String.format(Locale.ROOT, " %s %.2f (peer %.2f)", g.getKey(), mean(res[b], g.getValue())[0], p));
+            }
+            List<Integer> all = new ArrayList<>();
+            for (int ti = 0; ti < trials.size(); ti++) if (trials.get(ti).group.equals(held)) all.add(ti);
+            line.append(String.format(Locale.ROOT, "; all %.2f", mean(res[b], all)[0]));
+            System.out.println(line);
+        }
+    }
+
+    /** The trials by data set and group inside it ("tyrex-subset/disturbed"). */
+    static Map<String, List<Integer>> subGroups(List<Loaded> trials) {
+        Map<String, List<Integer>> m = new LinkedHashMap<>();
+        for (int ti = 0; ti < trials.size(); ti++) m.computeIfAbsent(trials.get(ti).group + "/" + trials.get(ti).sub, k -> new ArrayList<>()).add(ti);
+        return m;
     }
 
     /** Mean total, heading, inclination over the trials [idx]. */
