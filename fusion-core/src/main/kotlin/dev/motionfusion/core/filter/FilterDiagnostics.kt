@@ -13,7 +13,8 @@ import dev.motionfusion.core.Vector3
  * @property gyroBias the gyroscope bias subtracted from each reading (rest estimate and ζ), rad/s,
  *   device frame.
  * @property atRest the rest detector currently sees the sensor at rest.
- * @property magneticDisturbance the magnetometer is currently left out as disturbed.
+ * @property magneticDisturbance the magnetometer is currently left out as disturbed (by the disturbance
+ *   detector, or a field stronger than any earth field: SensorRanges.MAX_EARTH_FIELD_UT, 200 µT).
  * @property accelerometerRejected the accelerometer is currently left out (linear acceleration).
  * @property gyroscopeSteps gyroscope samples integrated.
  * @property skippedBeforeInit gyroscope samples dropped while waiting for initialisation.
@@ -27,7 +28,8 @@ import dev.motionfusion.core.Vector3
  * @property staleSamples gyroscope steps whose latest accelerometer or magnetometer sample was older
  *   than maxGap and therefore not used.
  * @property accelerometerRejections steps whose accelerometer reading was rejected.
- * @property magneticRejections steps whose magnetometer reading was rejected as disturbed.
+ * @property magneticRejections steps whose magnetometer reading was rejected as disturbed (by the detector,
+ *   or stronger than any earth field).
  * @property gyroscopeSaturations gyroscope readings with an axis at or beyond gyroSaturation (clipped
  *   at the sensor's range), after which inclination and heading re-converge fast.
  */

@@ -98,6 +98,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private var mz = 0.0
     private var magT = 0L
     private var hasMag = false
+    private var magTooStrong = false
 
     private var initialised = false
     private var lastT = 0L
@@ -130,6 +131,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     public fun updateMagnetometer(timestampNs: Long, x: Double, y: Double, z: Double) {
         if (!marg) return
         hasMag = validVector(x, y, z, SensorRanges.MAGNETOMETER_UT)
+        // A field stronger than the earth's is no heading (a magnet, or a raw reading with its hard-iron offset).
+        magTooStrong = hasMag && !SensorRanges.isEarthField(x, y, z)
+        if (magTooStrong) hasMag = false
         mx = x; my = y; mz = z; magT = timestampNs
     }
 
@@ -168,6 +172,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val dt = gapNs * 1e-9
         steps++
         if ((hasAcc && !accOk) || (hasMag && !magOk)) staleSamples++
+        if (magTooStrong && fresh(timestampNs, magT)) magRejections++
         if (gyroSaturation != 0.0 && (abs(x) >= gyroSaturation || abs(y) >= gyroSaturation || abs(z) >= gyroSaturation)) saturated()
         // The estimated up in the sensor frame before the step, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
         val ux = upX()
@@ -292,7 +297,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         initialised = initialised,
         gyroBias = Vector3(bias.x, bias.y, bias.z),
         atRest = bias.atRest,
-        magneticDisturbance = magDetector?.disturbed ?: false,
+        magneticDisturbance = (magDetector?.disturbed ?: false) || magTooStrong,
         accelerometerRejected = accRejection?.rejected ?: false,
         gyroscopeSteps = steps,
         skippedBeforeInit = skippedBeforeInit,
@@ -345,7 +350,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val l = snapshot.longs()
         accT = l[0]; magT = l[1]; lastT = l[2]; firstAccT = l[3]
         val f = l[4]
-        hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L
+        hasAcc = f and 1L != 0L; hasMag = f and 2L != 0L; initialised = f and 4L != 0L; waitingForMag = f and 8L != 0L; magTooStrong = f and 16L != 0L
         steps = l[5]; skippedBeforeInit = l[6]; skippedNonFinite = l[7]; skippedZero = l[8]; skippedTimestamp = l[9]
         skippedGap = l[10]; staleSamples = l[11]; accRejections = l[12]; magRejections = l[13]; saturations = l[14]; stillRecoveries = l[15]
         skippedOutOfRange = l[16]
@@ -363,7 +368,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         q1 = 1.0; q2 = 0.0; q3 = 0.0; q4 = 0.0
         bx = 1.0; bz = 0.0
         ax = 0.0; ay = 0.0; az = 0.0; accT = 0L; hasAcc = false
-        mx = 0.0; my = 0.0; mz = 0.0; magT = 0L; hasMag = false
+        mx = 0.0; my = 0.0; mz = 0.0; magT = 0L; hasMag = false; magTooStrong = false
         initialised = false; lastT = 0L; firstAccT = 0L; waitingForMag = false
         steps = 0L; skippedBeforeInit = 0L; skippedNonFinite = 0L; skippedOutOfRange = 0L; skippedZero = 0L
         skippedTimestamp = 0L; skippedGap = 0L; staleSamples = 0L; accRejections = 0L; magRejections = 0L
@@ -418,7 +423,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private fun upZ() = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
 
     private fun flags(): Long =
-        (if (hasAcc) 1L else 0L) or (if (hasMag) 2L else 0L) or (if (initialised) 4L else 0L) or (if (waitingForMag) 8L else 0L)
+        (if (hasAcc) 1L else 0L) or (if (hasMag) 2L else 0L) or (if (initialised) 4L else 0L) or (if (waitingForMag) 8L else 0L) or (if (magTooStrong) 16L else 0L)
 
     private fun fresh(t: Long, sampleT: Long): Boolean = t - sampleT <= maxGapNs
 

@@ -18,6 +18,22 @@ internal object SensorRanges {
     /** Largest |B| per axis, µT: phones' magnetometers end at ±4900 µT (AK09918 class); 5000 µT. */
     const val MAGNETOMETER_UT = 5000.0
 
+    /**
+     * Largest field, µT, that can still carry a heading. The earth's is at most about 67 µT (at the magnetic
+     * poles); near steel or a magnet a calibrated phone reads more for a moment (the Tyrex subset's disturbed
+     * recordings: 162 µT at most), and the filter's own mechanisms handle that. Beyond this the reading is a
+     * magnet held to the phone or a magnetometer whose hard-iron offset was never removed (a raw reading:
+     * hundreds of µT), so its direction is no heading: the filter and the offline heading smoother leave it out
+     * ([isEarthField]), and a recording whose field is always stronger runs without heading.
+     */
+    const val MAX_EARTH_FIELD_UT = 200.0
+
+    /** Whether a field of (x, y, z) µT can be the earth's: finite, not zero, at most [MAX_EARTH_FIELD_UT]. */
+    fun isEarthField(x: Double, y: Double, z: Double): Boolean {
+        val n2 = x * x + y * y + z * z
+        return n2 > 0.0 && n2 <= MAX_EARTH_FIELD_UT * MAX_EARTH_FIELD_UT
+    }
+
     /** Lowest sampling rate a replay accepts, Hz (real exports decimated to 5 Hz still replay). */
     const val MIN_RATE_HZ = 3.0
 

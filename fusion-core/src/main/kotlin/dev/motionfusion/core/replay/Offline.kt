@@ -23,6 +23,7 @@ package dev.motionfusion.core.replay
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.MadgwickFilter
+import dev.motionfusion.core.filter.SensorRanges
 import java.io.Closeable
 import java.io.IOException
 import java.nio.Buffer
@@ -455,11 +456,8 @@ internal class HeadingSmoother(s: OfflineSettings) {
 
         fun wrap(a: Double): Double = if (a > PI) a - 2 * PI else if (a < -PI) a + 2 * PI else a
 
-        /** A magnetometer reading that can measure the heading: finite and not zero (an empty field of a table is NaN). */
-        fun usable(m: DoubleArray): Boolean {
-            val n = m[0] * m[0] + m[1] * m[1] + m[2] * m[2]
-            return n > 0.0 && n.isFinite()
-        }
+        /** A magnetometer reading that can measure the heading: finite, not zero (an empty field of a table is NaN), no stronger than the earth's. */
+        fun usable(m: DoubleArray): Boolean = SensorRanges.isEarthField(m[0], m[1], m[2])
 
         /** The correction about the vertical (rad) that turns [q] (sensor → ENU) so that the field [m] points north. */
         fun magHeading(m: DoubleArray, q: DoubleArray): Double {
@@ -509,8 +507,8 @@ internal class FieldReference(settings: dev.motionfusion.core.filter.FilterSetti
 
     /** Takes the reading [m] at the orientation [q]; [rest]: the rest detector's flag then. */
     fun add(m: DoubleArray, q: DoubleArray, rest: Boolean) {
+        if (!SensorRanges.isEarthField(m[0], m[1], m[2]) || q[0].isNaN()) return
         val n = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
-        if (!(n > 0.0) || n.isInfinite() || q[0].isNaN()) return
         val bin = (n / NORM_BIN).toInt().coerceIn(0, NORM_BINS - 1)
         norms[bin]++
         if (!rest) {

@@ -118,6 +118,36 @@ class FilterBehaviourTest {
     }
 
     @Test
+    fun `a field stronger than any earth field is left out as a raw magnetometer's would be`() {
+        // A raw magnetometer: the simulated field plus a hard-iron offset of 800 µT (as ADVIO's iPhone reads, ~630 µT).
+        val raw = MadgwickFilter()
+        val none = MadgwickFilter()
+        data.forEach { s ->
+            raw.update(s.timestampNs, s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z, s.mag.x + 300.0, s.mag.y + 400.0, s.mag.z - 600.0)
+            none.update(s.timestampNs, s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z)
+            assertEquals(none.orientation(), raw.orientation(), "at ${s.timestampNs} ns: the raw field must not enter")
+        }
+        val d = raw.diagnostics()
+        assertTrue(d.magneticDisturbance, "shown as disturbed")
+        assertEquals(d.gyroscopeSteps, d.magneticRejections, "every step counts its refused reading")
+    }
+
+    @Test
+    fun `a strong field within the limit still enters`() {
+        // 150 µT: what a calibrated phone reads near steel for a moment; the filter's own mechanisms decide.
+        val strong = MadgwickFilter()
+        val none = MadgwickFilter()
+        val scale = 150.0 / data[0].mag.norm()
+        val est = data.map { s ->
+            strong.update(s.timestampNs, s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z, s.mag.x * scale, s.mag.y * scale, s.mag.z * scale)
+            none.update(s.timestampNs, s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z)
+            strong.orientation()
+        }
+        assertEquals(0L, strong.diagnostics().magneticRejections)
+        assertTrue(rms(est, data, after30, metric = ::headingDeg) < 1.0, "the scaled field still gives the heading")
+    }
+
+    @Test
     fun `sensors delivered separately at different rates`() {
         // Gyroscope 200 Hz, accelerometer 100 Hz, magnetometer 50 Hz, each with its own timestamps.
         val filter = MadgwickFilter()
