@@ -9,23 +9,27 @@ import org.junit.jupiter.api.DynamicTest
 import org.junit.jupiter.api.TestFactory
 import java.nio.file.Files
 import java.util.Locale
+import kotlin.math.abs
 
 /**
- * The default settings against VQF on the two evaluation subsets beside the repository
- * (../shared/data/broad-subset and tyrex-subset; never copied into it): on each subset, overall
- * and in each group (undisturbed, disturbed), the project's mean total RMSE (BROAD's metric) is
+ * The default settings against VQF on the evaluation subsets beside the repository
+ * (../shared/data; never copied into it): on BROAD and Tyrex, overall and in each group
+ * (undisturbed, disturbed), the project's mean total RMSE (BROAD's metric) is
  * at most [PeerFigures.RMSE_MARGIN] (0: the target is to be ahead) above VQF's on the same trials, VQF's figures being
  * those committed in peers/vqf.csv ([PeerFigures]): the causal replay against VQF's real-time
- * filter, the offline replay (default [OfflineSettings]) against `vqf.offlineVQF`. Skipped when
- * the data is absent; a trial missing from the data or from the figures fails.
+ * filter, the offline replay (default [OfflineSettings]) against `vqf.offlineVQF`. On all four subsets (also OxIOD
+ * and ADVIO, not yet compared with the project) the committed VQF figures are checked against the READMEs. Groups
+ * come from each trial's meta.json ([PeerFigures.group]). Skipped when the data is absent; a trial missing from the
+ * data or from the figures fails.
  */
 class SubsetAccuracyTest {
-    private val subsets = mapOf("broad-subset" to 7, "tyrex-subset" to 14)
+    /** The subsets the project is compared with VQF on. */
+    private val compared = listOf("broad-subset", "tyrex-subset")
 
     private fun results(offline: OfflineSettings?): Map<String, List<TrialResult>> =
-        subsets.mapValues { (name, trials) ->
-            Evaluation.evaluateAll(listOf(PeerFigures.data!!.resolve(name).toFile()), FilterSettings(), offline).also {
-                assertEquals(trials, it.size, "trials in $name")
+        compared.associateWith { name ->
+            PeerFigures.evaluate(name, FilterSettings(), offline).also {
+                assertEquals(PeerFigures.subsets.getValue(name).trials, it.size, "trials in $name")
             }
         }
 
@@ -37,26 +41,64 @@ class SubsetAccuracyTest {
         compare("causal", PeerFigures.TOTAL_RMSE) { causal }
 
     /**
-     * The committed VQF figures are VQF's total RMSE: they agree with the VQF 9D row the subsets'
-     * publishers give in their READMEs (BROAD per trial, Tyrex per group). Figures read from the wrong
-     * column (heading instead of total, as once happened) fail here.
+     * The committed VQF figures are VQF's total RMSE: they agree with the VQF rows the subsets' publishers give in
+     * their READMEs (VQF 9D; VQF offline 9D and VQF 6D where given), per trial (BROAD) or overall and per group in
+     * the README's column order (Tyrex, OxIOD, ADVIO; each column's trial count is checked against the groups the
+     * trials' meta.json give). Figures read from the wrong column (heading instead of total, as once happened), a
+     * trial put in the wrong group, or a subset scored otherwise than its README says (ADVIO: heading offset
+     * removed) fail here.
      */
     @TestFactory
     fun `committed VQF figures agree with the subsets' published VQF row`(): List<DynamicTest> =
-        subsets.keys.map { subset ->
+        PeerFigures.subsets.keys.map { subset ->
             DynamicTest.dynamicTest("published VQF $subset") {
                 assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not compared")
-                val dir = PeerFigures.data!!.resolve(subset)
-                val published = Files.readAllLines(dir.resolve("README.md")).first { it.startsWith("| VQF 9D") }
-                    .split('|').mapNotNull { it.trim().toDoubleOrNull() }
-                val trials = dir.toFile().listFiles { f -> f.isDirectory }!!.map { it.name }.sorted()
-                fun committed(names: List<String>) = names.map { PeerFigures.of("$subset/$it", PeerFigures.TOTAL_RMSE) }.average()
-                // BROAD's row: one figure per trial in folder order, then the mean; Tyrex's: all, undisturbed, disturbed.
-                val expected = if (published.size == trials.size + 1) trials.map { listOf(it) } + listOf(trials)
-                else listOf(trials, trials.filter { PeerFigures.group(it) == "undisturbed" }, trials.filter { PeerFigures.group(it) == "disturbed" })
-                assertEquals(expected.size, published.size, "figures in the README's VQF 9D row of $subset")
-                expected.forEachIndexed { i, names ->
-                    assertEquals(published[i], committed(names), 0.015, "$subset ${if (names.size == 1) names[0] else "${names.size} trials"}: committed VQF total RMSE against the README's VQF 9D figure")
+                val lines = Files.readAllLines(PeerFigures.data!!.resolve(subset).resolve("README.md"))
+                val trials = PeerFigures.trials(subset)
+                val failures = mutableListOf<String>()
+                val rows = PUBLISHED_ROWS.filter { (prefix, _) -> lines.any { it.startsWith(prefix) } }
+                assertTrue(rows.any { it.second == PeerFigures.TOTAL_RMSE }, "$subset's README has no VQF 9D row")
+                for ((prefix, metric) in rows) {
+                    val i = lines.indexOfFirst { it.startsWith(prefix) }
+                    val published = cells(lines[i]).drop(1).map { firstNumber(it) ?: throw AssertionError("$subset README, ${prefix.removePrefix("| ")} row: '$it' is not a figure") }
+                    val header = cells(lines.subList(0, i).last { it.startsWith("| method") }).drop(1)
+                    assertEquals(header.size, published.size, "$subset README: figures in the ${prefix.removePrefix("| ")} row against its table's columns")
+                    fun committed(names: List<String>) = names.map { PeerFigures.of("$subset/$it", metric) }.average()
+                    // BROAD's rows: one figure per trial in folder order, then the mean; the others: all, then each group.
+                    val expected: List<Pair<String, List<String>>> = if (published.size == trials.size + 1) {
+                        trials.map { it to listOf(it) } + (PeerFigures.OVERALL to trials)
+                    } else {
+                        val groups = listOf(PeerFigures.OVERALL) + PeerFigures.subsets.getValue(subset).groups
+                        assertEquals(groups.size, published.size, "$subset README: columns of the ${prefix.removePrefix("| ")} row against the groups $groups")
+                        groups.mapIndexed { c, g ->
+                            val names = PeerFigures.trials(subset, g)
+                            assertEquals(firstNumber(header[c])?.toInt(), names.size, "$subset README column '${header[c]}': trials in group $g by meta.json")
+                            g to names
+                        }
+                    }
+                    expected.forEachIndexed { c, (what, names) ->
+                        val ours = committed(names)
+                        if (abs(ours - published[c]) > PUBLISHED_TOLERANCE_DEG) {
+                            failures += String.format(Locale.ROOT, "%s %s (%d trials), %s: committed %.3f°, README %.2f°", subset, what, names.size, metric, ours, published[c])
+                        }
+                    }
+                }
+                assertTrue(failures.isEmpty(), "committed VQF figures against the README:\n" + failures.joinToString("\n"))
+            }
+        }
+
+    /** Every trial of every subset has its three committed VQF figures, and [PeerFigures.vqfMeans] gives them per group. */
+    @TestFactory
+    fun `VQF means per subset and group`(): List<DynamicTest> =
+        PeerFigures.subsets.map { (subset, grouping) ->
+            DynamicTest.dynamicTest("VQF means $subset") {
+                assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not evaluated")
+                assertEquals(grouping.trials, PeerFigures.trials(subset).size, "trials in $subset")
+                val means = (listOf(PeerFigures.OVERALL) + grouping.groups).map { PeerFigures.vqfMeans(subset, it) }
+                assertEquals(grouping.trials, means.drop(1).sumOf { it.trials }, "$subset: every trial in exactly one group")
+                for (m in means) {
+                    println(String.format(Locale.ROOT, "VQF %s %s (%d trials): 9D %.2f°, 6D %.2f°, offline %.2f°", subset, m.group, m.trials, m.nineD, m.sixD, m.offline))
+                    assertTrue(m.nineD.isFinite() && m.sixD.isFinite() && m.offline.isFinite(), "$m: a figure missing")
                 }
             }
         }
@@ -72,7 +114,7 @@ class SubsetAccuracyTest {
             DynamicTest.dynamicTest("offline against causal $subset $group") {
                 assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not evaluated")
                 fun mean(r: Map<String, List<TrialResult>>): Double {
-                    val trials = r.getValue(subset).filter { group == "overall" || PeerFigures.group(it.trial) == group }
+                    val trials = r.getValue(subset).filter { group == PeerFigures.OVERALL || PeerFigures.group(subset, it.trial) == group }
                     assertTrue(trials.isNotEmpty(), "no $group trial in $subset")
                     return trials.map { it.error.totalDeg }.average()
                 }
@@ -84,13 +126,13 @@ class SubsetAccuracyTest {
             }
         }
 
-    private fun groups() = subsets.keys.flatMap { subset -> listOf("overall", "undisturbed", "disturbed").map { group -> subset to group } }
+    private fun groups() = compared.flatMap { subset -> (listOf(PeerFigures.OVERALL) + PeerFigures.subsets.getValue(subset).groups).map { group -> subset to group } }
 
     private fun compare(label: String, metric: String, results: () -> Map<String, List<TrialResult>>): List<DynamicTest> =
         groups().map { (subset, group) ->
             DynamicTest.dynamicTest("$label $subset $group") {
                 assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not evaluated")
-                val trials = results().getValue(subset).filter { group == "overall" || PeerFigures.group(it.trial) == group }
+                val trials = results().getValue(subset).filter { group == PeerFigures.OVERALL || PeerFigures.group(subset, it.trial) == group }
                 assertTrue(trials.isNotEmpty(), "no $group trial in $subset")
                 val ours = trials.map { it.error.totalDeg }.average()
                 val vqf = trials.map { PeerFigures.of("$subset/${it.trial}", metric) }.average()
@@ -98,4 +140,18 @@ class SubsetAccuracyTest {
                 assertTrue(ours <= vqf * (1 + PeerFigures.RMSE_MARGIN), String.format(Locale.ROOT, "%s %s %s (%d trials): mean total RMSE %.2f°, VQF %.2f° (behind by %.2f°, %.0f %%)", label, subset, group, trials.size, ours, vqf, ours - vqf, 100 * (ours - vqf) / vqf))
             }
         }
+
+    private companion object {
+        /** The READMEs' VQF rows (by how the row starts) and the committed metric each gives. */
+        val PUBLISHED_ROWS = listOf("| VQF 9D" to PeerFigures.TOTAL_RMSE, "| VQF offline" to PeerFigures.OFFLINE_TOTAL_RMSE, "| VQF 6D" to PeerFigures.TOTAL_RMSE_6D)
+
+        /** How far a mean of committed figures (two decimals each) may be from the README's, degrees. */
+        const val PUBLISHED_TOLERANCE_DEG = 0.015
+
+        /** The cells of a Markdown table row, trimmed. */
+        fun cells(line: String): List<String> = line.trim().removePrefix("|").removeSuffix("|").split('|').map { it.trim() }
+
+        /** The first number in [cell] ("16.42 (18.19)" → 16.42, "in the hand (8)" → 8.0, "all 33" → 33.0), or null. */
+        fun firstNumber(cell: String): Double? = Regex("""\d+(\.\d+)?""").find(cell)?.value?.toDouble()
+    }
 }
