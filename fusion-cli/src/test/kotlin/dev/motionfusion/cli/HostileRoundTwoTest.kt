@@ -225,14 +225,14 @@ class HostileRoundTwoTest {
     @Test
     fun `a calibration whose soft iron is not symmetric is refused, naming the member`() {
         val c = calibration("rotated.json", matrix = "[[0, -1, 0], [1, 0, 0], [0, 0, 1]]")
-        fails(ExitCode.DATA_ERROR, "rotated\\.json:\\d+:\\d+: magnetometer\\.matrix: not symmetric", "replay", session("s").toString(), "--calibration", c.toString(), "-o", p("cal-out.csv"))
+        fails(ExitCode.DATA_ERROR, "rotated\\.json:\\d+:\\d+: magnetometer\\.matrix: not a calibration matrix: not symmetric", "replay", session("s").toString(), "--calibration", c.toString(), "-o", p("cal-out.csv"))
         assertFalse(Files.exists(tmp.resolve("cal-out.csv")))
     }
 
     @Test
     fun `a calibration with a negative definite soft iron is refused`() {
         val c = calibration("flip.json", matrix = "[[-1, 0, 0], [0, -1, 0], [0, 0, 1]]")
-        fails(ExitCode.DATA_ERROR, "flip\\.json:\\d+:\\d+: magnetometer\\.matrix: not positive definite", "replay", session("s").toString(), "--calibration", c.toString())
+        fails(ExitCode.DATA_ERROR, "flip\\.json:\\d+:\\d+: magnetometer\\.matrix: not a calibration matrix: not positive definite", "replay", session("s").toString(), "--calibration", c.toString())
     }
 
     @Test

@@ -151,10 +151,10 @@ public object CalibrationJson {
             val matrix = Matrix3.of(*m.toDoubleArray())
             val scale = m.maxOf { kotlin.math.abs(it) }
             if (!matrix.isFinite() || !matrix.isSymmetric(1e-6 * scale)) {
-                throw error("matrix", "not symmetric: a calibration matrix is (docs/CALIBRATION.md); this one would turn the readings, not correct them")
+                throw error("matrix", "not a calibration matrix: not symmetric, as every fit's is (docs/CALIBRATION.md); it would turn the readings, not correct them")
             }
             if (!(matrix.determinant() > 0.0) || SymmetricEigen(matrix).values.any { !(it > 0.0) }) {
-                throw error("matrix", "not positive definite: not a calibration matrix (it would flip or flatten the readings)")
+                throw error("matrix", "not a calibration matrix: not positive definite (it would flip or flatten the readings)")
             }
             val offset = vector(offsetKey)!!
             limit(offsetKey, offset, maxOffset, unit, why)
