@@ -26,6 +26,9 @@ internal class Batch(private val command: String, private val err: PrintStream, 
     fun outputs(inputs: List<String>, dir: String, extension: String): List<String> {
         val folder = Path.of(dir)
         if (Files.exists(folder) && !Files.isDirectory(folder)) throw UsageException("with several inputs -o names a folder, and $dir is a file")
+        if (!Files.exists(folder) && !dir.endsWith("/")) {
+            throw UsageException("with several inputs -o names a folder: $dir does not exist; give $dir/ (ending in /) to have it made")
+        }
         val names = inputs.map { stem(it) + extension }
         val clashes = inputs.indices.groupBy { names[it] }.filterValues { it.size > 1 }
         if (clashes.isNotEmpty()) {
@@ -34,7 +37,9 @@ internal class Batch(private val command: String, private val err: PrintStream, 
         }
         val outs = names.map { folder.resolve(it).toString() }
         val check = Outputs()
-        for (o in outs) check.check(o, inputs)
+        // The folder itself first: one inside an input is refused before it is made.
+        check.check(folder.toString(), inputs)
+        if (Files.isDirectory(folder)) for (o in outs) check.check(o, inputs)
         return outs
     }
 

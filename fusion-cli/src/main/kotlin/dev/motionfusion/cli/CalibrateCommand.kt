@@ -56,7 +56,10 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
         val settings = try {
             CalibrationSettings(magModel = model, minCoverage = o.double("--min-coverage") ?: d.minCoverage, gravity = o.double("--gravity") ?: d.gravity)
         } catch (e: IllegalArgumentException) {
-            throw UsageException(e.message ?: "invalid setting")
+            // The core's message names the setting; say it with the option's name.
+            val m = e.message ?: "invalid setting"
+            val option = OPTION_OF_SETTING.entries.firstOrNull { m.startsWith(it.key) }
+            throw UsageException(if (option == null) m else option.value + m.removePrefix(option.key))
         }
         val calibration = Recording.open(Path.of(input)).use { rec ->
             val progress = Progress(err, "calibrate", rec.metadata?.streams?.values?.sumOf { it.samples })
@@ -93,10 +96,30 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
     }
 
     companion object {
+        /** The option of each calibration setting the core's messages name. */
+        private val OPTION_OF_SETTING = mapOf("minCoverage" to "--min-coverage", "gravity" to "--gravity", "magModel" to "--mag-model")
+
         /** Reads a calibration file written by fusion calibrate. */
         fun read(path: Path): Calibration {
+            if (Files.isDirectory(path)) throw java.nio.file.FileSystemException(path.toString(), null, "is a folder; --calibration takes a calibration file (fusion calibrate -o FILE.json)")
             val bytes = Files.readAllBytes(path)
             return CalibrationJson.parse(String(bytes, StandardCharsets.UTF_8), path.toString())
+        }
+
+        /**
+         * A note naming the device [calibration] (from [file]) was fitted on when [rec] was recorded
+         * on another one, or when the recording does not say its device; null when they agree or
+         * the calibration names none.
+         */
+        fun deviceNote(rec: Recording, calibration: Calibration, file: String): String? {
+            val fitted = calibration.device.substringBefore(';').trim()
+            if (fitted.isEmpty()) return null
+            val recorded = rec.metadata?.device?.let { "${it.manufacturer} ${it.model}".trim() }.orEmpty()
+            return when {
+                recorded.isEmpty() -> "$file was fitted on $fitted; ${rec.name} does not say its device: applied as given"
+                fitted.equals(recorded, ignoreCase = true) -> null
+                else -> "$file was fitted on $fitted, but ${rec.name} was recorded on $recorded: applied as given; its offsets fit that device's sensors, not necessarily these"
+            }
         }
 
         /** Fails with a message naming [file] when [calibration] applies to a stream [rec] does not have. */
@@ -146,10 +169,13 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "allan needs an INPUT" else "allan takes one INPUT")
         val output = o.value("-o") ?: o.value("--output")
         val plot = o.value("--plot")
-        output?.let { outputs.check(it, listOf(input)) }
-        plot?.let { outputs.check(it, listOf(input)) }
-        if (output != null && plot != null && Path.of(output).toAbsolutePath().normalize() == Path.of(plot).toAbsolutePath().normalize()) {
-            throw UsageException("-o and --plot name the same file")
+        val outputTarget = output?.let { outputs.check(it, listOf(input)) }
+        val plotTarget = plot?.let { outputs.check(it, listOf(input)) }
+        // Real paths (links followed), so a link to the other output is the same file.
+        if (outputTarget != null && plotTarget != null &&
+            (outputTarget == plotTarget || (Files.exists(outputTarget) && Files.exists(plotTarget) && Files.isSameFile(outputTarget, plotTarget)))
+        ) {
+            throw UsageException("-o $output and --plot $plot name the same file")
         }
         val (result, name) = Recording.open(Path.of(input)).use { rec ->
             val meta = rec.metadata

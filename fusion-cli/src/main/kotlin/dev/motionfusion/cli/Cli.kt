@@ -21,6 +21,10 @@ internal class Cli(
 ) {
     constructor(out: PrintStream, err: PrintStream, stdoutFailure: () -> IOException?) : this(out, err, Outputs(), stdoutFailure)
 
+    init {
+        outputs.note = { err.println("fusion: note: $it") }
+    }
+
     private val commands: List<Command> = listOf(
         ReplayCommand(err, outputs), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
         SimulateCommand(outputs), RecoverCommand(), SummaryCommand(), CalibrateCommand(err, outputs), AllanCommand(err, outputs),
@@ -120,7 +124,13 @@ internal class Cli(
         fun failure(e: Throwable, command: String, shown: (String?) -> String = { it ?: "?" }): Pair<Int, String>? = when (e) {
             is UsageException -> ExitCode.USAGE to "${e.message}; run 'fusion $command --help'"
             is DataFormatException -> ExitCode.DATA_ERROR to (e.message ?: "malformed input")
-            is FileSystemException -> ExitCode.IO_ERROR to "${shown(e.file)}${e.otherFile?.let { " → ${shown(it)}" } ?: ""}: ${AtomicFiles.reason(e)}"
+            // Bytes of a name that are not valid in the system's encoding (e.g. 0xFF in UTF-8) reach Java as U+FFFD: no file has that name.
+            is FileSystemException -> if (e.file?.contains('\uFFFD') == true && (e is java.nio.file.NoSuchFileException || e.reason == "no such file or folder")) {
+                ExitCode.IO_ERROR to "${shown(e.file)}: the name holds bytes that are not ${System.getProperty("sun.jnu.encoding") ?: "in the system's file name encoding"} " +
+                    "(shown as \uFFFD), which Java cannot pass on to the system: rename the file (a shell glob can name it)"
+            } else {
+                ExitCode.IO_ERROR to "${shown(e.file)}${e.otherFile?.let { " → ${shown(it)}" } ?: ""}: ${AtomicFiles.reason(e)}"
+            }
             is IOException -> ExitCode.IO_ERROR to (e.message ?: e.toString())
             // e.g. a name with letters outside ASCII while LANG=C: Java cannot turn it into a path.
             is InvalidPathException -> ExitCode.USAGE to "'${e.input}': this file name cannot be represented in the system's file name encoding " +

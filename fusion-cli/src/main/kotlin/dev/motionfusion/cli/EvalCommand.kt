@@ -40,6 +40,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |offset per trial removed. Prints a Markdown table: one row per trial, then the mean
         |(--csv: CSV for scripts, trial,total_deg,heading_deg,inclination_deg to 1e-6°, one row per
         |trial, no mean row and no filter line).
+        |Rows are named by trial folder; where two trials share a name (t01 of two data sets) by
+        |their paths. A trial without a scored sample is an error, not a row of NaN.
         |A trial folder with rotation_vector.csv[.gz] (t_s,qw,qx,qy,qz: the phone's own
         |orientation, as in the Tyrex subset) also gets that scored, in columns beside the filter's.
         |
@@ -51,7 +53,10 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |
         |Second form: scores an orientation CSV (e.g. fusion replay's output; columns
         |t_s,qw,qx,qy,qz) against a truth CSV (t_s,qw,qx,qy,qz[,movement]); rows are matched by
-        |t_s (to 1 µs); truth rows without an orientation are skipped.
+        |t_s (to 1 µs); truth rows without an orientation are skipped. Both tables must be in time
+        |order (a row before the one above is an error naming it). How many rows were scored is
+        |said on standard error, with a warning when fewer than 90 % of the shorter table's rows
+        |match; under 10 % the tables are refused as not aligned in time (e.g. times in ms).
         |  --truth FILE         the truth table
         |  --6d                 remove one constant heading offset before scoring
         |
@@ -83,8 +88,10 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         if (rowsFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --rows give exactly one ORIENTATION file")
             val window = o.value("--after")?.let { w ->
-                w.split(':').mapNotNull { it.toDoubleOrNull() }.takeIf { it.size == 2 && w.count { c -> c == ':' } == 1 }
-                    ?: throw UsageException("--after takes FROM:TO in seconds, not '$w'")
+                val v = w.split(':').mapNotNull { it.toDoubleOrNull() }.takeIf { it.size == 2 && w.count { c -> c == ':' } == 1 && it.all { x -> x.isFinite() } }
+                    ?: throw UsageException("--after takes FROM:TO in seconds (two finite numbers), not '$w'")
+                if (!(v[0] < v[1])) throw UsageException("--after $w: FROM must be before TO")
+                v
             }
             val tilt = stillTilt(InputOptions.path(rowsFile), InputOptions.path(est), window, o)
             if (csv) {
@@ -102,7 +109,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val truthFile = o.value("--truth")
         if (truthFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --truth give exactly one ORIENTATION file")
-            val r = scoreTables(InputOptions.path(est), InputOptions.path(truthFile), o.has("--6d"), o)
+            val r = scoreTables(InputOptions.path(est), InputOptions.path(truthFile), o.has("--6d"), o, err)
             out.print(if (csv) Evaluation.csv(listOf(r)) else Evaluation.table(listOf(r)))
             return ExitCode.OK
         }
@@ -119,8 +126,11 @@ internal class EvalCommand(private val err: PrintStream) : Command {
             err.println(outcomes[0].messages)
             return outcomes[0].code
         }
-        val results = outcomes.mapNotNull { it.value?.first }
-        val rotationVector = outcomes.mapNotNull { r -> r.value?.let { (t, rv) -> rv?.let { t.trial to it } } }.toMap()
+        // Every figure is keyed by the row's label: the trial's name, or its path where two trials share a name.
+        val named = outcomes.mapNotNull { it.value?.first?.trial }.groupingBy { it }.eachCount()
+        val labelled = outcomes.mapNotNull { r -> r.value?.let { (t, rv) -> t.copy(trial = if (named.getValue(t.trial) > 1) r.input else t.trial) to rv } }
+        val results = labelled.map { it.first }
+        val rotationVector = labelled.mapNotNull { (t, rv) -> rv?.let { t.trial to it } }.toMap()
         if (results.isNotEmpty() && csv) {
             out.print(Evaluation.csv(results, rotationVector))
         } else if (results.isNotEmpty()) {
@@ -170,7 +180,16 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
         }
-        return Evaluation.evaluate(trial, settings, offline) to PhoneComparison.rotationVector(d, trial)
+        val result = Evaluation.evaluate(trial, settings, offline)
+        if (result.error.samples == 0) {
+            throw DataFormatException(d.path, 0, 0, "no scored sample: no row has both a truth (movement = 1, a known quaternion) and a filter orientation; nothing to score")
+        }
+        val rv = try {
+            PhoneComparison.rotationVector(d, trial)
+        } catch (e: IllegalArgumentException) {
+            throw DataFormatException(d.path, 0, 0, e.message ?: "rotation vector: no row to score")
+        }
+        return result to rv
     }
 
     /**
@@ -205,6 +224,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                 }
             }
             if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
+            if (e.samples == 0) throw DataFormatException(input, 0, 0, "no scored sample: no gyroscope step has both a known truth and a filter orientation; nothing to score")
             return TrialResult(rec.name, e)
         }
     }
@@ -236,27 +256,53 @@ internal class EvalCommand(private val err: PrintStream) : Command {
     }
 
     /** Scores the orientation table [estimate] against [truthPath], both streamed and matched by t_s (to 1 µs). */
-    private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean, o: Options): TrialResult {
+    /**
+     * Scores the orientation table [estimate] against [truthPath], both streamed and matched by t_s
+     * (to 1 µs; both must be in time order, which the reader checks). Says on [err] how many rows
+     * were scored; refuses tables that share too few instants to be the same recording's.
+     */
+    private fun scoreTables(estimate: Path, truthPath: Path, sixD: Boolean, o: Options, err: PrintStream): TrialResult {
         val limits = InputOptions.limits(o)
         var matched = 0L
+        var truthRows = 0L
+        var estRows = 0L
         val r = BroadMetric.streamed(sixD) { add ->
             matched = 0L
+            truthRows = 0L
+            estRows = 0L
             QuaternionTableReader.open(estimate, limits).use { est ->
                 QuaternionTableReader.open(truthPath, limits).use { truth ->
                     var more = est.next()
+                    if (more) estRows++
                     while (truth.next()) {
+                        truthRows++
                         val ti = truth.timeS
-                        while (more && est.timeS < ti - 1e-6) more = est.next()
+                        while (more && est.timeS < ti - 1e-6) {
+                            more = est.next()
+                            if (more) estRows++
+                        }
                         if (more && abs(est.timeS - ti) <= 1e-6) {
                             add(est.q, truth.q, truth.scored)
                             matched++
                         }
                     }
+                    while (more) {
+                        more = est.next()
+                        if (more) estRows++
+                    }
                 }
             }
         }
+        val shorter = minOf(truthRows, estRows)
+        fun counts() = "$matched of ${truthRows} truth rows and $estRows orientation rows share a t_s (to 1 µs)"
         if (matched == 0L) throw DataFormatException(estimate.toString(), 0, 0, "no row's t_s matches a t_s of ${truthPath.fileName}")
+        if (matched * 10 < shorter) {
+            throw DataFormatException(estimate.toString(), 0, 0, "${counts()}: the tables are not aligned in time " +
+                "(times in another unit, or from another start?); give both t_s in seconds from the same start")
+        }
         if (r.samples == 0) throw DataFormatException(truthPath.toString(), 0, 0, "no scored sample with both orientations known")
+        err.println("fusion eval: scored ${r.samples} rows: ${counts()}")
+        if (matched * 10 < shorter * 9) err.println("fusion eval: warning: only ${counts()}: the rest is not scored")
         return TrialResult(estimate.fileName.toString(), r)
     }
 

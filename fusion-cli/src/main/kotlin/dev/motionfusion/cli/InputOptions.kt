@@ -40,7 +40,14 @@ internal object InputOptions {
 
     /** Opens [input] with the options of [o]; what the import assumed goes to [err] as notes. */
     fun open(input: String, o: Options, err: PrintStream, command: String): Recording {
-        val rec = Recording.open(Paths.get(input), options(o))
+        val path = Paths.get(input)
+        if (input == "-" || (java.nio.file.Files.exists(path) && !java.nio.file.Files.isRegularFile(path) && !java.nio.file.Files.isDirectory(path))) {
+            // Read once into the temporary folder: first remove what a killed earlier run left there.
+            val started = java.lang.management.ManagementFactory.getRuntimeMXBean().startTime
+            val removed = dev.motionfusion.core.io.TemporaryFiles.removeStaleInputs(started, Outputs::alive)
+            if (removed.isNotEmpty()) err.println("fusion $command: note: removed ${removed.size} spooled input${if (removed.size == 1) "" else "s"} an interrupted earlier run left: ${removed.joinToString(", ")}")
+        }
+        val rec = Recording.open(path, options(o))
         for (n in rec.notes) err.println("fusion $command: note: ${rec.name}: $n")
         return rec
     }

@@ -2,6 +2,7 @@ package dev.motionfusion.cli
 
 import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.FileOperations
+import dev.motionfusion.core.io.TemporaryFiles
 import java.io.IOException
 import java.io.OutputStream
 import java.io.PrintStream
@@ -20,8 +21,19 @@ import java.nio.file.StandardOpenOption
  *    by [commit], which [Cli] calls only when the run succeeded and standard output took
  *    everything; otherwise [abort] removes what was written aside and the previous file stays
  *    as it was. An output that is a device or a pipe (e.g. /dev/null) is written directly.
+ *  - temporary files and folders are listed with TemporaryFiles, whose shutdown hook removes
+ *    them when the process is ended (SIGTERM, Ctrl-C); those an earlier run left when it was killed
+ *    (SIGKILL: nothing runs) are removed when an output of the same name is next written, and
+ *    [note] says so.
  */
-internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
+internal class Outputs(
+    files: FileOperations = FileOperations.SYSTEM,
+    /** When this process started, ms since the epoch: only temporary files older than that can be an earlier run's. */
+    private val startedMs: Long = java.lang.management.ManagementFactory.getRuntimeMXBean().startTime,
+) {
+    /** Where notes go (the command's standard error); set by [Cli]. */
+    var note: (String) -> Unit = {}
+
     private val atomic = AtomicFiles(files)
     private val pending = ArrayList<AtomicFiles.PendingFile>()
     private val folders = ArrayList<Pair<Path, Path>>()
@@ -43,7 +55,16 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
             val stream = AtomicFiles.named(target) { Files.newOutputStream(target, StandardOpenOption.WRITE) }
             return NamedStream(target, stream).also { direct += it }
         }
+        removeStale(target)
         return atomic.open(target).also { pending += it }
+    }
+
+    /** Removes what a killed earlier run left beside [target], with a note. */
+    private fun removeStale(target: Path) {
+        val removed = AtomicFiles.removeStale(target, startedMs, ::alive)
+        if (removed.isNotEmpty()) {
+            note("removed ${removed.size} temporary file${if (removed.size == 1) "" else "s"} an interrupted earlier run left beside ${typed(target.toString())}: ${removed.joinToString(", ")}")
+        }
     }
 
     /**
@@ -55,8 +76,15 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
         if (Files.exists(target) && !(Files.isDirectory(target) && Files.list(target).use { !it.findAny().isPresent })) {
             throw UsageException("$output exists and is not an empty folder")
         }
-        val tmp = AtomicFiles.named(target) {
-            Files.createDirectory(target.parent.resolve(".${target.fileName}.${java.lang.Long.toHexString(System.nanoTime())}${AtomicFiles.TEMP_SUFFIX}"))
+        removeStale(target)
+        // Listed before it is made: a signal at any moment finds it.
+        val tmp = target.parent.resolve(AtomicFiles.temporaryName(target.fileName.toString(), java.lang.Long.toHexString(System.nanoTime())))
+        TemporaryFiles.add(tmp)
+        try {
+            AtomicFiles.named(target) { Files.createDirectory(tmp) }
+        } catch (e: Throwable) {
+            TemporaryFiles.remove(tmp)
+            throw e
         }
         folders += tmp to target
         return tmp
@@ -72,6 +100,7 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
             AtomicFiles.named(target) {
                 if (Files.isDirectory(target, LinkOption.NOFOLLOW_LINKS)) Files.delete(target) // the empty folder it replaces
                 atomic.rename(tmp, target)
+                TemporaryFiles.remove(tmp)
             }
         }
         folders.clear()
@@ -83,7 +112,10 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
         direct.clear()
         for (p in pending) p.abort()
         pending.clear()
-        for ((tmp, _) in folders) runCatching { tmp.toFile().deleteRecursively() }
+        for ((tmp, _) in folders) {
+            runCatching { tmp.toFile().deleteRecursively() }
+            if (!Files.exists(tmp, LinkOption.NOFOLLOW_LINKS)) TemporaryFiles.remove(tmp)
+        }
         folders.clear()
     }
 
@@ -146,8 +178,11 @@ internal class Outputs(files: FileOperations = FileOperations.SYSTEM) {
         override fun close() = AtomicFiles.named(target) { out.close() }
     }
 
-    private companion object {
-        const val MAX_LINKS = 40
+    companion object {
+        private const val MAX_LINKS = 40
+
+        /** True when the process [owner] (a process id) of a temporary name may still be running. */
+        fun alive(owner: String): Boolean = owner.toLongOrNull()?.let { pid -> ProcessHandle.of(pid).map { it.isAlive }.orElse(false) } ?: true
     }
 }
 

@@ -45,7 +45,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |                       readings held at that instant (NaN before the first), so another
         |                       filter can be run on exactly the same samples (docs/ACCURACY.md)
         |  --quiet              no summary on standard error
-        |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md)
+        |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md); one that
+        |                       cannot be right (matrix not symmetric positive definite, offsets beyond
+        |                       any phone's) is refused naming the file; a note names the device it was
+        |                       fitted on when the session was recorded on another
         |  --calibration recorded   apply the calibration in the session's meta.json, whether
         |                       or not the live filter used it
         |  --calibration none   apply none: the raw readings as recorded
@@ -58,7 +61,14 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |FOLDER/NAME.csv (NAME: the input's name without .csv, .csv.gz, .zip), in parallel, one
         |input per available core; one result line per input and a summary on standard error. A bad
         |input gets its message and exit code there and the others go on; the exit code is the
-        |worst. Two inputs of the same name, or an output onto an input, are refused first.
+        |worst. Two inputs of the same name, or an output onto an input, are refused first, before
+        |the folder is made; a FOLDER that does not exist must be given with its final / (two
+        |inputs with -o OUT.csv are refused, not made a folder OUT.csv/); a folder the run made
+        |and nothing was written into is removed again.
+        |Temporary files (NAME written aside as .NAME.PID-HEX.tmp, a spooled standard input) are
+        |removed when fusion is ended by a signal (SIGTERM, Ctrl-C); those of a run that was
+        |killed outright (SIGKILL) are removed by the next run writing the same output, or
+        |reading standard input, with a note.
         |A progress bar is drawn on standard error when it is a terminal.
         |The output is written aside and moved into place only when the replay succeeds; an
         |output that is the input or lies inside it is refused.
@@ -91,6 +101,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
                 else -> file
             }
             CalibrateCommand.requireApplies(rec, calibration, if (file != null) calibrationOption else "${rec.name}: meta.json: calibration")
+            if (file != null && !o.has("--quiet")) CalibrateCommand.deviceNote(rec, file, calibrationOption!!)?.let { err.println("fusion replay: note: $it") }
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {
@@ -127,6 +138,16 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
                         "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero",
                 )
             }
+            // A session's meta.json counts each stream's samples on close: a stream file that holds another number lost rows or was replaced.
+            rec.metadata?.takeIf { it.complete && calibration == null }?.streams?.let { listed ->
+                for ((stream, read) in listOf(SessionStream.GYROSCOPE to counts.gyroscope, SessionStream.ACCELEROMETER to counts.accelerometer, SessionStream.MAGNETOMETER to counts.magnetometer)) {
+                    val expected = listed[stream]?.samples ?: continue
+                    if (expected != read) {
+                        err.println("fusion replay: warning: ${rec.name}: meta.json counts $expected ${stream.key} samples, but ${stream.key}.csv holds $read: " +
+                            "the output covers only the samples the file holds (a file cut short or replaced?)")
+                    }
+                }
+            }
             if (counts.gyroscope == 0L) {
                 err.println("fusion replay: ${rec.name} has no gyroscope samples: nothing to replay")
                 return ExitCode.DATA_ERROR
@@ -142,8 +163,19 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         FilterOptions.offline(o)
         val batch = Batch(name, err)
         val folder = java.nio.file.Path.of(dir)
-        if (!java.nio.file.Files.isDirectory(folder)) java.nio.file.Files.createDirectories(folder)
+        // Every check before the folder is made: a refused run creates nothing.
         val outputs = batch.outputs(o.positional, dir, ".csv")
+        val made = !java.nio.file.Files.isDirectory(folder)
+        if (made) dev.motionfusion.core.io.AtomicFiles.named(folder) { java.nio.file.Files.createDirectory(folder) }
+        try {
+            return batch(args, o, valued, batch, outputs)
+        } finally {
+            // A folder this run made and no input succeeded into is removed again.
+            if (made) runCatching { java.nio.file.Files.delete(folder) }
+        }
+    }
+
+    private fun batch(args: List<String>, o: Options, valued: Set<String>, batch: Batch, outputs: List<String>): Int {
         // The options without the inputs and -o, for each input's own run.
         val rest = ArrayList<String>()
         var i = 0
@@ -160,7 +192,8 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             }
             i++
         }
-        val jobs = o.positional.mapIndexed { k, input -> Batch.Job(input, outputs[k], listOf(input, "-o", outputs[k]) + rest) }
+        // The input after "--", so that one whose name starts with "-" is read as an input in its own run too.
+        val jobs = o.positional.mapIndexed { k, input -> Batch.Job(input, outputs[k], rest + listOf("-o", outputs[k], "--", input)) }
         return batch.run(jobs) { r ->
             val m = r.messages.lineSequence().filter { it.isNotBlank() }.joinToString("\n  ")
             if (r.code == ExitCode.OK) "fusion replay: ${r.input} → ${r.value!!.output}" + (if (m.isEmpty()) "" else "\n  $m")

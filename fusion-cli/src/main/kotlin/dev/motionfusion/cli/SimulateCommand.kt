@@ -103,7 +103,10 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         val settings = try {
             withErrors(settings(seed, rate, duration), o)
         } catch (e: IllegalArgumentException) {
-            throw UsageException(e.message ?: "invalid simulation")
+            // The core's message names the setting; say it with the option's name.
+            val m = e.message ?: "invalid simulation"
+            val option = OPTION_OF_SETTING.entries.firstOrNull { m.startsWith(it.key + " ") }
+            throw UsageException(if (option == null) m else option.value + m.removePrefix(option.key))
         }
         val samples: ((SimulatedSample) -> Unit) -> Unit =
             if (calibrationMotion) CalibrationMotion(settings, turnS = duration - facesS)::forEach else MotionSimulator(settings)::forEach
@@ -140,6 +143,14 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
     }
 
     private companion object {
+        /** The option of each simulation setting the core's messages name. */
+        val OPTION_OF_SETTING = mapOf(
+            "magSoftIron" to "--soft-iron", "accMisalignment" to "--acc-scale", "gyroScaleError" to "--gyro-scale-error",
+            "accRange" to "--acc-range", "gyroRange" to "--gyro-range", "gyroNoiseDensity" to "--gyro-noise-density",
+            "accNoiseDensity" to "--acc-noise-density", "magNoise" to "--mag-noise", "fieldStrength" to "--field", "dip" to "--field",
+            "rateHz" to "--rate", "durationS" to "--duration",
+        )
+
         val ERROR_OPTIONS = listOf(
             "--hard-iron", "--soft-iron", "--gyro-bias", "--acc-offset", "--acc-scale", "--gyro-noise-density", "--acc-noise-density", "--mag-noise",
             "--violent", "--acc-range", "--gyro-range", "--gyro-scale-error", "--field", "--hard-iron-window",
@@ -202,15 +213,18 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
                 MagneticDisturbance(kind, start, length)
             }
         }
-        fun nonNegative(name: String, max: Double) = o.double(name)?.also { if (it < 0.0 || it > max) throw UsageException("$name must be in [0, $max]") }
+        // A range of 0 would clip every reading to 0; without the option nothing is clipped.
+        fun range(name: String, max: Double) = o.double(name)?.also {
+            if (!(it > 0.0) || it > max) throw UsageException("$name must be in (0, ${fmt(max)}] (leave it out for no clipping), got ${fmt(it)}")
+        }
         val scale = o.double("--gyro-scale-error")?.also { if (kotlin.math.abs(it) >= 0.5) throw UsageException("--gyro-scale-error must be in (−0.5, 0.5)") }
         return base.copy(
             violentMotions = violent ?: base.violentMotions,
             magDisturbances = magDisturbances ?: base.magDisturbances,
             // Still outside the violent motions, which replace the rest where they fall.
             restWindows = if (violent != null) listOf(TimeWindow(0.0, base.durationS + 1.0)) else base.restWindows,
-            accRange = nonNegative("--acc-range", 2000.0) ?: base.accRange,
-            gyroRange = nonNegative("--gyro-range", 200.0) ?: base.gyroRange,
+            accRange = range("--acc-range", 2000.0) ?: base.accRange,
+            gyroRange = range("--gyro-range", 200.0) ?: base.gyroRange,
             gyroScaleError = scale ?: base.gyroScaleError,
             fieldStrength = field?.get(0) ?: base.fieldStrength,
             dip = field?.let { Math.toRadians(it[1]) } ?: base.dip,

@@ -64,7 +64,7 @@ class SimulateErrorsTest {
             listOf("--hard-iron", "1,2") to "--hard-iron expects 3 numbers, got 2",
             listOf("--soft-iron", "1,2,3,4") to "--soft-iron expects 3 or 6 numbers, got 4",
             listOf("--gyro-bias", "0.1,x,0") to "--gyro-bias expects numbers separated by commas",
-            listOf("--acc-scale", "1,-1,1") to "accMisalignment must be finite with a positive determinant",
+            listOf("--acc-scale", "1,-1,1") to "--acc-scale must be finite with a positive determinant",
             listOf("--gyro-noise-density", "-1") to "--gyro-noise-density must be ≥ 0",
             listOf("--motion", "figure8") to "--motion must be 'calibration'",
             listOf("--motion", "calibration", "--duration", "30") to "--duration must be over 43 s with --motion calibration",

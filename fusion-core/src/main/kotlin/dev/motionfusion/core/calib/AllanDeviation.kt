@@ -23,17 +23,25 @@ public class AllanAccumulator {
     private val first = DoubleArray(3)
     private val prev = DoubleArray(3)
     private val x = DoubleArray(3) // running sums of (sample − first sample), in samples
-    private var firstNs = 0L
     private var lastNs = 0L
     private var gaps = 0L
+    /** Sum and number of the intervals between samples, gaps left out: the sample interval is their mean. */
+    private var intervalSumNs = 0L
+    private var intervals = 0L
+    /** Samples since the last gap, and the most in one stretch between gaps. */
+    private var stretch = 0L
+    private var longestStretch = 0L
+    private var splits = 0L
 
     /** Samples added. */
     public val samples: Long get() = count
 
     /**
      * Adds one sample at [timestampNs]. The samples are taken as evenly spaced at the mean
-     * interval; intervals over five times the mean so far, timestamps that stall or step back,
-     * and non-finite samples (replaced by the previous sample) are counted in [AllanCurve.gaps].
+     * interval (gaps left out). An interval over five times the mean so far is a gap: the curve is
+     * computed over the stretches between gaps, no cluster spanning one, and the rate over the
+     * samples that exist. Gaps, timestamps that stall or step back, and non-finite samples
+     * (replaced by the previous sample) are counted in [AllanCurve.gaps].
      */
     public fun add(timestampNs: Long, vx: Double, vy: Double, vz: Double) {
         if (!(vx.isFinite() && vy.isFinite() && vz.isFinite())) {
@@ -45,17 +53,30 @@ public class AllanAccumulator {
         prev[0] = vx; prev[1] = vy; prev[2] = vz
         if (count == 0L) {
             first[0] = vx; first[1] = vy; first[2] = vz
-            firstNs = timestampNs
-            for (lv in levels) lv.push(x) // x_0 = 0: the sum before the first sample
-        } else if (timestampNs <= lastNs || (count > 10 && (timestampNs - lastNs).toDouble() > 5.0 * (lastNs - firstNs) / (count - 1))) {
-            gaps++
+            for (lv in levels) lv.restart(x) // x_0 = 0: the sum before the first sample
+        } else {
+            val dt = timestampNs - lastNs
+            if (dt <= 0L) {
+                gaps++
+            } else if (intervals > 10 && dt.toDouble() > 5.0 * intervalSumNs / intervals) {
+                // A gap: a new stretch, whose clusters do not reach back over it.
+                gaps++
+                splits++
+                stretch = 0L
+                for (lv in levels) lv.restart(x)
+            } else {
+                intervalSumNs += dt
+                intervals++
+            }
         }
         lastNs = timestampNs
         x[0] += vx - first[0]; x[1] += vy - first[1]; x[2] += vz - first[2]
         count++
-        // Sample index k = count; level L stores x_k when k is a multiple of 2^L.
+        stretch++
+        if (stretch > longestStretch) longestStretch = stretch
+        // Sample index k = stretch (in the current stretch); level L stores x_k when k is a multiple of 2^L.
         var level = 0
-        while (level < MAX_LEVELS && count % (1L shl level) == 0L) {
+        while (level < MAX_LEVELS && stretch % (1L shl level) == 0L) {
             levels[level].push(x)
             level++
         }
@@ -63,14 +84,17 @@ public class AllanAccumulator {
 
     /** The Allan deviation from what was added; τ from the mean sample interval. */
     public fun curve(): AllanCurve {
-        val tau0 = if (count > 1) (lastNs - firstNs) * 1e-9 / (count - 1) else Double.NaN
+        val tau0 = if (intervals > 0) intervalSumNs * 1e-9 / intervals else Double.NaN
         val ms = ArrayList<Long>()
         val dev = Array(3) { ArrayList<Double>() }
+        val weights = ArrayList<Long>()
         for (lv in levels) {
             for ((j, m) in lv.clusters.withIndex()) {
                 val n = lv.terms[j]
-                if (n < 2 || 3 * m > count) continue // at least three clusters' worth of data
+                if (n < 2 || 3 * m > longestStretch) continue // at least three clusters' worth of data
                 ms += m
+                // Clusters behind the point: N − 2m in one stretch; over several, the terms summed (each D apart).
+                weights += if (splits == 0L) count + 1 - 2 * m else n * lv.d
                 for (a in 0 until 3) dev[a] += sqrt(lv.sums[3 * j + a] / (2.0 * m * m * n)) // x in samples: τ₀ cancels
             }
         }
@@ -78,7 +102,7 @@ public class AllanAccumulator {
         return AllanCurve(
             tau = order.map { ms[it] * tau0 }.toDoubleArray(),
             deviation = Array(3) { a -> order.map { dev[a][it] }.toDoubleArray() },
-            clusterCounts = order.map { count + 1 - 2 * ms[it] }.toLongArray(),
+            clusterCounts = order.map { weights[it] }.toLongArray(),
             samples = count,
             rateHz = 1.0 / tau0,
             gaps = gaps,
@@ -104,6 +128,12 @@ public class AllanAccumulator {
             clusters = ms.map { it * d }.toLongArray()
             sums = DoubleArray(3 * units.size)
             terms = LongArray(units.size)
+        }
+
+        /** Starts a new stretch at the sum [x] before its first sample: no term reaches back before it. */
+        fun restart(x: DoubleArray) {
+            stored = 0L
+            push(x)
         }
 
         fun push(x: DoubleArray) {

@@ -89,20 +89,20 @@ public object CalibrationJson {
         return Calibration(
             magnetometer = r.section("magnetometer")?.let { m ->
                 MagnetometerCalibration(
-                    m.correction("offset_uT"), m.stream(SessionStream.MAGNETOMETER_UNCALIBRATED, SessionStream.MAGNETOMETER), m.model(), m.number("field_strength_uT", Double.NaN),
+                    m.correction("offset_uT", MAX_MAG_OFFSET_UT, "µT", "a hard iron beyond any phone magnetometer's range (±${MAX_MAG_OFFSET_UT.toInt()} µT)"), m.stream(SessionStream.MAGNETOMETER_UNCALIBRATED, SessionStream.MAGNETOMETER), m.model(), m.number("field_strength_uT", Double.NaN),
                     m.number("residual_rms_uT", Double.NaN), m.number("coverage", Double.NaN), m.number("samples", 0.0).toLong(),
                     m.number("magnitude_std_before_uT", Double.NaN), m.number("magnitude_std_after_uT", Double.NaN),
                 )
             },
             gyroscope = r.section("gyroscope")?.let { g ->
                 GyroscopeCalibration(
-                    g.vector("bias_rad_s")!!, g.stream(SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.GYROSCOPE), g.number("still_time_s", Double.NaN), g.number("still_windows", 0.0).toInt(),
+                    g.bias(), g.stream(SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.GYROSCOPE), g.number("still_time_s", Double.NaN), g.number("still_windows", 0.0).toInt(),
                     g.vector("bias_std_error_rad_s", required = false) ?: NAN3, g.vector("noise_std_rad_s", required = false) ?: NAN3,
                 )
             },
             accelerometer = r.section("accelerometer")?.let { a ->
                 AccelerometerCalibration(
-                    a.correction("offset_m_s2"), a.stream(SessionStream.ACCELEROMETER), a.model(), a.number("gravity_m_s2", Double.NaN),
+                    a.correction("offset_m_s2", MAX_ACC_OFFSET_M_S2, "m/s²", "no phone accelerometer is that far off (offsets are well within ±$MAX_ACC_OFFSET_M_S2 m/s²; gravity is 9.81)"), a.stream(SessionStream.ACCELEROMETER), a.model(), a.number("gravity_m_s2", Double.NaN),
                     a.number("poses", 0.0).toInt(), a.number("residual_rms_m_s2", Double.NaN),
                 )
             },
@@ -114,6 +114,15 @@ public object CalibrationJson {
     }
 
     private val NAN3 = Vector3(Double.NaN, Double.NaN, Double.NaN)
+
+    /** Largest hard-iron offset per axis a calibration may hold, µT: phones' magnetometers end at ±4900 µT. */
+    internal const val MAX_MAG_OFFSET_UT: Double = 5000.0
+
+    /** Largest gyroscope bias per axis, rad/s: phones' biases are hundredths of a rad/s; 1 rad/s is 57 °/s. */
+    internal const val MAX_GYRO_BIAS_RAD_S: Double = 1.0
+
+    /** Largest accelerometer offset per axis, m/s²: phones' zero-g offsets are tenths of a m/s². */
+    internal const val MAX_ACC_OFFSET_M_S2: Double = 3.0
 
     /** One JSON object of the file, with errors naming its path and position. */
     private class Member(val o: JsonObject) {
@@ -130,13 +139,39 @@ public object CalibrationJson {
             return o.numbers(key, 3).let { Vector3(it[0], it[1], it[2]) }
         }
 
-        fun correction(offsetKey: String): SensorCorrection {
+        /**
+         * The offset [offsetKey] (each axis within ±[maxOffset] [unit], else [why]) and the matrix:
+         * symmetric and positive definite, as every fit writes it (a rotation or a reflection would
+         * turn the readings, not correct them).
+         */
+        fun correction(offsetKey: String, maxOffset: Double, unit: String, why: String): SensorCorrection {
             val rows = map["matrix"] as? List<*> ?: throw error("matrix", "expected an array of three rows of three numbers")
             if (rows.size != 3) throw error("matrix", "expected three rows, got ${rows.size}")
             val m = rows.indices.flatMap { i -> o.numbers("matrix", i, 3).toList() }
             val matrix = Matrix3.of(*m.toDoubleArray())
-            if (!(matrix.determinant() > 0.0)) throw error("matrix", "not a calibration matrix (its determinant is not positive)")
-            return SensorCorrection(vector(offsetKey)!!, matrix)
+            val scale = m.maxOf { kotlin.math.abs(it) }
+            if (!matrix.isFinite() || !matrix.isSymmetric(1e-6 * scale)) {
+                throw error("matrix", "not a calibration matrix: not symmetric, as every fit's is (docs/CALIBRATION.md); it would turn the readings, not correct them")
+            }
+            if (!(matrix.determinant() > 0.0) || SymmetricEigen(matrix).values.any { !(it > 0.0) }) {
+                throw error("matrix", "not a calibration matrix: not positive definite (it would flip or flatten the readings)")
+            }
+            val offset = vector(offsetKey)!!
+            limit(offsetKey, offset, maxOffset, unit, why)
+            return SensorCorrection(offset, matrix)
+        }
+
+        fun bias(): Vector3 = vector("bias_rad_s")!!.also {
+            limit("bias_rad_s", it, MAX_GYRO_BIAS_RAD_S, "rad/s", "no phone gyroscope has such a bias (biases are hundredths of a rad/s)")
+        }
+
+        /** Fails naming [key] when an axis of [v] is beyond ±[max]: the calibration is wrong, not the recording. */
+        private fun limit(key: String, v: Vector3, max: Double, unit: String, why: String) {
+            val worst = listOf(v.x, v.y, v.z).maxOf { kotlin.math.abs(it) }
+            if (!(worst <= max)) {
+                val shown = if (worst.isFinite()) java.math.BigDecimal(worst).round(java.math.MathContext(4)).stripTrailingZeros().let { if (worst < 1e5) it.toPlainString() else it.toString() } else worst.toString()
+                throw error(key, "$shown $unit: $why; this calibration is wrong for any recording")
+            }
         }
 
         fun stream(vararg allowed: SessionStream): SessionStream {

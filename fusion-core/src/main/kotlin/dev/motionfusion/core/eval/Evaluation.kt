@@ -91,7 +91,7 @@ public object Evaluation {
     public fun table(results: List<TrialResult>): String = buildString {
         appendLine("| trial | total (°) | heading (°) | inclination (°) |")
         appendLine("|---|---|---|---|")
-        for (r in results) appendLine("| ${r.trial} | ${f(r.error.totalDeg)} | ${f(r.error.headingDeg)} | ${f(r.error.inclinationDeg)} |")
+        for (r in results) appendLine("| ${markdownCell(r.trial)} | ${f(r.error.totalDeg)} | ${f(r.error.headingDeg)} | ${f(r.error.inclinationDeg)} |")
         appendLine(
             "| **mean** | **${f(results.map { it.error.totalDeg }.average())}** | ${f(results.map { it.error.headingDeg }.average())} | " +
                 "${f(results.map { it.error.inclinationDeg }.average())} |",
@@ -124,4 +124,7 @@ public object Evaluation {
         if (s.none { it == ',' || it == '"' || it == '\n' || it == '\r' }) s else "\"" + s.replace("\"", "\"\"") + "\""
 
     private fun f(v: Double) = String.format(java.util.Locale.ROOT, "%.2f", v)
+
+    /** [s] as the text of one Markdown table cell: `|` escaped, line breaks as spaces (a session named `pipe|name`). */
+    internal fun markdownCell(s: String): String = s.replace("|", "\\|").replace('\r', ' ').replace('\n', ' ')
 }

@@ -54,7 +54,7 @@ public object PhoneComparison {
         appendLine("|---|---|---|---|---|---|---|")
         for (r in results) {
             val p = rotationVector[r.trial]
-            appendLine("| ${r.trial} | ${f(r.error.totalDeg)} | ${f(r.error.headingDeg)} | ${f(r.error.inclinationDeg)} | ${p?.let { f(it.totalDeg) } ?: ""} | ${p?.let { f(it.headingDeg) } ?: ""} | ${p?.let { f(it.inclinationDeg) } ?: ""} |")
+            appendLine("| ${Evaluation.markdownCell(r.trial)} | ${f(r.error.totalDeg)} | ${f(r.error.headingDeg)} | ${f(r.error.inclinationDeg)} | ${p?.let { f(it.totalDeg) } ?: ""} | ${p?.let { f(it.headingDeg) } ?: ""} | ${p?.let { f(it.inclinationDeg) } ?: ""} |")
         }
         val with = results.filter { it.trial in rotationVector }
         val rv = with.map { rotationVector.getValue(it.trial) }

@@ -52,8 +52,11 @@ internal object SensorRanges {
     /** Median |B| below this, µT, is no magnetometer in µT (the earth's field is 25–65 µT): gauss or zero. */
     const val MIN_MEDIAN_MAGNETOMETER_UT = 5.0
 
-    /** Median |B| above this, µT: nT or a magnet held to the phone throughout. */
-    const val MAX_MEDIAN_MAGNETOMETER_UT = 1000.0
+    /**
+     * Median |B| above this, µT: nT or a magnet held to the phone throughout. A raw magnetometer
+     * with a large hard iron (what `fusion calibrate` corrects) reads up to the sensor's range, ±4900 µT.
+     */
+    const val MAX_MEDIAN_MAGNETOMETER_UT = 5000.0
 
     /** A gyroscope timestamp stepping back by more than this, s, is a recording out of order. */
     const val MAX_STEP_BACK_S = 1.0

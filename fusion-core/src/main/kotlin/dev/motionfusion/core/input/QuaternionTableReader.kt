@@ -55,7 +55,10 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
         if (!csv.nextRecord()) return false
         var field = cols[0]
         try {
+            val previous = timeS
             timeS = csv.parseTimeS(field)
+            // Every reader of these tables joins them with another by time: rows out of order would match wrongly.
+            if (timeS < previous) throw FieldError("${timeS} s is before the row above (${previous} s): the rows must be in time order")
             for (k in 0 until 4) {
                 field = cols[k + 1]
                 q[k] = csv.parseDouble(field, emptyIsNaN = true)

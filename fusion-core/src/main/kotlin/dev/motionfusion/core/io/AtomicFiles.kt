@@ -95,13 +95,19 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
         val name = target.fileName.toString()
         var attempt = 0
         while (true) {
-            val tmp = dir.resolve(".$name.${java.lang.Long.toHexString(random.nextLong() and 0xffffffffffL)}$TEMP_SUFFIX")
+            val tmp = dir.resolve(temporaryName(name, java.lang.Long.toHexString(random.nextLong() and 0xffffffffffL)))
             try {
+                TemporaryFiles.add(tmp)
                 return PendingFile(target.toAbsolutePath(), tmp, ops, ops.create(tmp))
             } catch (e: FileAlreadyExistsException) {
+                TemporaryFiles.remove(tmp)
                 if (++attempt >= 10) throw FileSystemException(target.toString(), null, "cannot create a temporary file beside it")
             } catch (e: IOException) {
+                TemporaryFiles.remove(tmp)
                 throw FileSystemException(target.toString(), null, reason(e)).apply { initCause(e) }
+            } catch (e: Throwable) {
+                TemporaryFiles.remove(tmp)
+                throw e
             }
         }
     }
@@ -150,6 +156,7 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
                 sink.sync()
                 sink.close()
                 ops.move(tmp, target, replace = true)
+                TemporaryFiles.remove(tmp)
                 done = true
                 ops.syncFolder(target.parent)
             }
@@ -166,8 +173,9 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
             }
             try {
                 ops.delete(tmp)
+                TemporaryFiles.remove(tmp)
             } catch (e: IOException) {
-                // Nothing more can be done; the leftover has the temporary suffix.
+                // Nothing more can be done; the leftover has the temporary suffix (and stays listed for the shutdown hook).
             }
         }
 
@@ -181,6 +189,40 @@ public class AtomicFiles(private val ops: FileOperations = FileOperations.SYSTEM
         public const val TEMP_SUFFIX: String = ".tmp"
 
         private val random = Random()
+
+        /**
+         * The name of a temporary file or folder beside [targetName]: `.NAME.OWNER-HEX.tmp` (OWNER:
+         * [TemporaryFiles.owner], e.g. the process id), or `.NAME.HEX.tmp` without an owner.
+         */
+        @JvmStatic
+        public fun temporaryName(targetName: String, hex: String): String = ".$targetName.${TemporaryFiles.tag("-")}$hex$TEMP_SUFFIX"
+
+        /**
+         * Removes the temporary files and folders of writes aside of [target] left by a run that
+         * was killed: those named as [temporaryName] makes them, last modified before [startedMs]
+         * (this process's start), whose owner [alive] says is no longer running (a name without an
+         * owner: by its age alone). Returns the names removed; never throws.
+         */
+        @JvmStatic
+        public fun removeStale(target: Path, startedMs: Long, alive: (String) -> Boolean): List<String> {
+            val dir = target.toAbsolutePath().parent ?: return emptyList()
+            val name = target.fileName?.toString() ?: return emptyList()
+            val removed = ArrayList<String>()
+            runCatching {
+                Files.newDirectoryStream(dir) { isTemporaryOf(it.fileName.toString(), name) }.use { s ->
+                    for (p in s) {
+                        val middle = p.fileName.toString().removePrefix(".$name.").removeSuffix(TEMP_SUFFIX)
+                        val owner = middle.substringBefore('-', "")
+                        if (owner.isNotEmpty() && alive(owner)) continue
+                        val modified = runCatching { Files.getLastModifiedTime(p, java.nio.file.LinkOption.NOFOLLOW_LINKS).toMillis() }.getOrNull() ?: continue
+                        if (modified >= startedMs) continue
+                        TemporaryFiles.removeTree(p)
+                        if (!Files.exists(p, java.nio.file.LinkOption.NOFOLLOW_LINKS)) removed += p.fileName.toString()
+                    }
+                }
+            }
+            return removed
+        }
 
         /** True when [fileName] is a temporary file of a write aside of [targetName]. */
         @JvmStatic

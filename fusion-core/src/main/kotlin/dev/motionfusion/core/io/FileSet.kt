@@ -134,7 +134,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         override fun displayName(path: String) = "$shown!/$path"
         override fun close() {
             zip.close()
-            spool?.let { Files.deleteIfExists(it) }
+            spool?.let { Files.deleteIfExists(it); TemporaryFiles.remove(it) }
         }
     }
 
@@ -179,7 +179,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         override fun openRaw(path: String): InputStream = Files.newInputStream(file)
         override fun displayName(path: String) = shown
         override fun close() {
-            spool?.let { Files.deleteIfExists(it) }
+            spool?.let { Files.deleteIfExists(it); TemporaryFiles.remove(it) }
         }
     }
 
@@ -216,7 +216,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         }
 
         private fun spooled(input: InputStream, shown: String, guard: CompressionGuard): FileSet {
-            val spool = Files.createTempFile("fusion-input", ".tmp")
+            val spool = TemporaryFiles.createInput()
             try {
                 val size = Files.newOutputStream(spool).use { out ->
                     val buf = ByteArray(Inputs.BUFFER_BYTES)
@@ -232,7 +232,12 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
                         if (total > guard.limits.maxTotalBytes) {
                             throw DataFormatException(shown, 0, 0, "more than ${guard.limits.maxTotalBytes} bytes (raise the limit with --max-uncompressed)")
                         }
-                        out.write(buf, 0, n)
+                        try {
+                            out.write(buf, 0, n)
+                        } catch (e: IOException) {
+                            throw java.nio.file.FileSystemException(spool.toAbsolutePath().parent.toString(), null,
+                                "$shown is read once into a temporary file here (java.io.tmpdir; give it room, or another folder with -Djava.io.tmpdir=DIR): ${AtomicFiles.reason(e)}").apply { initCause(e) }
+                        }
                     }
                     total
                 }
@@ -240,6 +245,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
                 return if (isZip(spool)) Zip(spool, guard, shown, spool) else Single(spool, guard, shown, spool)
             } catch (e: Throwable) {
                 Files.deleteIfExists(spool)
+                TemporaryFiles.remove(spool)
                 throw e
             }
         }

@@ -33,7 +33,7 @@ import java.nio.channels.FileChannel
 import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.StandardOpenOption
-import java.util.concurrent.ConcurrentHashMap
+import dev.motionfusion.core.io.TemporaryFiles
 import kotlin.math.PI
 import kotlin.math.abs
 import kotlin.math.asin
@@ -633,14 +633,27 @@ internal class Spill(dir: Path?) : Closeable {
         }
         if (!unlinked) {
             path.toFile().deleteOnExit()
-            Leftovers.add(path)
+            TemporaryFiles.add(path)
         }
     }
+
+    /** Runs [block]; a failure to write the spill names its folder (the file itself may be unlinked) and the reason. */
+    inline fun <T> named(block: () -> T): T = try {
+        block()
+    } catch (e: IOException) {
+        throw java.nio.file.FileSystemException(
+            folder, null,
+            "the offline estimate's temporary file (java.io.tmpdir; give it room, or another folder with -Djava.io.tmpdir=DIR): ${dev.motionfusion.core.io.AtomicFiles.reason(e)}",
+        ).apply { initCause(e) }
+    }
+
+    /** The folder of the spill, for messages. */
+    val folder: String = path.toAbsolutePath().parent.toString()
 
     private fun room() {
         if (block.position() == block.capacity()) {
             buffer.flip()
-            while (block.hasRemaining()) channel.write(block)
+            named { while (block.hasRemaining()) channel.write(block) }
             buffer.clear()
         }
     }
@@ -670,7 +683,7 @@ internal class Spill(dir: Path?) : Closeable {
 
     fun endWriting() {
         buffer.flip()
-        while (block.hasRemaining()) channel.write(block)
+        named { while (block.hasRemaining()) channel.write(block) }
         buffer.clear()
     }
 
@@ -684,7 +697,7 @@ internal class Spill(dir: Path?) : Closeable {
             for (i in n - 1 downTo 0) visit(block, i * RECORD)
             buffer.position(0).limit(n * RECORD)
             var pos = start * RECORD
-            while (block.hasRemaining()) pos += channel.write(block, pos)
+            named { while (block.hasRemaining()) pos += channel.write(block, pos) }
             end = start
         }
         buffer.clear()
@@ -720,7 +733,7 @@ internal class Spill(dir: Path?) : Closeable {
         } finally {
             if (!unlinked) {
                 Files.deleteIfExists(path)
-                Leftovers.remove(path)
+                TemporaryFiles.remove(path)
             }
         }
     }
@@ -742,17 +755,5 @@ internal class Spill(dir: Path?) : Closeable {
         const val KU = 176
         const val VALUES = 16
         const val MAX_VALUES = 14
-    }
-
-    /** Spill files that could not be unlinked while open: removed by a shutdown hook (an interrupted run). */
-    private object Leftovers {
-        private val paths = ConcurrentHashMap.newKeySet<Path>()
-
-        init {
-            Runtime.getRuntime().addShutdownHook(Thread({ for (p in paths) runCatching { Files.deleteIfExists(p) } }, "offline-spill-cleanup"))
-        }
-
-        fun add(p: Path) = paths.add(p)
-        fun remove(p: Path) = paths.remove(p)
     }
 }

@@ -14,6 +14,7 @@ import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.event.RowEvents
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.event.SessionStream
+import kotlin.math.abs
 
 /** The state after one gyroscope step. Reused from step to step: copy what you keep. */
 public class ReplayStep internal constructor() {
@@ -125,6 +126,14 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
     private var stepBackFromNs = 0L
     private var lastGyroNs = Long.MIN_VALUE
 
+    /**
+     * True when a reading is one the filter takes (finite, within [limit] per axis): only such a
+     * reading is held in the step, so the rows and the linear acceleration never carry one the
+     * filter skipped (a reading of 1e308 m/s²).
+     */
+    private fun reading(x: Double, y: Double, z: Double, limit: Double): Boolean =
+        x.isFinite() && y.isFinite() && z.isFinite() && abs(x) <= limit && abs(y) <= limit && abs(z) <= limit
+
     private fun gyroscopeTime(t: Long) {
         if (lastGyroNs != Long.MIN_VALUE && t < lastGyroNs) {
             val back = secondsBetween(t, lastGyroNs) * 1e9
@@ -162,14 +171,18 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
                 SessionStream.ACCELEROMETER -> {
                     acc++
                     f.updateAccelerometer(t, v[0], v[1], v[2])
-                    step.specificForce[0] = v[0]; step.specificForce[1] = v[1]; step.specificForce[2] = v[2]
-                    step.accelerometerNs = t
+                    if (reading(v[0], v[1], v[2], SensorRanges.ACCELEROMETER_M_S2)) {
+                        step.specificForce[0] = v[0]; step.specificForce[1] = v[1]; step.specificForce[2] = v[2]
+                        step.accelerometerNs = t
+                    }
                 }
                 SessionStream.MAGNETOMETER -> {
                     mag++
                     f.updateMagnetometer(t, v[0], v[1], v[2])
-                    step.magneticField[0] = v[0]; step.magneticField[1] = v[1]; step.magneticField[2] = v[2]
-                    step.magnetometerNs = t
+                    if (reading(v[0], v[1], v[2], SensorRanges.MAGNETOMETER_UT)) {
+                        step.magneticField[0] = v[0]; step.magneticField[1] = v[1]; step.magneticField[2] = v[2]
+                        step.magnetometerNs = t
+                    }
                 }
                 SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR, SessionStream.TRUTH, SessionStream.ORIENTATION ->
                     listener.reference(events.stream, t, v)
@@ -201,12 +214,16 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             rows++
             if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
             f.updateAccelerometer(t, r[3], r[4], r[5])
-            step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
-            step.accelerometerNs = t
+            if (reading(r[3], r[4], r[5], SensorRanges.ACCELEROMETER_M_S2)) {
+                step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
+                step.accelerometerNs = t
+            }
             if (mag) {
                 f.updateMagnetometer(t, r[6], r[7], r[8])
-                step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
-                step.magnetometerNs = t
+                if (reading(r[6], r[7], r[8], SensorRanges.MAGNETOMETER_UT)) {
+                    step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
+                    step.magnetometerNs = t
+                }
             }
             gyroscopeTime(t)
             f.updateGyroscope(t, r[0], r[1], r[2])

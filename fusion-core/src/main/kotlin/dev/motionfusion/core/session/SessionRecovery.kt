@@ -136,6 +136,8 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
             plans.associate { it.stream!! to it.cut }, repaired, actions, rebuiltMetadata = raw == null, dryRun = dryRun,
             markersTruncatedBytes = markerPlan?.cut ?: 0L,
         )
+        // A session still being written grows while it is read: its counts would be wrong at once.
+        requireUnchanged(root, allPlans, "nothing was changed")
         if (dryRun) return report
 
         // 2. Change: leftovers, partial rows, then meta.json last (atomic), so a kill at any step
@@ -152,9 +154,25 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
             }
         }
         if (keepUnreadable) atomic.write(root.resolve(UNREADABLE_META), Files.readAllBytes(metaFile))
+        requireSizes(root, allPlans.map { if (it.restoreHeader) it.header.length + 1L else it.keep }.zip(allPlans), "partial rows were cut, meta.json is as it was")
         val json = if (raw != null) MetadataJson.writeKeeping(raw, repaired) else MetadataJson.write(repaired)
         atomic.write(metaFile, json.toByteArray(StandardCharsets.UTF_8))
         return report
+    }
+
+    /** Fails when a file's size is no longer what it was read at: the session is still being written. */
+    private fun requireUnchanged(root: Path, plans: List<Plan>, done: String) =
+        requireSizes(root, plans.map { it.keep + it.cut }.zip(plans), done)
+
+    private fun requireSizes(root: Path, sizes: List<Pair<Long, Plan>>, done: String) {
+        for ((size, p) in sizes) {
+            val f = root.resolve(p.fileName)
+            val now = AtomicFiles.named(f) { Files.readAttributes(f, BasicFileAttributes::class.java, LinkOption.NOFOLLOW_LINKS).size() }
+            if (now != size) {
+                throw DataFormatException(f.toString(), 0, 0, "is still being written: it was $size bytes and is now $now while recovery read it " +
+                    "($done); recover the session once its recording has stopped")
+            }
+        }
     }
 
     /** A file's check result: its statistics over the complete rows, and where to cut ([stream] null: markers.csv). */
@@ -181,13 +199,29 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
             return Plan(fileName, header, s, 0L, length, restoreHeader = true, StatsAccumulator().result())
         }
         val acc = StatsAccumulator()
-        val csv = ByteCsvReader(Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS), f.toString())
+        // Only the rows kept: what a writer appends meanwhile is not counted (and is caught by requireUnchanged).
+        val csv = ByteCsvReader(Prefix(Files.newInputStream(f, StandardOpenOption.READ, LinkOption.NOFOLLOW_LINKS), keep), f.toString())
         if (s != null) {
             SessionCsvCursor(s, csv, skipCutLastLine = true).use { c -> while (c.next()) acc.add(c.timestampNs) }
         } else {
             MarkerCursor(csv, skipCutLastLine = true).use { c -> while (c.next()) acc.add(c.timestampNs) }
         }
         return Plan(fileName, header, s, keep, length - keep, restoreHeader = false, acc.result(), linked = linkCount(f) > 1)
+    }
+
+    /** The first [left] bytes of [input]. */
+    private class Prefix(private val input: java.io.InputStream, private var left: Long) : java.io.InputStream() {
+        override fun read(): Int = if (left <= 0L) -1 else input.read().also { if (it >= 0) left-- }
+
+        override fun read(b: ByteArray, off: Int, len: Int): Int {
+            if (len == 0) return 0
+            if (left <= 0L) return -1
+            val n = input.read(b, off, minOf(len.toLong(), left).toInt())
+            if (n > 0) left -= n
+            return n
+        }
+
+        override fun close() = input.close()
     }
 
     /** The number of names (hard links) of [f]; 1 where the file system does not say. */

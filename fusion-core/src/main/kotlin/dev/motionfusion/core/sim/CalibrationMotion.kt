@@ -14,7 +14,8 @@ import kotlin.math.PI
  * at 2 rad/s, then [holdS] still on that face; then [turnS] turning at up to [turnRate] rad/s.
  * Each part is a [MotionSimulator] run of [base] (its sensor errors, noise and rate) with its
  * own seed and start orientation, so the true orientation jumps between parts; [base]'s
- * duration, angular rate and rest windows are not used, and its hard iron applies throughout.
+ * duration, angular rate and rest windows are not used, and its hard iron applies during its
+ * [SimulationSettings.hardIronWindow], in seconds from the start of the whole recording.
  */
 public class CalibrationMotion(
     public val base: SimulationSettings,
@@ -40,9 +41,11 @@ public class CalibrationMotion(
     public fun forEach(action: (SimulatedSample) -> Unit) {
         val period = (1e9 / base.rateHz).toLong()
         var t0 = 0L
-        val hardIronWindow = base.hardIronWindow?.let { TimeWindow(0.0, durationS + 1.0) }
         for ((i, part) in parts().withIndex()) {
             val (q, seconds, rate) = part
+            // The window in the part's own time (its samples are timed from 0).
+            val start = t0 * 1e-9
+            val hardIronWindow = base.hardIronWindow?.let { w -> TimeWindow(w.startS - start, maxOf(w.startS, w.endS) - start) }
             val s = base.copy(
                 seed = base.seed + 1000L * (i + 1), initialOrientation = q, durationS = seconds, angularRate = rate,
                 restWindows = emptyList(), hardIronWindow = hardIronWindow,

@@ -1,0 +1,514 @@
+package dev.motionfusion.cli
+
+import org.junit.jupiter.api.AfterAll
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.TestInstance
+import java.io.ByteArrayOutputStream
+import java.io.PrintStream
+import java.nio.file.Files
+import java.nio.file.Path
+import java.nio.file.attribute.FileTime
+import java.util.Locale
+import java.util.Random
+import kotlin.math.PI
+import kotlin.math.abs
+import kotlin.math.cos
+import kotlin.math.sin
+import kotlin.math.sqrt
+
+/**
+ * The second round of hostile and tricky runs (issue 42: no silently wrong result in eval, allan,
+ * calibration files, batch folders and killed runs). One test per case; each checks the exit code,
+ * the message, that no stack trace is printed and, where a number is the result, the number.
+ * The counts over the suite are printed at the end, as HostileCasesTest does.
+ */
+@TestInstance(TestInstance.Lifecycle.PER_CLASS)
+class HostileRoundTwoTest {
+    private val tmp: Path = Files.createTempDirectory("fusion-hostile-2")
+
+    private var runs = 0
+    private var stackTraces = 0
+
+    private fun p(name: String): String = tmp.resolve(name).toString()
+
+    /** An in-process run, counted; [outputs] lets a test give the process start time. */
+    private fun run(vararg args: String, outputs: Outputs = Outputs()): CliResult {
+        val out = ByteArrayOutputStream()
+        val err = ByteArrayOutputStream()
+        val code = Cli(PrintStream(out, true, "UTF-8"), PrintStream(err, true, "UTF-8"), outputs).run(args.toList())
+        val r = CliResult(code, out.toString("UTF-8"), err.toString("UTF-8"))
+        runs++
+        if (r.err.contains("\tat ") || r.err.contains("Exception")) stackTraces++
+        assertFalse(r.err.contains("\tat ") || r.err.contains("Exception"), "no stack trace: ${r.err}")
+        return r
+    }
+
+    private fun ok(vararg args: String): CliResult = run(*args).also { assertEquals(ExitCode.OK, it.code, it.err) }
+
+    private fun fails(code: Int, message: String, vararg args: String): CliResult = run(*args).also {
+        assertEquals(code, it.code, it.err)
+        assertTrue(Regex(message).containsMatchIn(it.err), "message /$message/ in: ${it.err}")
+    }
+
+    private fun write(name: String, text: String): Path = tmp.resolve(name).also { Files.createDirectories(it.parent); Files.writeString(it, text) }
+
+    private fun f(v: Double) = String.format(Locale.ROOT, "%.6f", v)
+
+    @AfterAll
+    fun numbers() {
+        tmp.toFile().deleteRecursively()
+        println("hostile cases, round two: $runs runs, $stackTraces stack traces")
+    }
+
+    // --- eval -------------------------------------------------------------------------------------
+
+    /** A trial folder: the input table [table], identity truth at its times, and a rotation vector [yawDeg] off the truth. */
+    private fun trial(dir: String, table: Path, yawDeg: Double?, movement: Int = 1) {
+        val times = Files.readAllLines(table).drop(1).filter { it.isNotBlank() }.map { it.substringBefore(',') }
+        Files.createDirectories(tmp.resolve(dir))
+        Files.copy(table, tmp.resolve("$dir/input.csv"))
+        write("$dir/truth.csv", "t_s,qw,qx,qy,qz,movement\n" + times.joinToString("") { "$it,1,0,0,0,$movement\n" })
+        if (yawDeg != null) {
+            val h = Math.toRadians(yawDeg) / 2
+            write("$dir/rotation_vector.csv", "t_s,qw,qx,qy,qz\n" + times.joinToString("") { "$it,${cos(h)},0,0,${sin(h)}\n" })
+        }
+    }
+
+    private fun simulatedTable(name: String, seconds: Int = 5): Path {
+        val t = tmp.resolve(name)
+        Files.createDirectories(t.parent)
+        if (!Files.exists(t)) ok("simulate", "-o", t.toString(), "--duration", "$seconds", "--rate", "50")
+        return t
+    }
+
+    @Test
+    fun `eval keys the rotation vector by the trial's path, not its name`() {
+        val table = simulatedTable("eval-table.csv")
+        trial("dsA/t01", table, 0.0)
+        trial("dsB/t01", table, 20.0)
+        val r = ok("eval", p("dsA"), p("dsB"))
+        val rows = r.out.lines().filter { it.startsWith("| ") && "t01" in it }
+        assertEquals(2, rows.size, r.out)
+        fun rv(row: String) = row.split('|').map { it.trim() }[5].toDouble()
+        assertEquals(0.0, rv(rows.single { "dsA" in it }), 0.01, r.out)
+        assertEquals(20.0, rv(rows.single { "dsB" in it }), 0.01, r.out)
+    }
+
+    @Test
+    fun `eval of a trial without a scored sample is an error, not a NaN table`() {
+        trial("unscored/t01", simulatedTable("eval-table.csv"), null, movement = 0)
+        val r = fails(ExitCode.DATA_ERROR, "unscored/t01.*no scored sample", "eval", p("unscored/t01"))
+        assertFalse(r.out.contains("NaN"), r.out)
+    }
+
+    @Test
+    fun `eval of a rotation vector that shares no instant with its truth is a data error, not an internal one`() {
+        val table = simulatedTable("eval-table.csv")
+        trial("rv-off/t01", table, 0.0)
+        val shifted = Files.readAllLines(tmp.resolve("rv-off/t01/rotation_vector.csv")).mapIndexed { i, l ->
+            if (i == 0) l else (l.substringBefore(',').toDouble() + 0.0123).toString() + "," + l.substringAfter(',')
+        }
+        Files.write(tmp.resolve("rv-off/t01/rotation_vector.csv"), shifted)
+        fails(ExitCode.DATA_ERROR, "rv-off/t01.*rotation_vector\\.csv: no row at the time of a scored truth row", "eval", p("rv-off/t01"))
+    }
+
+    /** An orientation table (fusion replay's output) of the simulated table, and its rows reversed / its times in ms. */
+    private fun orientation(): Path {
+        val o = tmp.resolve("orient.csv")
+        if (!Files.exists(o)) ok("replay", "--quiet", simulatedTable("eval-table.csv").toString(), "-o", o.toString())
+        return o
+    }
+
+    @Test
+    fun `eval --truth matches rows by time, says how many it scored and refuses tables out of order`() {
+        val o = orientation()
+        val lines = Files.readAllLines(o).filter { it.isNotBlank() }
+        val truth = write("truth-yaw.csv", "t_s,qw,qx,qy,qz\n" + lines.drop(1).joinToString("") { it.split(',').take(5).joinToString(",") + "\n" })
+        val same = ok("eval", "--csv", "--truth", truth.toString(), o.toString())
+        assertEquals("0.000000", same.out.lines()[1].split(',')[1], same.out)
+        assertTrue(Regex("scored \\d+ rows: (\\d+) of \\1 truth rows and \\1 orientation rows share a t_s").containsMatchIn(same.err), same.err)
+        val reversed = write("orient-reversed.csv", (listOf(lines[0]) + lines.drop(1).reversed()).joinToString("\n", postfix = "\n"))
+        fails(ExitCode.DATA_ERROR, "orient-reversed\\.csv:\\d+:\\d+: column t_s: .* before the row above .*time order", "eval", "--truth", truth.toString(), reversed.toString())
+        val ms = write("truth-ms.csv", "t_s,qw,qx,qy,qz\n" + lines.drop(1).joinToString("") { l -> val c = l.split(','); "${c[0].toDouble() * 1000},${c.subList(1, 5).joinToString(",")}\n" })
+        fails(ExitCode.DATA_ERROR, "orient\\.csv: \\d+ of \\d+ truth rows .* not aligned in time", "eval", "--truth", ms.toString(), o.toString())
+    }
+
+    @Test
+    fun `eval --after takes two finite times in order`() {
+        val o = orientation()
+        fails(ExitCode.USAGE, "--after takes FROM:TO in seconds \\(two finite numbers\\), not 'NaN:5'", "eval", "--rows", simulatedTable("eval-table.csv").toString(), "--after", "NaN:5", o.toString())
+        fails(ExitCode.USAGE, "--after 15:3: FROM must be before TO", "eval", "--rows", simulatedTable("eval-table.csv").toString(), "--after", "15:3", o.toString())
+    }
+
+    @Test
+    fun `a session named with a pipe keeps the Markdown table's columns`() {
+        ok("simulate", "-o", p("pipe|name"), "--duration", "5", "--rate", "50")
+        val r = ok("eval", p("pipe|name"))
+        val row = r.out.lines().single { "pipe" in it }
+        assertTrue(row.contains("pipe\\|name"), row)
+        assertEquals(5, row.split(Regex("(?<!\\\\)\\|")).size - 1, row)
+    }
+
+    // --- allan ------------------------------------------------------------------------------------
+
+    /** A still table at 100 Hz: white noise of density [gyroN] rad/s/√Hz and [accN] m/s²/√Hz, one stretch per start in [starts] of [seconds] each. */
+    private fun stillTable(name: String, starts: List<Double>, seconds: Double, gyroN: Double, accN: Double): Path {
+        val rate = 100.0
+        val random = Random(42)
+        val sb = StringBuilder("t_s,gx,gy,gz,ax,ay,az\n")
+        for (s in starts) {
+            for (i in 0 until (seconds * rate).toInt()) {
+                fun g() = random.nextGaussian() * gyroN * sqrt(rate)
+                fun a() = random.nextGaussian() * accN * sqrt(rate)
+                sb.append(String.format(Locale.ROOT, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", s + i / rate, g(), g(), g(), a(), a(), 9.81 + a()))
+            }
+        }
+        return write(name, sb.toString())
+    }
+
+    private fun yaml(text: String, key: String): Double = Regex("(?m)^$key: ([^ ]+)").find(text)!!.groupValues[1].toDouble()
+
+    @Test
+    fun `allan over a recording with a gap takes the rate and the clusters over the samples that exist`() {
+        val t = stillTable("allan-gap.csv", listOf(0.0, 3635.0), 35.0, 0.001, 0.02)
+        val r = ok("allan", "--quiet", t.toString())
+        assertEquals(100.0, yaml(r.out, "update_rate"), 0.01, r.out)
+        assertEquals(0.001, yaml(r.out, "gyroscope_noise_density"), 0.00025, r.out)
+        assertEquals(0.02, yaml(r.out, "accelerometer_noise_density"), 0.005, r.out)
+        assertTrue(r.out.contains("7000 samples at 100 Hz"), r.out)
+    }
+
+    @Test
+    fun `allan with three 20 s gaps in 10 min gives the sample rate`() {
+        val t = stillTable("allan-gaps.csv", listOf(0.0, 170.0, 340.0, 510.0), 150.0, 0.001, 0.02)
+        val r = ok("allan", "--quiet", t.toString())
+        assertEquals(100.0, yaml(r.out, "update_rate"), 0.01, r.out)
+        assertEquals(0.001, yaml(r.out, "gyroscope_noise_density"), 0.00015, r.out)
+    }
+
+    @Test
+    fun `allan refuses a plot that is a link to its YAML`() {
+        val t = stillTable("allan-still.csv", listOf(0.0), 70.0, 0.001, 0.02)
+        val yaml = write("noise.yaml", "an earlier output\n")
+        val link = Files.createSymbolicLink(tmp.resolve("noise-link.svg"), yaml)
+        fails(ExitCode.USAGE, "-o .*noise\\.yaml and --plot .*noise-link\\.svg name the same file", "allan", t.toString(), "-o", yaml.toString(), "--plot", link.toString())
+        assertEquals("an earlier output\n", Files.readString(yaml))
+    }
+
+    // --- calibration files --------------------------------------------------------------------------
+
+    private fun session(name: String): Path {
+        val s = tmp.resolve(name)
+        if (!Files.exists(s)) ok("simulate", "-o", s.toString(), "--duration", "10", "--rate", "50")
+        return s
+    }
+
+    private fun calibration(name: String, magOffset: String = "[10, -5, 3]", matrix: String = "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+                            gyroBias: String? = null, accOffset: String? = null, device: String? = null): Path = write(
+        name,
+        """
+        |{
+        |  "format": "motion-fusion-calibration",
+        |  "format_version": 1,
+        |  "source": "a test",
+        |  "recording": "",
+        |${if (device != null) "  \"device\": \"$device\",\n" else ""}  "magnetometer": {"stream": "magnetometer", "model": "FULL", "offset_uT": $magOffset, "matrix": $matrix}${if (gyroBias != null || accOffset != null) "," else ""}
+        |${if (gyroBias != null) "  \"gyroscope\": {\"stream\": \"gyroscope\", \"bias_rad_s\": $gyroBias}" + (if (accOffset != null) "," else "") else ""}
+        |${if (accOffset != null) "  \"accelerometer\": {\"stream\": \"accelerometer\", \"model\": \"FULL\", \"offset_m_s2\": $accOffset, \"matrix\": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}" else ""}
+        |}
+        """.trimMargin(),
+    )
+
+    @Test
+    fun `a calibration whose soft iron is not symmetric is refused, naming the member`() {
+        val c = calibration("rotated.json", matrix = "[[0, -1, 0], [1, 0, 0], [0, 0, 1]]")
+        fails(ExitCode.DATA_ERROR, "rotated\\.json:\\d+:\\d+: magnetometer\\.matrix: not a calibration matrix: not symmetric", "replay", session("s").toString(), "--calibration", c.toString(), "-o", p("cal-out.csv"))
+        assertFalse(Files.exists(tmp.resolve("cal-out.csv")))
+    }
+
+    @Test
+    fun `a calibration with a negative definite soft iron is refused`() {
+        val c = calibration("flip.json", matrix = "[[-1, 0, 0], [0, -1, 0], [0, 0, 1]]")
+        fails(ExitCode.DATA_ERROR, "flip\\.json:\\d+:\\d+: magnetometer\\.matrix: not a calibration matrix: not positive definite", "replay", session("s").toString(), "--calibration", c.toString())
+    }
+
+    @Test
+    fun `offsets and biases beyond any phone's are blamed on the calibration, not the recording`() {
+        val s = session("s").toString()
+        fails(ExitCode.DATA_ERROR, "acc\\.json:\\d+:\\d+: accelerometer\\.offset_m_s2: 9\\.81 m/s²: .*this calibration is wrong", "replay", s, "--calibration", calibration("acc.json", accOffset = "[0, 0, 9.81]").toString())
+        fails(ExitCode.DATA_ERROR, "mag\\.json:\\d+:\\d+: magnetometer\\.offset_uT: 1E\\+6 µT: .*this calibration is wrong", "replay", s, "--calibration", calibration("mag.json", magOffset = "[1e6, 0, 0]").toString())
+        val r = fails(ExitCode.DATA_ERROR, "gyro\\.json:\\d+:\\d+: gyroscope\\.bias_rad_s: 500 rad/s: .*this calibration is wrong", "replay", s, "--calibration", calibration("gyro.json", gyroBias = "[500, 0, 0]").toString())
+        assertFalse(r.err.contains("beyond any phone's range"), r.err)
+    }
+
+    @Test
+    fun `a calibration from another device is applied with a note naming both`() {
+        val c = calibration("pixel.json", device = "Google Pixel 8; magnetometer: AK09918")
+        val r = ok("replay", session("s").toString(), "--calibration", c.toString(), "-o", p("pixel.csv"))
+        assertTrue(r.err.contains("pixel.json was fitted on Google Pixel 8, but s was recorded on Motion Fusion MotionSimulator"), r.err)
+        val same = ok("replay", session("s").toString(), "--calibration", calibration("sim.json", device = "Motion Fusion MotionSimulator; x").toString(), "-o", p("sim.csv"))
+        assertFalse(same.err.contains("was fitted on"), same.err)
+    }
+
+    @Test
+    fun `--calibration of a folder names it`() {
+        fails(ExitCode.IO_ERROR, "${Regex.escape(p("s"))}: is a folder; --calibration takes a calibration file", "replay", session("s2").toString(), "--calibration", session("s").toString())
+    }
+
+    @Test
+    fun `calibrate accepts a hard iron of 1,500 µT and finds it`() {
+        ok("simulate", "--motion", "calibration", "--hard-iron", "1500,0,0", "-o", p("iron1500.csv"))
+        val r = ok("calibrate", p("iron1500.csv"))
+        val offset = Regex("\"offset_uT\": \\[\\s*([^,\\s]+)").find(r.out)!!.groupValues[1].trim().toDouble()
+        assertEquals(1500.0, offset, 5.0, r.out)
+    }
+
+    @Test
+    fun `calibrate and simulate name their options, not internal settings`() {
+        fails(ExitCode.USAGE, "^fusion: --min-coverage must be in \\[0, 1\\]", "calibrate", p("any.csv"), "--min-coverage", "2")
+        fails(ExitCode.USAGE, "^fusion: --soft-iron must be finite with a positive determinant", "simulate", "-o", p("x.csv"), "--soft-iron", "-1,1,1")
+    }
+
+    // --- simulate ---------------------------------------------------------------------------------
+
+    @Test
+    fun `simulate --motion calibration honours --hard-iron-window`() {
+        ok("simulate", "--motion", "calibration", "--hard-iron", "300,0,0", "--hard-iron-window", "45,60", "-o", p("window.csv"))
+        val rows = Files.readAllLines(tmp.resolve("window.csv")).drop(1).filter { it.isNotBlank() }.map { l -> l.split(',').let { it[0].toDouble() to it[7].toDouble() } }
+        val inside = rows.filter { it.first >= 45.5 && it.first < 59.5 }.map { it.second }
+        val outside = rows.filter { it.first < 44.5 || it.first >= 60.5 }.map { it.second }
+        assertTrue(inside.isNotEmpty() && outside.isNotEmpty())
+        assertTrue(inside.all { it > 200.0 }, "inside the window the hard iron applies")
+        assertTrue(outside.all { abs(it) < 100.0 }, "outside the window it does not: ${outside.maxOf { abs(it) }}")
+    }
+
+    @Test
+    fun `simulate refuses a sensor range of 0`() {
+        fails(ExitCode.USAGE, "--gyro-range must be in \\(0, 200] \\(leave it out for no clipping\\)", "simulate", "-o", p("r0.csv"), "--gyro-range", "0")
+        fails(ExitCode.USAGE, "--acc-range must be in \\(0, 2000]", "simulate", "-o", p("r0.csv"), "--acc-range", "0")
+        assertFalse(Files.exists(tmp.resolve("r0.csv")))
+    }
+
+    // --- batches and outputs ----------------------------------------------------------------------
+
+    @Test
+    fun `a batch refused because its folder lies inside an input creates nothing`() {
+        val c = session("sessC")
+        val d = session("sessD")
+        fails(ExitCode.USAGE, "lies inside the input", "replay", c.toString(), d.toString(), "-o", "$c/results/")
+        assertFalse(Files.exists(c.resolve("results")), "no folder made inside the input")
+    }
+
+    @Test
+    fun `a batch refused for a name clash leaves no new folder`() {
+        val a = simulatedTable("clash-a/x.csv")
+        val b = simulatedTable("clash-b/x.csv")
+        fails(ExitCode.USAGE, "would both be written to", "replay", a.toString(), b.toString(), "-o", p("clash-out") + "/")
+        assertFalse(Files.exists(tmp.resolve("clash-out")))
+    }
+
+    @Test
+    fun `two inputs with -o naming a file are refused rather than made a folder`() {
+        val a = simulatedTable("two-a.csv")
+        val b = simulatedTable("two-b.csv")
+        fails(ExitCode.USAGE, "with several inputs -o names a folder: .*X\\.csv does not exist; give .*X\\.csv/", "replay", a.toString(), b.toString(), "-o", p("X.csv"))
+        assertFalse(Files.exists(tmp.resolve("X.csv")))
+    }
+
+    // --- earlier corpus ---------------------------------------------------------------------------
+
+    @Test
+    fun `an accelerometer reading of 1e308 does not reach the linear acceleration`() {
+        val rows = Files.readAllLines(simulatedTable("lin-table.csv")).toMutableList()
+        rows[100] = rows[100].split(',').toMutableList().also { it[6] = "1e308" }.joinToString(",")
+        val t = write("acc-1e308.csv", rows.joinToString("\n", postfix = "\n"))
+        val r = ok("replay", t.toString(), "-o", p("lin.csv"))
+        assertTrue(r.err.contains("1 beyond any phone's range"), r.err)
+        val up = Files.readAllLines(tmp.resolve("lin.csv")).drop(1).filter { it.isNotBlank() }.map { it.split(',')[13].toDouble() }.filter { !it.isNaN() }
+        assertTrue(up.all { abs(it) < 50.0 }, "largest |lin_acc_up| ${up.maxOf { abs(it) }}")
+    }
+
+    @Test
+    fun `a session whose gyroscope file holds half of what meta json counts is replayed with a warning`() {
+        val s = session("half")
+        val g = s.resolve("gyroscope.csv")
+        val lines = Files.readAllLines(g)
+        Files.write(g, lines.take(1 + (lines.size - 1) / 2))
+        val r = ok("replay", s.toString(), "-o", p("half.csv"))
+        assertTrue(Regex("warning: half: meta\\.json counts 500 gyroscope samples, but gyroscope\\.csv holds 2\\d\\d").containsMatchIn(r.err), r.err)
+    }
+
+    @Test
+    fun `recover of a session still being written is refused and counts nothing wrong`() {
+        val s = session("writing")
+        val meta = s.resolve("meta.json")
+        Files.writeString(meta, Files.readString(meta).replace("\"complete\": true", "\"complete\": false"))
+        val g = s.resolve("gyroscope.csv")
+        val last = Files.readAllLines(g).last { it.isNotBlank() }.split(',')[0].toLong()
+        Files.write(g, "${last + 20_000_000},0.1,0.".toByteArray(), java.nio.file.StandardOpenOption.APPEND) // the row being written
+        val before = Files.readString(meta)
+        // The recording goes on while recovery works: rows are appended after recovery cut the partial row.
+        val recordingGoesOn = object : dev.motionfusion.core.io.FileOperations by dev.motionfusion.core.io.FileOperations.SYSTEM {
+            override fun truncate(path: Path, size: Long) {
+                dev.motionfusion.core.io.FileOperations.SYSTEM.truncate(path, size)
+                Files.write(g, (1..101).joinToString("") { "${last + 20_000_000L * it},0.01,0.02,0.03,3\n" }.toByteArray(), java.nio.file.StandardOpenOption.APPEND)
+            }
+        }
+        val e = org.junit.jupiter.api.assertThrows<dev.motionfusion.core.io.DataFormatException> {
+            dev.motionfusion.core.session.SessionRecovery(recordingGoesOn).recover(s, dryRun = false)
+        }
+        runs++
+        assertTrue(Regex("writing/gyroscope\\.csv: is still being written: .*meta\\.json is as it was\\); recover the session once its recording has stopped").containsMatchIn(e.message!!), e.message)
+        assertEquals(before, Files.readString(meta), "meta.json does not count other rows than the file holds")
+        // Once the recording has stopped, recovery counts every row the file holds.
+        ok("recover", s.toString())
+        val rows = Files.readAllLines(g).drop(1).count { it.isNotBlank() }
+        assertTrue(Files.readString(meta).contains(Regex("\"file\": \"gyroscope\\.csv\",\\s*\"samples\": $rows,")), Files.readString(meta))
+    }
+
+    @Test
+    fun `a file name with bytes that are not UTF-8 gets a message saying so`() {
+        fails(ExitCode.IO_ERROR, "the name holds bytes that are not .* rename the file", "summary", p("a\uFFFD.csv"))
+    }
+
+    // --- temporary files --------------------------------------------------------------------------
+
+    @Test
+    fun `a run removes stale temporary files an interrupted earlier run left beside its output, and says so`() {
+        val table = simulatedTable("stale-in.csv")
+        val dir = Files.createDirectories(tmp.resolve("stale"))
+        val hourAgo = FileTime.fromMillis(System.currentTimeMillis() - 3_600_000)
+        val gone = listOf(".out.csv.999999999-a1b2c3.tmp", ".out.csv.d4e5f6.tmp").map { dir.resolve(it).also { f -> Files.writeString(f, "half a row"); Files.setLastModifiedTime(f, hourAgo) } }
+        val mine = dir.resolve(".out.csv.${ProcessHandle.current().pid()}-abc.tmp").also { Files.writeString(it, "a running writer's"); Files.setLastModifiedTime(it, hourAgo) }
+        val fresh = dir.resolve(".out.csv.beef.tmp").also { Files.writeString(it, "written after this run started") }
+        val other = dir.resolve(".other.csv.1234.tmp").also { Files.writeString(it, "another output's"); Files.setLastModifiedTime(it, hourAgo) }
+        val started = System.currentTimeMillis() - 60_000
+        val r = run("replay", table.toString(), "-o", dir.resolve("out.csv").toString(), outputs = Outputs(startedMs = started))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(r.err.contains("note: removed 2 temporary files an interrupted earlier run left beside"), r.err)
+        for (f in gone) assertFalse(Files.exists(f), "$f removed")
+        for (f in listOf(mine, fresh, other)) assertTrue(Files.exists(f), "$f kept")
+    }
+
+    @Test
+    fun `a spooled standard input an interrupted earlier run left is removed when standard input is next read`() {
+        val t = Path.of(System.getProperty("java.io.tmpdir"))
+        val stale = t.resolve("fusion-input-999999999-12345.tmp").also { Files.writeString(it, "spooled"); Files.setLastModifiedTime(it, FileTime.fromMillis(0)) }
+        val stdin = System.`in`
+        System.setIn(java.io.ByteArrayInputStream(Files.readAllBytes(simulatedTable("stdin.csv"))))
+        val r = try {
+            run("replay", "-", "-o", p("stdin-out.csv"))
+        } finally {
+            System.setIn(stdin)
+        }
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(r.err.contains("removed 1 spooled input an interrupted earlier run left: $stale"), r.err)
+        assertFalse(Files.exists(stale))
+    }
+
+    // --- as its own process: file names as the system passes them, signals ------------------------
+
+    /** `fusion ARGS` as its own process in [dir], with its own temporary folder [tmpdir]; [shell] wraps the command line for sh. */
+    private fun process(dir: Path, tmpdir: Path, vararg args: String): ProcessBuilder {
+        val java = Path.of(System.getProperty("java.home"), "bin", "java").toString()
+        return ProcessBuilder(listOf(java, "-XX:-UsePerfData", "-Djava.io.tmpdir=$tmpdir", "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt") + args)
+            .directory(dir.toFile())
+    }
+
+    private fun finished(p: Process): CliResult {
+        p.outputStream.close()
+        val out = p.inputStream.readAllBytes()
+        val err = p.errorStream.readAllBytes()
+        val code = p.waitFor()
+        val r = CliResult(code, String(out, Charsets.ISO_8859_1), String(err, Charsets.ISO_8859_1))
+        runs++
+        if (r.err.contains("\tat ") || r.err.contains("Exception")) stackTraces++
+        assertFalse(r.err.contains("\tat ") || r.err.contains("Exception"), "no stack trace: ${r.err}")
+        return r
+    }
+
+    @Test
+    fun `a batch keeps the -- before inputs whose names start with a dash`() {
+        val dir = Files.createDirectories(tmp.resolve("dash"))
+        val src = simulatedTable("dash-src.csv")
+        Files.copy(src, dir.resolve("-dash.csv"))
+        Files.copy(src, dir.resolve("good.csv"))
+        val r = finished(process(dir, tmp, "replay", "-o", "out/", "--", "-dash.csv", "good.csv").start())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(Files.size(dir.resolve("out/-dash.csv")) > 1000 && Files.size(dir.resolve("out/good.csv")) > 1000, r.err)
+    }
+
+    @Test
+    fun `a real file name with a 0xFF byte is named as not UTF-8`() {
+        val dir = Files.createDirectories(tmp.resolve("ff"))
+        val java = Path.of(System.getProperty("java.home"), "bin", "java").toString()
+        val sh = ProcessBuilder("sh", "-c", "printf 't_s,gx,gy,gz,ax,ay,az\\n' > \"$(printf 'a\\377.csv')\"; " +
+            "exec \"$0\" -XX:-UsePerfData -cp \"$1\" dev.motionfusion.cli.MainKt summary \"$(printf 'a\\377.csv')\"", java, System.getProperty("java.class.path"))
+            .directory(dir.toFile())
+        sh.environment()["LC_ALL"] = "C.UTF-8"
+        val r = finished(sh.start())
+        assertEquals(ExitCode.IO_ERROR, r.code, r.err)
+        assertTrue(r.err.contains("the name holds bytes that are not UTF-8"), r.err)
+    }
+
+    /** Waits (on the file system's events, not a clock) until [dir] holds a name matching [wanted]. */
+    private fun awaitName(dir: Path, wanted: (String) -> Boolean) {
+        dir.fileSystem.newWatchService().use { w ->
+            dir.register(w, java.nio.file.StandardWatchEventKinds.ENTRY_CREATE)
+            while (Files.list(dir).use { s -> s.noneMatch { wanted(it.fileName.toString()) } }) {
+                val key = w.poll(120, java.util.concurrent.TimeUnit.SECONDS) ?: throw AssertionError("no ${dir.fileName} entry appeared in 120 s")
+                key.pollEvents()
+                key.reset()
+            }
+        }
+    }
+
+    private fun names(dir: Path): List<String> = Files.list(dir).use { s -> s.map { it.fileName.toString() }.sorted().toList() }
+
+    @Test
+    fun `SIGTERM leaves no temporary file beside the output nor in the temporary folder`() {
+        val dir = Files.createDirectories(tmp.resolve("term"))
+        val tmpdir = Files.createDirectories(tmp.resolve("term-tmp"))
+        for (out in listOf("long.csv", "long")) {
+            val p = process(dir, tmpdir, "simulate", "-o", out, "--duration", "86400", "--rate", "2000").start()
+            awaitName(dir) { it.startsWith(".$out.") && it.endsWith(".tmp") }
+            // A session folder: killed once its streams are being written.
+            val aside = dir.resolve(names(dir).single { it.startsWith(".$out.") })
+            if (Files.isDirectory(aside)) awaitName(aside) { it == "rotation_vector.csv" }
+            p.destroy() // SIGTERM
+            assertEquals(143, p.waitFor())
+            assertEquals(emptyList<String>(), names(dir), "after SIGTERM of simulate -o $out")
+        }
+        val p = process(dir, tmpdir, "replay", "-").start()
+        p.outputStream.write(Files.readAllBytes(simulatedTable("term-in.csv")))
+        p.outputStream.flush() // and left open: the input is being spooled
+        awaitName(tmpdir) { it.startsWith("fusion-input-") }
+        p.destroy()
+        assertEquals(143, p.waitFor())
+        assertEquals(emptyList<String>(), names(tmpdir), "after SIGTERM of replay -")
+        assertEquals(emptyList<String>(), names(dir))
+    }
+
+    @Test
+    fun `a temporary file that cannot be written names the temporary folder`() {
+        val dir = Files.createDirectories(tmp.resolve("full"))
+        val tmpdir = Files.createDirectories(tmp.resolve("full-tmp"))
+        val table = simulatedTable("full-in.csv", seconds = 120)
+        val java = Path.of(System.getProperty("java.home"), "bin", "java").toString()
+        // A file size limit (ulimit -f) makes a write past a few hundred KiB fail as a full device would; stdout is a pipe, not limited.
+        fun limited(vararg args: String): CliResult = finished(
+            ProcessBuilder(listOf("sh", "-c", "ulimit -f 512; exec \"$@\"", "sh", java, "-XX:-UsePerfData", "-Djava.io.tmpdir=$tmpdir", "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt") + args)
+                .directory(dir.toFile()).redirectInput(table.toFile()).start(),
+        )
+        val spooled = limited("replay", "-")
+        assertEquals(ExitCode.IO_ERROR, spooled.code, spooled.err)
+        assertTrue(spooled.err.contains("$tmpdir: standard input is read once into a temporary file here (java.io.tmpdir"), spooled.err)
+        val offline = limited("replay", "--offline", table.toString())
+        assertEquals(ExitCode.IO_ERROR, offline.code, offline.err)
+        assertTrue(offline.err.contains("$tmpdir: the offline estimate's temporary file (java.io.tmpdir"), offline.err)
+        assertEquals(emptyList<String>(), names(tmpdir))
+    }
+}
