@@ -56,7 +56,9 @@ public data class StreamOffer(val source: String, val metadata: SessionMetadata,
  * message), the upgrade request done within [handshakeTimeoutNs] and the pair message within [pairingTimeoutNs]
  * (both from the accepted socket). Every frame a client sends, before pairing and after, is at most [maxFrameBytes]
  * (a client sends only its pair message). After [maxWrongCodes] wrong pairing codes, from any address, the server
- * makes a new code (the phone shows it). A browser page is refused unless its Origin is one of [allowedOrigins]
+ * makes a new code (the phone shows it) and pauses pairing for [wrongCodePauseNs]: meanwhile only an address that
+ * paired before (and sent no wrong code since) may pair, so that codes cannot be tried faster than [maxWrongCodes] per
+ * pause, however many addresses the tries come from. A browser page is refused unless its Origin is one of [allowedOrigins]
  * (clients that are not browsers send none).
  */
 public data class StreamServerSettings(
@@ -70,6 +72,7 @@ public data class StreamServerSettings(
     val handshakeTimeoutNs: Long = 5_000_000_000L,
     val pairingTimeoutNs: Long = 10_000_000_000L,
     val maxWrongCodes: Int = 5,
+    val wrongCodePauseNs: Long = 60_000_000_000L,
     val allowedOrigins: Set<String> = emptySet(),
 ) {
     init {
@@ -83,6 +86,7 @@ public data class StreamServerSettings(
         require(handshakeTimeoutNs > 0) { "handshakeTimeoutNs must be positive" }
         require(pairingTimeoutNs > 0) { "pairingTimeoutNs must be positive" }
         require(maxWrongCodes >= 1) { "maxWrongCodes must be at least 1" }
+        require(wrongCodePauseNs >= 0) { "wrongCodePauseNs must not be negative" }
     }
 }
 
@@ -134,6 +138,12 @@ public class StreamServer @JvmOverloads constructor(
     @Volatile private var code = pairingCode.toByteArray(Charsets.UTF_8)
     private val codeLock = Any()
     private var wrongCodes = 0
+
+    /** Pairing is paused until then (on [nanoTime]), after too many wrong codes; guarded by [codeLock]. */
+    private var pausedUntilNs: Long? = null
+
+    /** Addresses that paired with a right code and sent no wrong one since: they may pair during a pause. */
+    private val trusted = HashSet<String>()
     private val clients = CopyOnWriteArrayList<Client>()
 
     /** Connections not paired yet, oldest first, from their accepted socket on (guarded by itself). */
@@ -323,21 +333,34 @@ public class StreamServer @JvmOverloads constructor(
         }
         if (request !is StreamMessage.Pair) return refuse(client, "the first message must be of type \"pair\"")
         var newCode: String? = null
-        val right = synchronized(codeLock) {
-            if (MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code)) {
-                true
-            } else {
-                // One budget for the whole server, whichever address the tries come from.
-                if (++wrongCodes >= settings.maxWrongCodes) {
-                    wrongCodes = 0
-                    newCode = newPairingCode()
-                    code = newCode!!.toByteArray(Charsets.UTF_8)
+        val verdict = synchronized(codeLock) {
+            val now = nanoTime()
+            val until = pausedUntilNs
+            when {
+                // Not even looked at: a pause lets no new address try.
+                until != null && now - until < 0 && client.address !in trusted -> PAUSED
+                MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code) -> {
+                    trusted += client.address
+                    RIGHT
                 }
-                false
+                else -> {
+                    trusted -= client.address
+                    // One budget for the whole server, whichever address the tries come from.
+                    if (++wrongCodes >= settings.maxWrongCodes) {
+                        wrongCodes = 0
+                        newCode = newPairingCode()
+                        code = newCode!!.toByteArray(Charsets.UTF_8)
+                        pausedUntilNs = now + settings.wrongCodePauseNs
+                    }
+                    WRONG
+                }
             }
         }
         newCode?.let(onPairingCodeChanged)
-        if (!right) return refuse(client, "pairing code wrong")
+        if (verdict == PAUSED) {
+            return refuse(client, "too many wrong pairing codes: pairing paused for up to ${settings.wrongCodePauseNs / 1_000_000_000} s", CLOSE_PAUSED)
+        }
+        if (verdict == WRONG) return refuse(client, "pairing code wrong")
         val offered = offer()
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
@@ -554,6 +577,13 @@ public class StreamServer @JvmOverloads constructor(
 
         /** Not from the local network. */
         public const val CLOSE_NOT_LOCAL: Int = 4003
+
+        /** Pairing paused after too many wrong codes (a new code is shown). */
+        public const val CLOSE_PAUSED: Int = 4029
+
+        private const val RIGHT = 0
+        private const val WRONG = 1
+        private const val PAUSED = 2
 
         /** Too many paired clients, or an unpaired connection closed to make room for a newer one. */
         public const val CLOSE_TOO_MANY: Int = 4008

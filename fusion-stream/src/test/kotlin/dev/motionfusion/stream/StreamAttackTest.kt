@@ -229,31 +229,52 @@ class StreamAttackTest {
     }
 
     @Test
-    fun `wrong codes from many loopback addresses and pre-opened connections share one budget, then the code changes`() {
+    fun `wrong codes from many loopback addresses and pre-opened connections share one budget, then the code changes and pairing pauses`() {
         val codes = ArrayDeque(listOf("111111", "222222"))
         val shown = ConcurrentLinkedQueue<String>()
-        val s = server(newCode = { codes.removeFirst() }, onCode = { shown += it })
+        var now = 0L
+        val s = server(nanoTime = { now }, newCode = { codes.removeFirst() }, onCode = { shown += it })
+        fun tryCode(local: String, code: String, sock: Socket = raw(s, local).also { upgrade(it) }): Int {
+            sock.getOutputStream().write(pairFrame(code))
+            return awaitEnd(sock)
+        }
         // Eight connections opened before any try, each from an address of its own.
         val socks = List(8) { k -> raw(s, "127.0.0.${10 + k}").also { assertTrue(upgrade(it).startsWith("HTTP/1.1 101")) } }
-        for ((k, sock) in socks.withIndex()) {
-            sock.getOutputStream().write(pairFrame(String.format("%06d", 100 + k)))
-            assertEquals(StreamServer.CLOSE_REFUSED, awaitEnd(sock), "try $k")
-        }
-        // Five wrong codes, from five addresses, made a new code; three more count towards the next.
+        val ends = socks.mapIndexed { k, sock -> tryCode("", String.format("%06d", 100 + k), sock) }
+        // Five wrong codes, from five addresses, made a new code and paused pairing: the other three were not looked at.
+        assertEquals(List(5) { StreamServer.CLOSE_REFUSED } + List(3) { StreamServer.CLOSE_PAUSED }, ends)
         assertEquals(listOf("111111"), shown.toList())
         assertEquals("111111", s.pairingCode)
-        // Rotating addresses: two more tries, and the budget of the new code is spent too.
-        for (k in 0 until 2) {
-            val sock = raw(s, "127.0.1.${k + 1}")
+        // Rotating addresses during the pause: refused unread, even with the right code.
+        for (k in 1..20) assertEquals(StreamServer.CLOSE_PAUSED, tryCode("127.0.1.$k", if (k == 20) "111111" else "999999"))
+        // After the pause, five more wrong ones from new addresses: a second code, a second pause.
+        now += StreamServerSettings().wrongCodePauseNs + 1
+        for (k in 1..5) assertEquals(StreamServer.CLOSE_REFUSED, tryCode("127.0.2.$k", "999999"))
+        assertEquals(listOf("111111", "222222"), shown.toList())
+        // At most 5 codes tried per pause, whatever the addresses: 10 of 36 tries here were looked at.
+        now += StreamServerSettings().wrongCodePauseNs + 1
+        // The first code, the one an attacker might have been told, no longer pairs; the shown one does.
+        assertEquals(StreamServer.CLOSE_REFUSED, tryCode("127.0.3.1", CODE))
+        Laptop(s, "222222").client.connect()
+    }
+
+    @Test
+    fun `a laptop that paired before pairs again during a pause, a new address does not`() {
+        var now = 0L
+        val s = server(nanoTime = { now }, newCode = { "111111" })
+        Laptop(s).client.connect()
+        for (k in 1..5) {
+            val sock = raw(s, "127.0.4.$k")
             upgrade(sock)
             sock.getOutputStream().write(pairFrame("999999"))
             assertEquals(StreamServer.CLOSE_REFUSED, awaitEnd(sock))
         }
-        assertEquals(listOf("111111", "222222"), shown.toList())
-        // The first code, the one an attacker might have been told, no longer pairs; the shown one does.
-        val e = assertThrows<IOException> { Laptop(s, CODE).client.connect() }
-        assertTrue("pairing code wrong" in e.message!!, e.message)
-        Laptop(s, "222222").client.connect()
+        // 127.0.0.1 paired before: it is let in with the new code; 127.0.5.1 is not looked at.
+        Laptop(s, "111111").client.connect(2_000)
+        val fresh = raw(s, "127.0.5.1")
+        upgrade(fresh)
+        fresh.getOutputStream().write(pairFrame("111111"))
+        assertEquals(StreamServer.CLOSE_PAUSED, awaitEnd(fresh))
     }
 
     @Test

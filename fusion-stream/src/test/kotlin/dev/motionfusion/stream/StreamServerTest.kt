@@ -214,10 +214,11 @@ class StreamServerTest {
     }
 
     @Test
-    fun `five wrong codes make a new code, given to the phone, and the old one is refused then`() {
+    fun `five wrong codes make a new code and pause pairing for a minute of the server's clock, and the old code is refused then`() {
         val shown = ConcurrentLinkedQueue<String>()
+        var now = 0L
         val s = StreamServer(
-            InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(),
+            InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(), nanoTime = { now },
             newPairingCode = { "123456" }, onPairingCodeChanged = { shown += it },
         ).also { it.start(); servers += it }
         fun attempt(code: String): String? = try {
@@ -232,6 +233,11 @@ class StreamServerTest {
         assertTrue(attempt("000005")!!.contains("pairing code wrong"))
         assertEquals(listOf("123456"), shown.toList())
         assertEquals("123456", s.pairingCode)
+        // Paused: not even the new code is looked at (this address sent a wrong code since it paired).
+        assertTrue(attempt("123456")!!.contains("pairing paused"))
+        now += 59_000_000_000L
+        assertTrue(attempt("123456")!!.contains("pairing paused"))
+        now += 2_000_000_000L
         assertTrue(attempt("482913")!!.contains("pairing code wrong"))
         assertEquals(null, attempt("123456"))
     }
