@@ -75,7 +75,16 @@ internal class ListenCommand(
         val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
         // The hello is taken on the connection's thread before the first sample: nothing comes before the header or the session.
         val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::begin, receiver::malformed, receiver::take)
-        client.connect()
+        try {
+            client.connect()
+        } catch (e: java.io.IOException) {
+            // Over the size limit before the hello was read (the hello and the large frame in one read): malformed input.
+            if (client.end == StreamEnd.TOO_LARGE) {
+                err.println("fusion: ${e.message}")
+                return ExitCode.DATA_ERROR
+            }
+            throw e
+        }
         // Ctrl-C (or a kill that lets Java end): the session closed and the summary printed all the same.
         val hook = Thread {
             if (receiver.finish("interrupted")) err.print(receiver.summary("ended: interrupted (Ctrl-C: exit code 130; another signal: 128 + its number)"))
