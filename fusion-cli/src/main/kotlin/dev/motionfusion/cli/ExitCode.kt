@@ -14,6 +14,9 @@ internal object ExitCode {
     /** A file or standard output could not be read or written (missing, unreadable, disk full), or out of memory. */
     const val IO_ERROR = 3
 
+    /** `fusion listen`: the connection to the phone was lost (no close from it, or no answer to pings). */
+    const val CONNECTION_LOST = 4
+
     /** A bug of fusion: an unexpected exception, reported in one line instead of a stack trace. */
     const val INTERNAL_ERROR = 70
 }

@@ -6,6 +6,7 @@ import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
 import dev.motionfusion.stream.StreamClient
+import dev.motionfusion.stream.StreamEnd
 import java.io.PrintStream
 import java.net.URI
 import java.nio.file.Files
@@ -24,6 +25,7 @@ import java.util.concurrent.TimeUnit
 internal class ListenCommand(
     private val err: PrintStream,
     private val wallClockMs: () -> Double = { Instant.now().let { it.epochSecond * 1e3 + it.nano / 1e6 } },
+    private val nanoTime: () -> Long = System::nanoTime,
 ) : Command {
     override val name = "listen"
     override val summary = "receive a phone's live stream: print the orientation, write a session (-o DIR) or CSV"
@@ -42,9 +44,13 @@ internal class ListenCommand(
         |              gyroscope_uncalibrated, magnetometer_uncalibrated, accelerometer_uncalibrated, rotation_vector,
         |              game_rotation_vector, orientation, filter_diagnostics
         |--rate HZ     at most HZ messages per stream per second
-        |At the end a summary goes to standard error: messages per stream, the rate, what the phone dropped because this
-        |client did not keep up, and the latency (the phone's sensor clock put on the wall clock through its clock anchor,
-        |against this computer's clock: it includes the difference between the two clocks).
+        |At the end a summary goes to standard error (on Ctrl-C too): messages per stream, the rate, what the phone dropped
+        |because this client did not keep up, malformed messages skipped, the latency (the phone's sensor clock put on the
+        |wall clock through its clock anchor, against this computer's clock: it includes the difference between the two
+        |clocks), and how it ended. -o DIR is handed to the system at least once a second: a kill leaves a session that
+        |'fusion recover DIR' repairs. Exit codes: 0 the phone stopped streaming or --duration passed; 1 a message from the
+        |phone over 1 MiB; 3 no connection or pairing refused; 4 the connection was lost (no close from the phone, or no
+        |answer to pings for 10-20 s); 130 Ctrl-C.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
@@ -68,21 +74,48 @@ internal class ListenCommand(
 
         val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
         // The hello is taken on the connection's thread before the first sample: nothing comes before the header or the session.
-        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::begin, receiver::take)
-        client.connect()
-        val hook = Thread { receiver.finish("interrupted") }
-        Runtime.getRuntime().addShutdownHook(hook)
+        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::begin, receiver::malformed, receiver::take)
         try {
-            while (!receiver.done.await(200, TimeUnit.MILLISECONDS)) {
+            client.connect()
+        } catch (e: java.io.IOException) {
+            // Over the size limit before the hello was read (the hello and the large frame in one read): malformed input.
+            if (client.end == StreamEnd.TOO_LARGE) {
+                err.println("fusion: ${e.message}")
+                return ExitCode.DATA_ERROR
+            }
+            throw e
+        }
+        // Ctrl-C (or a kill that lets Java end): the session closed and the summary printed all the same.
+        val hook = Thread {
+            if (receiver.finish("interrupted")) err.print(receiver.summary("ended: interrupted (Ctrl-C: exit code 130; another signal: 128 + its number)"))
+        }
+        Runtime.getRuntime().addShutdownHook(hook)
+        var lastFlush = nanoTime()
+        try {
+            while (!receiver.done.await(FLUSH_POLL_MS, TimeUnit.MILLISECONDS)) {
                 if (client.awaitClose(0)) break
+                // What was received is handed to the system at least once a second (as the app's recorder does).
+                if (nanoTime() - lastFlush >= FLUSH_INTERVAL_NS) {
+                    receiver.flush()
+                    lastFlush = nanoTime()
+                }
             }
         } finally {
             client.close()
-            receiver.finish(if (receiver.done.count == 0L) "duration reached" else client.endReason ?: "closed")
-            runCatching { Runtime.getRuntime().removeShutdownHook(hook) }
         }
-        err.print(receiver.summary())
-        return ExitCode.OK
+        val (reason, exit) = when {
+            receiver.done.count == 0L -> "duration reached" to ExitCode.OK
+            else -> when (client.end) {
+                StreamEnd.PHONE_STOPPED, StreamEnd.CLOSED, null -> "the phone stopped streaming" to ExitCode.OK
+                StreamEnd.TOO_LARGE -> (client.endReason ?: "a message too large") to ExitCode.DATA_ERROR
+                StreamEnd.LOST -> (client.endReason ?: "connection lost") to ExitCode.CONNECTION_LOST
+                StreamEnd.REFUSED -> (client.endReason ?: "closed by the phone") to ExitCode.CONNECTION_LOST
+            }
+        }
+        val mine = receiver.finish(reason)
+        runCatching { Runtime.getRuntime().removeShutdownHook(hook) }
+        if (mine) err.print(receiver.summary("ended: $reason; exit code $exit"))
+        return exit
     }
 
     /** Everything after the hello, on the connection's reading thread. */
@@ -97,6 +130,10 @@ internal class ListenCommand(
         private var writer: SessionWriter? = null
         private var hello: StreamMessage.Hello? = null
         private val counts = LongArray(SessionStream.entries.size)
+        private val firstTs = LongArray(SessionStream.entries.size)
+        private val lastTs = LongArray(SessionStream.entries.size)
+        private var malformed = 0L
+        private var firstMalformed: String? = null
         private var firstT = Long.MIN_VALUE
         private var lastT = Long.MIN_VALUE
         private var lastPrintT = Long.MIN_VALUE
@@ -131,6 +168,9 @@ internal class ListenCommand(
                 return
             }
             lastT = maxOf(lastT, t)
+            val i = if (m is StreamMessage.Sample) m.stream.ordinal else SessionStream.ORIENTATION.ordinal
+            if (counts[i] == 0L) firstTs[i] = t
+            lastTs[i] = t
             when (m) {
                 is StreamMessage.Sample -> {
                     counts[m.stream.ordinal]++
@@ -160,23 +200,44 @@ internal class ListenCommand(
             }
         }
 
+        /** A message that could not be read: skipped and counted; the first is named at once and in the summary. */
         @Synchronized
-        fun finish(reason: String) {
-            if (finished) return
-            finished = true
-            writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
+        fun malformed(reason: String) {
+            if (malformed++ == 0L) {
+                firstMalformed = reason
+                err.println("skipped a malformed message (later ones are counted): $reason")
+            }
+        }
+
+        /** Hands what was received to the system (survives a killed process). */
+        @Synchronized
+        fun flush() {
+            if (!finished) writer?.flush()
             out.flush()
         }
 
+        /** Closes the session with [reason]; false when it was already closed (by the other of Ctrl-C and the end). */
         @Synchronized
-        fun summary(): String = buildString {
+        fun finish(reason: String): Boolean {
+            if (finished) return false
+            finished = true
+            writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
+            out.flush()
+            return true
+        }
+
+        @Synchronized
+        fun summary(end: String): String = buildString {
             val seconds = if (firstT == Long.MIN_VALUE) 0.0 else (lastT - firstT) / 1e9
             appendLine(String.format(Locale.ROOT, "%.1f s of sample time from %s", seconds, source))
             for (s in SessionStream.entries) {
                 val n = counts[s.ordinal]
-                if (n > 0) appendLine(String.format(Locale.ROOT, "  %-28s %9d messages  %8.1f Hz", s.key, n, if (seconds > 0) n / seconds else 0.0))
+                // n messages span n - 1 intervals.
+                val span = (lastTs[s.ordinal] - firstTs[s.ordinal]) / 1e9
+                if (n > 0) appendLine(String.format(Locale.ROOT, "  %-28s %9d messages  %8.1f Hz", s.key, n, if (n > 1 && span > 0) (n - 1) / span else 0.0))
             }
             appendLine("  dropped by the phone (this client did not keep up): $dropped")
+            if (malformed > 0) appendLine("  malformed messages skipped: $malformed (the first: $firstMalformed)")
             if (latencyCount > 0) {
                 val sorted = latencies.copyOf(latencyCount).also { it.sort() }
                 appendLine(
@@ -187,10 +248,13 @@ internal class ListenCommand(
                 )
             }
             writer?.let { appendLine("  session written to ${it.directory}") }
+            appendLine(end)
         }
     }
 
     private companion object {
         const val MAX_LATENCIES = 1_000_000
+        const val FLUSH_POLL_MS = 200L
+        const val FLUSH_INTERVAL_NS = 500_000_000L
     }
 }

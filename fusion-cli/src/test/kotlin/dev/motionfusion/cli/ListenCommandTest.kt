@@ -114,6 +114,204 @@ class ListenCommandTest {
         assertTrue("pairing code wrong" in r.err, r.err)
     }
 
+    /**
+     * A phone that misbehaves, on a raw socket: answers the upgrade, sends the hello of the sample session, then what
+     * [script] writes (frames from [textFrame], or raw bytes), then closes the socket without a close frame.
+     */
+    private fun fakePhone(script: (java.io.OutputStream) -> Unit): java.net.ServerSocket {
+        val ss = java.net.ServerSocket(0, 1, InetAddress.getLoopbackAddress())
+        val meta = SessionReader.open(sample).use { it.metadata }
+        Thread {
+            runCatching {
+                ss.accept().use { sock ->
+                    sock.soTimeout = 10_000
+                    val input = sock.getInputStream()
+                    val head = StringBuilder()
+                    while (!head.endsWith("\r\n\r\n")) {
+                        val b = input.read()
+                        if (b < 0 || head.length > 65_536) return@use
+                        head.append(b.toChar())
+                    }
+                    val key = head.lines().first { it.startsWith("Sec-WebSocket-Key:", ignoreCase = true) }.substringAfter(':').trim()
+                    val accept = java.util.Base64.getEncoder().encodeToString(
+                        java.security.MessageDigest.getInstance("SHA-1").digest((key + "258EAFA5-E914-47DA-95CA-C5AB0DC85B11").toByteArray()),
+                    )
+                    val out = sock.getOutputStream()
+                    out.write("HTTP/1.1 101 Switching Protocols\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Accept: $accept\r\n\r\n".toByteArray())
+                    // The client's pair message (masked, short): read, so that closing the socket later is a plain end.
+                    input.read()
+                    val len = input.read() and 0x7f
+                    input.readNBytes(4 + len)
+                    out.write(textFrame(StreamCodec.encode(dev.motionfusion.core.stream.StreamMessage.Hello("fake phone", meta, listOf(SessionStream.GYROSCOPE), null))))
+                    script(out)
+                    out.flush()
+                }
+            }
+        }.apply { isDaemon = true }.start()
+        return ss
+    }
+
+    /** One unmasked text frame (the server's side). */
+    private fun textFrame(text: String): ByteArray {
+        val p = text.toByteArray()
+        val b = java.io.ByteArrayOutputStream()
+        b.write(0x81)
+        when {
+            p.size < 126 -> b.write(p.size)
+            p.size < 65_536 -> { b.write(126); b.write(p.size shr 8); b.write(p.size and 0xff) }
+            else -> { b.write(127); for (k in 7 downTo 0) b.write(((p.size.toLong() shr (8 * k)) and 0xff).toInt()) }
+        }
+        b.write(p)
+        return b.toByteArray()
+    }
+
+    private fun gyro(k: Int) = textFrame("""{"type":"sample","stream":"gyroscope","t":${k * 5_000_000L},"v":[0.1,0.2,0.3],"a":3}""")
+
+    @Test
+    fun `a connection lost is not a clean end, exit code 4 and the reason, the session closed`() {
+        fakePhone { out -> for (k in 0 until 100) out.write(gyro(k)) }.use { ss ->
+            val dir = tmp.resolve("lost")
+            val r = fusion("listen", "ws://127.0.0.1:${ss.localPort}", "--code", "1", "-o", dir.toString())
+            assertEquals(ExitCode.CONNECTION_LOST, r.code, r.err)
+            assertTrue("ended: connection lost" in r.err, r.err)
+            assertTrue("gyroscope" in r.err && "100 messages" in r.err, r.err)
+            SessionReader.open(dir).use { assertEquals(100L, it.metadata.streams[SessionStream.GYROSCOPE]?.samples) }
+        }
+    }
+
+    @Test
+    fun `a malformed message mid-stream is skipped and counted, never a silent end`() {
+        fakePhone { out ->
+            for (k in 0 until 50) out.write(gyro(k))
+            out.write(textFrame("""{"type":"sample","stream":"gyroscope","t":1,"v":[0.1,0.2],"a":3}"""))
+            out.write(textFrame("""{"type":"sample","stream":"gyrosc"""))
+            for (k in 50 until 100) out.write(gyro(k))
+            out.write(byteArrayOf(0x88.toByte(), 2, 0x03, 0xe9.toByte())) // a close frame: going away (1001)
+        }.use { ss ->
+            val dir = tmp.resolve("malformed")
+            val r = fusion("listen", "ws://127.0.0.1:${ss.localPort}", "--code", "1", "-o", dir.toString())
+            assertEquals(ExitCode.OK, r.code, r.err)
+            assertTrue("malformed messages skipped: 2" in r.err, r.err)
+            assertTrue("skipped a malformed message" in r.err, r.err)
+            assertTrue("ended: the phone stopped streaming" in r.err, r.err)
+            SessionReader.open(dir).use { assertEquals(100L, it.metadata.streams[SessionStream.GYROSCOPE]?.samples) }
+        }
+    }
+
+    @Test
+    fun `a message over the limit ends with a clear error and exit code 1, the session closed, no stack trace`() {
+        fakePhone { out ->
+            for (k in 0 until 20) out.write(gyro(k))
+            // A header claiming a 1 GiB text frame, then some of it.
+            out.write(byteArrayOf(0x81.toByte(), 127, 0, 0, 0, 0, 0x40, 0, 0, 0))
+            out.write(ByteArray(65_536) { 'x'.code.toByte() })
+        }.use { ss ->
+            val dir = tmp.resolve("big")
+            val run = listen("ws://127.0.0.1:${ss.localPort}", "--code", "1", "-o", dir.toString())
+            val r = run.get(30, TimeUnit.SECONDS)
+            assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
+            assertTrue("over the limit of 1 MiB" in r.err, r.err)
+            assertTrue("Exception" !in r.err && "\tat " !in r.err, r.err)
+            // Closed, with the reason. Messages that came in the same read from the socket as the too-large header are
+            // lost with it (the library drops that read whole): when that read held the hello, no session was begun.
+            if (Files.exists(dir.resolve("meta.json"))) {
+                SessionReader.open(dir).use {
+                    assertTrue(it.metadata.complete)
+                    assertTrue("over the limit" in it.metadata.endReason, it.metadata.endReason)
+                }
+            }
+        }
+    }
+
+    @Test
+    fun `the phone stopping is a clean end, exit code 0 with the reason`() {
+        val s = serve()
+        val run = listen("ws://127.0.0.1:${s.port}", "--code", "271828", "--csv")
+        awaitPaired(s)
+        // Counted once queued after the hello: the phone's close then comes after both.
+        s.publishSample(SessionStream.GYROSCOPE, 0L, floatArrayOf(0f, 0f, 0f), 3)
+        val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
+        while (s.clients().singleOrNull()?.sent != 1L) {
+            check(System.nanoTime() < deadline) { "nothing sent: ${s.clients()}" }
+            java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+        }
+        s.stop()
+        val r = run.get(30, TimeUnit.SECONDS)
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue("ended: the phone stopped streaming; exit code 0" in r.err, r.err)
+    }
+
+    @Test
+    fun `listen killed mid-stream leaves a session that recover repairs to every sample received`() {
+        val s = serve()
+        val dir = tmp.resolve("killed")
+        val javaBin = java.io.File(System.getProperty("java.home"), "bin/java").path
+        val err = tmp.resolve("stderr").toFile()
+        val p = ProcessBuilder(
+            listOf(javaBin, "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt", "listen", "ws://127.0.0.1:${s.port}", "--code", "271828", "-o", dir.toString()),
+        ).redirectErrorStream(false).redirectError(err).redirectOutput(tmp.resolve("stdout").toFile()).start()
+        try {
+            awaitPaired(s)
+            // 3 s of sample time, accelerometer and gyroscope at 200 Hz, then wait until the listener got them all.
+            val n = 600
+            for (k in 0 until n) {
+                s.publishSample(SessionStream.ACCELEROMETER, k * 5_000_000L, floatArrayOf(0f, 0f, 9.81f), 3)
+                s.publishSample(SessionStream.GYROSCOPE, k * 5_000_000L + 1, floatArrayOf(0.01f * k, 0f, 0f), 3)
+            }
+            val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
+            while (s.clients().singleOrNull()?.sent != 2L * n) {
+                check(System.nanoTime() < deadline) { "the listener did not get every message: ${s.clients()}" }
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            // Within a bound (the listener flushes at least once a second), every row is in its file; then a hard kill.
+            val gyro = dir.resolve("gyroscope.csv")
+            while (!Files.exists(gyro) || Files.readAllLines(gyro).size < n + 1) {
+                check(System.nanoTime() < deadline) { "rows still unwritten: ${if (Files.exists(gyro)) Files.readAllLines(gyro).size - 1 else 0} of $n" }
+                java.util.concurrent.locks.LockSupport.parkNanos(10_000_000)
+            }
+            p.destroyForcibly()
+            assertTrue(p.waitFor(30, TimeUnit.SECONDS))
+        } finally {
+            p.destroyForcibly()
+        }
+        val rec = fusion("recover", dir.toString())
+        assertEquals(ExitCode.OK, rec.code, rec.err)
+        SessionReader.open(dir).use { r ->
+            assertEquals(600L, r.metadata.streams[SessionStream.GYROSCOPE]?.samples)
+            assertEquals(600L, r.metadata.streams[SessionStream.ACCELEROMETER]?.samples)
+        }
+    }
+
+    @Test
+    fun `listen stopped by a signal closes its session and prints the summary`() {
+        val s = serve()
+        val dir = tmp.resolve("term")
+        val javaBin = java.io.File(System.getProperty("java.home"), "bin/java").path
+        val err = tmp.resolve("stderr-term").toFile()
+        val p = ProcessBuilder(
+            listOf(javaBin, "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt", "listen", "ws://127.0.0.1:${s.port}", "--code", "271828", "-o", dir.toString()),
+        ).redirectError(err).redirectOutput(tmp.resolve("stdout-term").toFile()).start()
+        try {
+            awaitPaired(s)
+            for (k in 0 until 100) s.publishSample(SessionStream.GYROSCOPE, k * 5_000_000L, floatArrayOf(0f, 0f, 0f), 3)
+            // Until the rows are in the file (flushed at least once a second): the listener is past its start then.
+            val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
+            val gyro = dir.resolve("gyroscope.csv")
+            while (!Files.exists(gyro) || Files.readAllLines(gyro).size < 101) {
+                check(System.nanoTime() < deadline) { "rows still unwritten: ${s.clients()}" }
+                java.util.concurrent.locks.LockSupport.parkNanos(10_000_000)
+            }
+            p.destroy() // SIGTERM: what Ctrl-C's SIGINT does too, shutdown hooks run
+            assertTrue(p.waitFor(30, TimeUnit.SECONDS))
+        } finally {
+            p.destroyForcibly()
+        }
+        val text = err.readText()
+        assertTrue("ended: interrupted" in text, text)
+        assertTrue("100 messages" in text, text)
+        SessionReader.open(dir).use { assertTrue(it.metadata.complete); assertEquals("interrupted", it.metadata.endReason) }
+    }
+
     @Test
     fun `usage errors`() {
         for ((args, message) in listOf(

@@ -4,22 +4,48 @@ import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
 import org.java_websocket.client.WebSocketClient
+import org.java_websocket.drafts.Draft_6455
+import org.java_websocket.framing.CloseFrame
+import org.java_websocket.protocols.IProtocol
+import org.java_websocket.protocols.Protocol
 import org.java_websocket.handshake.ServerHandshake
 import java.io.IOException
 import java.net.URI
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
 
+/** How a [StreamClient]'s connection ended. */
+public enum class StreamEnd {
+    /** The phone closed it (streaming turned off). */
+    PHONE_STOPPED,
+
+    /** Lost: no close from the phone (a reset, the phone's process gone), or no pong within the ping timeout. */
+    LOST,
+
+    /** A message from the phone was over [StreamClient.MAX_MESSAGE_BYTES]. */
+    TOO_LARGE,
+
+    /** The phone refused the pairing, or ended the connection with another code. */
+    REFUSED,
+
+    /** This side closed it. */
+    CLOSED,
+}
+
 /**
  * The laptop side of the live stream: connects to a phone's [StreamServer] at [uri], pairs with
  * [request], gives the hello to [onHello] and then every later message to [onMessage], in order, on
  * the connection's reading thread (so [onHello] has returned before the first sample is handed on). A slow [onMessage] slows the reading, and the phone then drops messages for this
- * client (it says how many in its status messages).
+ * client (it says how many in its status messages). A malformed message after the hello is skipped and its reason
+ * given to [onMalformed]; a message over [MAX_MESSAGE_BYTES] ends the connection ([StreamEnd.TOO_LARGE]) before it is
+ * read into memory. The ping timeout is the server's ([StreamServer.CONNECTION_LOST_TIMEOUT_S]): a phone that went
+ * silent is found lost within 10–20 s.
  */
 public class StreamClient @JvmOverloads constructor(
     private val uri: URI,
     private val request: StreamMessage.Pair,
     private val onHello: (StreamMessage.Hello) -> Unit = {},
+    private val onMalformed: (String) -> Unit = {},
     private val onMessage: (StreamMessage) -> Unit,
 ) : AutoCloseable {
     private val helloLatch = CountDownLatch(1)
@@ -33,13 +59,18 @@ public class StreamClient @JvmOverloads constructor(
 
     @Volatile private var closeReason: String? = null
 
-    private val socket = object : WebSocketClient(uri) {
+    @Volatile private var ended: StreamEnd? = null
+
+    @Volatile private var closing = false
+
+    private val socket = object : WebSocketClient(uri, Draft_6455(emptyList(), listOf<IProtocol>(Protocol("")), MAX_MESSAGE_BYTES)) {
         override fun onOpen(handshake: ServerHandshake) = send(StreamCodec.encode(request))
 
         override fun onMessage(message: String) {
             val m = try {
                 StreamCodec.decode(message, uri.toString())
             } catch (e: DataFormatException) {
+                if (helloMessage != null) return onMalformed(e.message ?: "malformed message")
                 fail(e.message ?: "malformed message")
                 close(CLOSE_MALFORMED, "malformed message")
                 return
@@ -65,16 +96,36 @@ public class StreamClient @JvmOverloads constructor(
         }
 
         override fun onClose(code: Int, reason: String?, remote: Boolean) {
-            if (failure == null && helloMessage == null) fail("connection closed before hello ($code${if (reason.isNullOrEmpty()) "" else ": $reason"})")
-            closeReason = if (reason.isNullOrEmpty()) "closed ($code)" else reason
+            ended = when {
+                code == CloseFrame.TOOBIG && !remote -> StreamEnd.TOO_LARGE
+                closing && !remote -> StreamEnd.CLOSED
+                code == CloseFrame.ABNORMAL_CLOSE || code == CloseFrame.NEVER_CONNECTED -> StreamEnd.LOST
+                remote && (code == CloseFrame.NORMAL || code == CloseFrame.GOING_AWAY) -> StreamEnd.PHONE_STOPPED
+                else -> StreamEnd.REFUSED
+            }
+            val why = when (ended) {
+                StreamEnd.TOO_LARGE -> "a message from the phone is over the limit of ${MAX_MESSAGE_BYTES shr 20} MiB"
+                StreamEnd.LOST -> "connection lost${(failure ?: reason).let { if (it.isNullOrEmpty()) "" else ": $it" }}"
+                else -> null
+            }
+            if (failure == null && helloMessage == null) fail(why ?: "connection closed before hello ($code${if (reason.isNullOrEmpty()) "" else ": $reason"})")
+            closeReason = why ?: if (reason.isNullOrEmpty()) "closed ($code)" else reason
             helloLatch.countDown()
             closedLatch.countDown()
+        }
+
+        override fun onClosing(code: Int, reason: String?, remote: Boolean) {
+            // Over the size limit: the rest of that frame is not waited for (nor a phone's answer to the close).
+            if (code == CloseFrame.TOOBIG && !remote) closeConnection(code, reason ?: "message too big")
         }
 
         override fun onError(ex: Exception) {
             fail("${ex.javaClass.simpleName}: ${ex.message ?: "connection failed"}")
         }
-    }.apply { isTcpNoDelay = true }
+    }.apply {
+        isTcpNoDelay = true
+        connectionLostTimeout = StreamServer.CONNECTION_LOST_TIMEOUT_S
+    }
 
     private fun fail(reason: String) {
         if (failure == null) failure = reason
@@ -101,13 +152,20 @@ public class StreamClient @JvmOverloads constructor(
     public fun awaitClose(timeoutMs: Long): Boolean = closedLatch.await(timeoutMs, TimeUnit.MILLISECONDS)
 
     /** Why the connection ended (the phone's reason, or an error), null while it is open. */
-    public val endReason: String? get() = failure ?: closeReason
+    public val endReason: String? get() = if (ended == StreamEnd.LOST || ended == StreamEnd.TOO_LARGE) closeReason else failure ?: closeReason
+
+    /** How the connection ended, null while it is open. */
+    public val end: StreamEnd? get() = ended
 
     override fun close() {
+        closing = true
         socket.closeBlocking()
     }
 
-    private companion object {
-        const val CLOSE_MALFORMED = 4002
+    public companion object {
+        /** The largest message taken from the phone (its hello with the metadata is a few kB). */
+        public const val MAX_MESSAGE_BYTES: Int = 1 shl 20
+
+        private const val CLOSE_MALFORMED = 4002
     }
 }

@@ -6,12 +6,27 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
 import org.java_websocket.WebSocket
+import org.java_websocket.WebSocketAdapter
 import org.java_websocket.WebSocketImpl
-import org.java_websocket.framing.CloseFrame
+import org.java_websocket.WebSocketServerFactory
+import org.java_websocket.drafts.Draft
+import org.java_websocket.drafts.Draft_6455
+import org.java_websocket.enums.ReadyState
+import org.java_websocket.exceptions.InvalidDataException
 import org.java_websocket.exceptions.WebsocketNotConnectedException
+import org.java_websocket.framing.CloseFrame
 import org.java_websocket.handshake.ClientHandshake
+import org.java_websocket.handshake.ServerHandshakeBuilder
+import org.java_websocket.protocols.IProtocol
+import org.java_websocket.protocols.Protocol
 import org.java_websocket.server.WebSocketServer
 import java.io.IOException
+import java.nio.ByteBuffer
+import java.nio.channels.ByteChannel
+import java.nio.channels.SelectionKey
+import java.nio.channels.SocketChannel
+import java.security.SecureRandom
+import java.util.Locale
 import java.net.Inet6Address
 import java.net.InetAddress
 import java.net.InetSocketAddress
@@ -30,31 +45,48 @@ import java.util.concurrent.atomic.AtomicLong
 public data class StreamOffer(val source: String, val metadata: SessionMetadata, val streams: List<SessionStream>)
 
 /**
- * Limits of a [StreamServer]: at most [maxClients] connections; each client's queue of frames not yet
- * written to its socket holds at most [clientQueueFrames] (beyond that its messages are dropped and
- * counted); the hand-off from the capture thread holds [handOffCapacity] messages; a status message
- * every [statusIntervalNs] of sample time. Pairing: a connection that has not sent a right code within
- * [pairingTimeoutNs] is closed (it would hold one of the [maxClients] places); an address that sent
- * [maxWrongCodes] wrong codes in a row is refused for [wrongCodeLockoutNs], so that the 6-digit code cannot be
- * found by trying (at 5 tries a minute, 10⁶ codes take about a year).
+ * Limits of a [StreamServer] (docs/STREAMING.md, "Limits"). Paired clients: at most [maxClients]; each client's
+ * queue of frames not yet written to its socket holds at most [clientQueueFrames] (beyond that its messages are
+ * dropped and counted); the hand-off from the capture thread holds [handOffCapacity] messages; a status message
+ * every [statusIntervalNs] of sample time.
+ *
+ * What a peer that has not paired can take, whoever it is: at most [maxUnpaired] such connections at once (from the
+ * accepted socket on, the upgrade request still coming in included; a new one closes the oldest, so that a laptop
+ * pairing now always gets in), [maxUnpairedBytes] bytes sent before pairing (the upgrade request and the pair
+ * message), the upgrade request done within [handshakeTimeoutNs] and the pair message within [pairingTimeoutNs]
+ * (both from the accepted socket). Every frame a client sends, before pairing and after, is at most [maxFrameBytes]
+ * (a client sends only its pair message). After [maxWrongCodes] wrong pairing codes, from any address, the server
+ * makes a new code (the phone shows it) and pauses pairing for [wrongCodePauseNs]: meanwhile only an address that
+ * paired before (and sent no wrong code since) may pair, so that codes cannot be tried faster than [maxWrongCodes] per
+ * pause, however many addresses the tries come from. A browser page is refused unless its Origin is one of [allowedOrigins]
+ * (clients that are not browsers send none).
  */
 public data class StreamServerSettings(
     val maxClients: Int = 8,
     val clientQueueFrames: Int = 2048,
     val handOffCapacity: Int = 16384,
     val statusIntervalNs: Long = 1_000_000_000L,
+    val maxUnpaired: Int = 16,
+    val maxUnpairedBytes: Int = 16_384,
+    val maxFrameBytes: Int = 4096,
+    val handshakeTimeoutNs: Long = 5_000_000_000L,
     val pairingTimeoutNs: Long = 10_000_000_000L,
     val maxWrongCodes: Int = 5,
-    val wrongCodeLockoutNs: Long = 60_000_000_000L,
+    val wrongCodePauseNs: Long = 60_000_000_000L,
+    val allowedOrigins: Set<String> = emptySet(),
 ) {
     init {
         require(maxClients in 1..64) { "maxClients must be 1 to 64" }
         require(clientQueueFrames in 16..1_000_000) { "clientQueueFrames must be 16 to 1,000,000" }
         require(handOffCapacity in 16..1_000_000) { "handOffCapacity must be 16 to 1,000,000" }
         require(statusIntervalNs > 0) { "statusIntervalNs must be positive" }
+        require(maxUnpaired in 1..1024) { "maxUnpaired must be 1 to 1,024" }
+        require(maxUnpairedBytes in 1024..1_048_576) { "maxUnpairedBytes must be 1,024 to 1,048,576" }
+        require(maxFrameBytes in 256..1_048_576) { "maxFrameBytes must be 256 to 1,048,576" }
+        require(handshakeTimeoutNs > 0) { "handshakeTimeoutNs must be positive" }
         require(pairingTimeoutNs > 0) { "pairingTimeoutNs must be positive" }
         require(maxWrongCodes >= 1) { "maxWrongCodes must be at least 1" }
-        require(wrongCodeLockoutNs >= 0) { "wrongCodeLockoutNs must not be negative" }
+        require(wrongCodePauseNs >= 0) { "wrongCodePauseNs must not be negative" }
     }
 }
 
@@ -84,9 +116,14 @@ public data class StreamClientInfo(
  * message once and gives it to every client that asked for it, unless that client's unsent frames
  * already fill its queue (then it is dropped for that client alone, counted, and reported to it in the
  * next status message). A client must send the pairing code first; one from outside the local network
- * (not loopback, link-local, site-local or unique-local), a wrong code or a malformed first message is
- * refused and closed, as is one that sends no code in time or comes from an address locked out after wrong
- * codes ([StreamServerSettings]). [nanoTime] is the clock of those limits.
+ * (not loopback, link-local, site-local or unique-local), a browser page of a foreign origin, a wrong code or
+ * a malformed or binary first message is refused and closed, as is one that does not pair in time or sends more
+ * than an unpaired peer may ([StreamServerSettings]). [nanoTime] is the clock of those limits.
+ *
+ * After [StreamServerSettings.maxWrongCodes] wrong codes the server takes a new code from [newPairingCode] and
+ * gives it to [onPairingCodeChanged] (on one of the server's threads), so that the phone shows it. A failure that
+ * stops the server while it runs (the library's fatal errors, such as running out of memory) goes to [onFailure]
+ * once and is kept in [failure].
  */
 public class StreamServer @JvmOverloads constructor(
     address: InetSocketAddress,
@@ -94,58 +131,114 @@ public class StreamServer @JvmOverloads constructor(
     private val offer: () -> StreamOffer,
     private val settings: StreamServerSettings = StreamServerSettings(),
     private val nanoTime: () -> Long = System::nanoTime,
+    private val newPairingCode: () -> String = ::randomPairingCode,
+    private val onPairingCodeChanged: (String) -> Unit = {},
+    private val onFailure: (String) -> Unit = {},
 ) {
-    private val code = pairingCode.toByteArray(Charsets.UTF_8)
+    @Volatile private var code = pairingCode.toByteArray(Charsets.UTF_8)
+    private val codeLock = Any()
+    private var wrongCodes = 0
+
+    /** Pairing is paused until then (on [nanoTime]), after too many wrong codes; guarded by [codeLock]. */
+    private var pausedUntilNs: Long? = null
+
+    /** Addresses that paired with a right code and sent no wrong one since: they may pair during a pause. */
+    private val trusted = HashSet<String>()
     private val clients = CopyOnWriteArrayList<Client>()
+
+    /** Connections not paired yet, oldest first, from their accepted socket on (guarded by itself). */
+    private val unpaired = ArrayDeque<Client>()
     private val handOff = ArrayBlockingQueue<StreamMessage>(settings.handOffCapacity)
     private val handOffDropped = AtomicLong()
     private val started = CountDownLatch(1)
 
     @Volatile private var startError: Exception? = null
 
+    @Volatile private var listening = false
+
     @Volatile private var running = false
+
+    @Volatile private var failed: String? = null
     private val sender = Thread(::sendLoop, "stream-sender").apply { isDaemon = true }
 
-    private val server = object : WebSocketServer(address) {
-        override fun onStart() = started.countDown()
+    private val server = object : WebSocketServer(
+        address,
+        listOf<Draft>(Draft_6455(emptyList(), listOf<IProtocol>(Protocol("")), settings.maxFrameBytes)),
+    ) {
+        override fun onStart() {
+            listening = true
+            started.countDown()
+        }
+
+        override fun onWebsocketHandshakeReceivedAsServer(conn: WebSocket, draft: Draft, request: ClientHandshake): ServerHandshakeBuilder {
+            // Browsers send the page's origin; other clients (fusion listen, Python's websockets) none.
+            val origin = request.getFieldValue("Origin")
+            if (origin.isNotEmpty() && origin !in settings.allowedOrigins) {
+                throw InvalidDataException(CloseFrame.POLICY_VALIDATION, "origin not allowed")
+            }
+            return super.onWebsocketHandshakeReceivedAsServer(conn, draft, request)
+        }
 
         override fun onOpen(conn: WebSocket, handshake: ClientHandshake) {
+            val client = conn.getAttachment<Client>() ?: return conn.close(CLOSE_REFUSED, "unknown connection")
             val remote = conn.remoteSocketAddress?.address
-            when {
-                remote == null || !isLocalNetwork(remote) -> conn.close(CLOSE_NOT_LOCAL, "only the local network and USB")
-                lockedOut(remote.hostAddress) -> conn.close(CLOSE_LOCKED_OUT, "too many wrong pairing codes from this address: try again later")
-                else -> synchronized(clients) {
-                    // Checked and added together: connections open on several of the library's threads.
-                    if (clients.size >= settings.maxClients) conn.close(CLOSE_TOO_MANY, "too many clients (${settings.maxClients})")
-                    else Client(conn as WebSocketImpl, remote.hostAddress, nanoTime()).also { conn.setAttachment(it); clients.add(it) }
-                }
+            if (remote == null || !isLocalNetwork(remote)) {
+                forget(client)
+                return conn.close(CLOSE_NOT_LOCAL, "only the local network and USB")
             }
+            client.address = remote.hostAddress
+            clients.add(client)
         }
 
         override fun onClose(conn: WebSocket, code: Int, reason: String?, remote: Boolean) {
-            conn.getAttachment<Client>()?.let { clients.remove(it) }
+            conn.getAttachment<Client>()?.let { clients.remove(it); forget(it) }
         }
 
         override fun onMessage(conn: WebSocket, message: String) {
             val client = conn.getAttachment<Client>() ?: return
-            if (client.paired) return // later requests are not part of schema 1
+            if (client.accepted) return // later requests are not part of schema 1
             pair(client, message)
         }
 
+        override fun onMessage(conn: WebSocket, message: ByteBuffer) {
+            val client = conn.getAttachment<Client>() ?: return
+            if (!client.accepted) refuse(client, "the first message must be a text frame of type \"pair\"")
+        }
+
         override fun onError(conn: WebSocket?, ex: Exception) {
-            if (conn == null) {
+            if (!listening) {
                 startError = ex
                 started.countDown()
+                return
             }
+            // The library stops the whole server after these (its worker and selector threads end).
+            val cause = ex.cause ?: ex
+            if (conn == null || cause is VirtualMachineError || cause is LinkageError) fail(cause)
         }
     }.apply {
         isReuseAddr = true
         isTcpNoDelay = true
-        connectionLostTimeout = 10
+        connectionLostTimeout = CONNECTION_LOST_TIMEOUT_S
+        setWebSocketFactory(object : WebSocketServerFactory {
+            override fun createWebSocket(a: WebSocketAdapter, d: Draft): WebSocketImpl = createWebSocket(a, listOf(d))
+
+            override fun createWebSocket(a: WebSocketAdapter, d: List<Draft>): WebSocketImpl =
+                WebSocketImpl(a, d).also { admit(it) }
+
+            override fun wrapChannel(channel: SocketChannel, key: SelectionKey): ByteChannel = Limited(channel, key)
+
+            override fun close() = Unit
+        })
     }
 
     /** The port the server listens on (the one chosen by the system when it was given 0), once [start] returned. */
     public val port: Int get() = server.port
+
+    /** The pairing code in force: the one given, or the last one made after too many wrong codes. */
+    public val pairingCode: String get() = String(code, Charsets.UTF_8)
+
+    /** Why the server stopped by itself while running, or null. */
+    public val failure: String? get() = failed
 
     /** Messages the capture thread handed over that the sender could not take in time (all clients missed them). */
     public val handOffDroppedCount: Long get() = handOffDropped.get()
@@ -173,6 +266,8 @@ public class StreamServer @JvmOverloads constructor(
         server.stop(timeoutMs, "the phone stopped streaming")
         sender.join(timeoutMs.toLong())
         for (conn in server.connections) (conn as? WebSocketImpl)?.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
+        val half = synchronized(unpaired) { unpaired.toList().also { unpaired.clear() } }
+        for (c in half) c.conn.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
         clients.clear()
     }
 
@@ -188,11 +283,46 @@ public class StreamServer @JvmOverloads constructor(
         offer(StreamMessage.Orientation(timestampNs, qw, qx, qy, qz))
     }
 
-    /** The clients connected now. */
+    /** The clients connected now (the upgrade request done). */
     public fun clients(): List<StreamClientInfo> = clients.map { it.info() }
 
     private fun offer(m: StreamMessage) {
         if (!handOff.offer(m)) handOffDropped.incrementAndGet()
+    }
+
+    private fun fail(cause: Throwable) {
+        val reason = "the stream server stopped: ${cause.javaClass.simpleName}${cause.message?.let { ": $it" } ?: ""}"
+        synchronized(this) {
+            if (failed != null) return
+            failed = reason
+        }
+        running = false
+        sender.interrupt()
+        onFailure(reason)
+    }
+
+    /** A socket was accepted: it is unpaired until its code is right; over [StreamServerSettings.maxUnpaired] the oldest goes. */
+    private fun admit(conn: WebSocketImpl) {
+        val client = Client(conn, nanoTime())
+        conn.setAttachment(client)
+        val evicted = ArrayList<Client>()
+        synchronized(unpaired) {
+            unpaired.removeAll { it.conn.readyState == ReadyState.CLOSED }
+            unpaired.addLast(client)
+            while (unpaired.size > settings.maxUnpaired) evicted += unpaired.removeFirst()
+        }
+        for (c in evicted) drop(c, CLOSE_TOO_MANY, "too many connections waiting to pair (${settings.maxUnpaired})")
+    }
+
+    private fun forget(client: Client) {
+        synchronized(unpaired) { unpaired.remove(client) }
+    }
+
+    /** Closes an unpaired connection: one whose upgrade is done gets the reason, one still in its upgrade request only the closed socket. */
+    private fun drop(client: Client, closeCode: Int, reason: String) {
+        clients.remove(client)
+        if (client.conn.readyState == ReadyState.OPEN) refuse(client, reason, closeCode)
+        else client.conn.closeConnection(CloseFrame.NEVER_CONNECTED, reason)
     }
 
     private fun pair(client: Client, text: String) {
@@ -202,68 +332,123 @@ public class StreamServer @JvmOverloads constructor(
             return refuse(client, e.message ?: "malformed request")
         }
         if (request !is StreamMessage.Pair) return refuse(client, "the first message must be of type \"pair\"")
-        if (!MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code)) {
-            wrongCode(client.address)
-            return refuse(client, "pairing code wrong")
+        var newCode: String? = null
+        val verdict = synchronized(codeLock) {
+            val now = nanoTime()
+            val until = pausedUntilNs
+            when {
+                // Not even looked at: a pause lets no new address try.
+                until != null && now - until < 0 && client.address !in trusted -> PAUSED
+                MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code) -> {
+                    trusted += client.address
+                    RIGHT
+                }
+                else -> {
+                    trusted -= client.address
+                    // One budget for the whole server, whichever address the tries come from.
+                    if (++wrongCodes >= settings.maxWrongCodes) {
+                        wrongCodes = 0
+                        newCode = newPairingCode()
+                        code = newCode!!.toByteArray(Charsets.UTF_8)
+                        pausedUntilNs = now + settings.wrongCodePauseNs
+                    }
+                    WRONG
+                }
+            }
         }
-        wrongCodes.remove(client.address)
+        newCode?.let(onPairingCodeChanged)
+        if (verdict == PAUSED) {
+            return refuse(client, "too many wrong pairing codes: pairing paused for up to ${settings.wrongCodePauseNs / 1_000_000_000} s", CLOSE_PAUSED)
+        }
+        if (verdict == WRONG) return refuse(client, "pairing code wrong")
         val offered = offer()
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
+        val admitted = synchronized(unpaired) {
+            if (clients.count { it.accepted } >= settings.maxClients) {
+                false
+            } else {
+                unpaired.remove(client)
+                // [Client.accepted] is set before the hello goes out, so that whoever has received it finds the client
+                // listed as paired.
+                client.accepted = true
+                true
+            }
+        }
+        if (!admitted) return refuse(client, "too many clients (${settings.maxClients})", CLOSE_TOO_MANY)
         client.subscribe(streams, request.rateHz)
         // The hello and the flag together: the sender waits for both, so every message published after the
         // client got its hello reaches it, and none goes before the hello.
-        // [Client.accepted] is set before the hello goes out, so that whoever has received it finds the client
-        // listed as paired.
         synchronized(client.pairing) {
-            client.accepted = true
             client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
             client.paired = true
         }
     }
 
-    /** Wrong codes in a row per address, and until when (on [nanoTime]) the address is refused. */
-    private class WrongCodes(var count: Int = 0, var lockedUntilNs: Long = 0L, var locked: Boolean = false)
-
-    private val wrongCodes = java.util.concurrent.ConcurrentHashMap<String, WrongCodes>()
-
-    private fun wrongCode(address: String) {
-        val w = wrongCodes.computeIfAbsent(address) { WrongCodes() }
-        synchronized(w) {
-            if (++w.count >= settings.maxWrongCodes) {
-                w.count = 0
-                w.locked = true
-                w.lockedUntilNs = nanoTime() + settings.wrongCodeLockoutNs
-            }
-        }
-    }
-
-    private fun lockedOut(address: String): Boolean {
-        val w = wrongCodes[address] ?: return false
-        return synchronized(w) { w.locked && nanoTime() - w.lockedUntilNs < 0 }
-    }
-
     /**
-     * Closes the connections that have not sent a right code within [StreamServerSettings.pairingTimeoutNs]; run
-     * every second while the server runs (and by tests, with their clock).
+     * Closes the connections that have not finished their upgrade request within
+     * [StreamServerSettings.handshakeTimeoutNs] or sent a right code within [StreamServerSettings.pairingTimeoutNs]
+     * of their accepted socket; run every second while the server runs (and by tests, with their clock).
      */
     internal fun closeUnpaired() {
         val now = nanoTime()
-        for (c in clients) {
-            if (!c.accepted && now - c.openedNs > settings.pairingTimeoutNs) {
-                clients.remove(c)
-                refuse(c, "no pairing code within ${settings.pairingTimeoutNs / 1_000_000_000} s")
+        val late = ArrayList<Pair<Client, String>>()
+        synchronized(unpaired) {
+            val i = unpaired.iterator()
+            while (i.hasNext()) {
+                val c = i.next()
+                val age = now - c.acceptedNs
+                when {
+                    c.conn.readyState == ReadyState.CLOSED -> i.remove()
+                    c.conn.readyState == ReadyState.NOT_YET_CONNECTED && age > settings.handshakeTimeoutNs -> {
+                        i.remove()
+                        late += c to "no WebSocket upgrade within ${settings.handshakeTimeoutNs / 1_000_000_000} s"
+                    }
+                    age > settings.pairingTimeoutNs -> {
+                        i.remove()
+                        late += c to "no pairing code within ${settings.pairingTimeoutNs / 1_000_000_000} s"
+                    }
+                }
             }
         }
+        for ((c, reason) in late) drop(c, CLOSE_REFUSED, reason)
     }
 
     private val pairingWatch = java.util.concurrent.Executors.newSingleThreadScheduledExecutor { r ->
         Thread(r, "stream-pairing").apply { isDaemon = true }
     }
 
-    private fun refuse(client: Client, reason: String) {
-        client.conn.send(StreamCodec.encode(StreamMessage.Error(reason)))
-        client.conn.close(CLOSE_REFUSED, reason.take(100))
+    private fun refuse(client: Client, reason: String, closeCode: Int = CLOSE_REFUSED) {
+        try {
+            client.conn.send(StreamCodec.encode(StreamMessage.Error(reason)))
+        } catch (_: WebsocketNotConnectedException) {
+            // Closed meanwhile.
+        }
+        client.conn.close(closeCode, reason.take(100))
+    }
+
+    /**
+     * The socket as the library reads it: a connection that has not paired may send at most
+     * [StreamServerSettings.maxUnpairedBytes] (the upgrade request and the pair message); beyond that it reads as
+     * closed, which closes the connection.
+     */
+    private inner class Limited(private val channel: SocketChannel, private val key: SelectionKey) : ByteChannel {
+        private var read = 0L
+
+        override fun read(dst: ByteBuffer): Int {
+            val client = (key.attachment() as? WebSocketImpl)?.getAttachment<Client>()
+            if (client != null && client.accepted) return channel.read(dst)
+            if (read >= settings.maxUnpairedBytes) return -1
+            val n = channel.read(dst)
+            if (n > 0) read += n
+            return if (read > settings.maxUnpairedBytes) -1 else n
+        }
+
+        override fun write(src: ByteBuffer): Int = channel.write(src)
+
+        override fun isOpen(): Boolean = channel.isOpen
+
+        override fun close() = channel.close()
     }
 
     private fun sendLoop() {
@@ -298,7 +483,10 @@ public class StreamServer @JvmOverloads constructor(
         }
     }
 
-    private inner class Client(val conn: WebSocketImpl, val address: String, val openedNs: Long) {
+    private inner class Client(val conn: WebSocketImpl, val acceptedNs: Long) {
+        /** The peer's address, known once its upgrade is done. */
+        @Volatile var address: String = "?"
+
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
 
@@ -384,11 +572,30 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     public companion object {
-        /** Close codes (4000–4999 are the application's): refused request, not from the local network, too many clients, an address locked out after wrong codes. */
+        /** Close codes (4000–4999 are the application's; docs/STREAMING.md): a refused request (wrong code, malformed, binary, too late). */
         public const val CLOSE_REFUSED: Int = 4001
+
+        /** Not from the local network. */
         public const val CLOSE_NOT_LOCAL: Int = 4003
+
+        /** Pairing paused after too many wrong codes (a new code is shown). */
+        public const val CLOSE_PAUSED: Int = 4029
+
+        private const val RIGHT = 0
+        private const val WRONG = 1
+        private const val PAUSED = 2
+
+        /** Too many paired clients, or an unpaired connection closed to make room for a newer one. */
         public const val CLOSE_TOO_MANY: Int = 4008
-        public const val CLOSE_LOCKED_OUT: Int = 4029
+
+        /** The library's ping interval, in s: a client that answers none for 1.5 times this is closed as lost. */
+        public const val CONNECTION_LOST_TIMEOUT_S: Int = 10
+
+        private val random = SecureRandom()
+
+        /** A new 6-digit pairing code (SecureRandom). */
+        @JvmStatic
+        public fun randomPairingCode(): String = String.format(Locale.ROOT, "%06d", random.nextInt(1_000_000))
 
         /** Loopback, link-local, site-local (10/8, 172.16/12, 192.168/16) or IPv6 unique-local (fc00::/7). */
         @JvmStatic

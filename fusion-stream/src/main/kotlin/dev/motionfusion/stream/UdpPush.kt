@@ -3,7 +3,9 @@ package dev.motionfusion.stream
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.core.session.SessionMetadata
 import java.io.IOException
+import java.util.Base64
 import java.net.DatagramPacket
 import java.net.DatagramSocket
 import java.net.InetSocketAddress
@@ -14,11 +16,14 @@ import java.util.concurrent.atomic.AtomicLong
  * The live stream pushed over UDP (docs/STREAMING.md, "UDP push"): every message of schema 1 as one JSON line
  * (StreamCodec, then `\n`) in one datagram to [target], which must be on the local network
  * ([StreamServer.isLocalNetwork]). The hello goes first and again every [helloIntervalNs] of sample time (a
- * receiver started later learns the metadata), a status every [statusIntervalNs].
+ * receiver started later learns the metadata), a status every [statusIntervalNs]. No datagram is longer than
+ * [MAX_DATAGRAM_BYTES] (one Ethernet frame, never fragmented): a hello whose metadata does not fit goes with the
+ * metadata's source and clock anchor only, followed by the whole hello line in `hello_part` datagrams (Base64 pieces).
  *
  * As the server, capture never waits for the network: the publish methods offer a message to a bounded queue of
- * [capacity] and return; a full queue drops it, and a datagram the system would not send counts as dropped too.
- * One thread encodes and sends.
+ * [capacity] and return; a full queue drops it, and a datagram the system would not send counts as dropped too. The
+ * socket is connected to [target], so a closed port (the ICMP answer) makes the next send fail and count as dropped;
+ * hellos and statuses that fail count there too. One thread encodes and sends.
  */
 public class UdpPush(
     public val target: InetSocketAddress,
@@ -35,7 +40,14 @@ public class UdpPush(
 
     private val queue = ArrayBlockingQueue<StreamMessage>(capacity)
     private val dropped = AtomicLong()
-    private val socket = DatagramSocket()
+    private val socket = DatagramSocket().apply {
+        // Connected: the system then reports an unreachable port to the next send. A target the system has no route to
+        // cannot be connected; each send to it then fails and is counted.
+        try {
+            connect(target)
+        } catch (_: java.net.SocketException) {
+        }
+    }
     private val sender = Thread(::sendLoop, "stream-udp").apply { isDaemon = true }
 
     @Volatile private var running = false
@@ -43,7 +55,7 @@ public class UdpPush(
     @Volatile public var sent: Long = 0L
         private set
 
-    /** Messages not sent: the queue was full, or the system refused the datagram. */
+    /** Messages not sent: the queue was full, or the system refused the datagram (hellos and statuses included). */
     public val droppedCount: Long get() = dropped.get()
 
     public fun start() {
@@ -93,7 +105,7 @@ public class UdpPush(
             if (helloT == Long.MIN_VALUE || t - helloT >= helloIntervalNs) {
                 helloT = t
                 val o = offer()
-                send(sb, StreamMessage.Hello(o.source, o.metadata, o.streams, null))
+                if (!sendHello(sb, StreamMessage.Hello(o.source, o.metadata, o.streams, null))) dropped.incrementAndGet()
             }
             if (send(sb, m)) sent++ else dropped.incrementAndGet()
             if (statusT == Long.MIN_VALUE) statusT = t
@@ -101,22 +113,52 @@ public class UdpPush(
                 val rate = (sent - sentAtStatus) * 1e9 / (t - statusT)
                 sentAtStatus = sent
                 statusT = t
-                send(sb, StreamMessage.Status(t, sent, dropped.get(), rate))
+                if (!send(sb, StreamMessage.Status(t, sent, dropped.get(), rate))) dropped.incrementAndGet()
             }
         }
     }
 
     /** One line in one datagram; false when the system would not send it (no route, the port unreachable, closed). */
-    private fun send(sb: StringBuilder, m: StreamMessage): Boolean {
+    private fun send(sb: StringBuilder, m: StreamMessage): Boolean = sendBytes(line(sb, m))
+
+    private fun line(sb: StringBuilder, m: StreamMessage): ByteArray {
         sb.setLength(0)
         StreamCodec.encodeTo(sb, m)
         sb.append('\n')
-        val bytes = sb.toString().toByteArray(Charsets.UTF_8)
-        return try {
-            socket.send(DatagramPacket(bytes, bytes.size, target))
-            true
-        } catch (_: IOException) {
-            false
+        return sb.toString().toByteArray(Charsets.UTF_8)
+    }
+
+    private fun sendBytes(bytes: ByteArray): Boolean = try {
+        socket.send(if (socket.isConnected) DatagramPacket(bytes, bytes.size) else DatagramPacket(bytes, bytes.size, target))
+        true
+    } catch (_: IOException) {
+        false
+    }
+
+    /**
+     * The hello in one datagram when it fits; else a hello whose metadata is only its source and clock anchor, then the
+     * whole hello line in `hello_part` datagrams. False when any of them was not sent.
+     */
+    private fun sendHello(sb: StringBuilder, hello: StreamMessage.Hello): Boolean {
+        val whole = line(sb, hello)
+        if (whole.size <= MAX_DATAGRAM_BYTES) return sendBytes(whole)
+        val brief = hello.copy(metadata = SessionMetadata(source = hello.metadata.source, startAnchor = hello.metadata.startAnchor))
+        var ok = sendBytes(line(sb, brief))
+        val pieces = (whole.size + HELLO_PART_BYTES - 1) / HELLO_PART_BYTES
+        val b64 = Base64.getEncoder()
+        for (k in 0 until pieces) {
+            val piece = whole.copyOfRange(k * HELLO_PART_BYTES, minOf(whole.size, (k + 1) * HELLO_PART_BYTES))
+            val text = "{\"type\":\"hello_part\",\"part\":${k + 1},\"parts\":$pieces,\"base64\":\"${b64.encodeToString(piece)}\"}\n"
+            ok = sendBytes(text.toByteArray(Charsets.US_ASCII)) && ok
         }
+        return ok
+    }
+
+    public companion object {
+        /** The longest datagram sent: fits one Ethernet frame (1,500 bytes) with the IP and UDP headers, over IPv6 too. */
+        public const val MAX_DATAGRAM_BYTES: Int = 1400
+
+        /** Bytes of the hello line in each `hello_part` (Base64: 4/3 as many characters, well within a datagram). */
+        internal const val HELLO_PART_BYTES: Int = 960
     }
 }

@@ -214,26 +214,32 @@ class StreamServerTest {
     }
 
     @Test
-    fun `five wrong codes lock the address out for a minute of the server's clock, then the right code pairs`() {
+    fun `five wrong codes make a new code and pause pairing for a minute of the server's clock, and the old code is refused then`() {
+        val shown = ConcurrentLinkedQueue<String>()
         var now = 0L
-        val s = StreamServer(InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(), nanoTime = { now })
-            .also { it.start(); servers += it }
+        val s = StreamServer(
+            InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer }, StreamServerSettings(), nanoTime = { now },
+            newPairingCode = { "123456" }, onPairingCodeChanged = { shown += it },
+        ).also { it.start(); servers += it }
         fun attempt(code: String): String? = try {
             StreamClient(uri(s), StreamMessage.Pair(code)) {}.also { clients += it }.connect()
             null
         } catch (e: IOException) {
             e.message
         }
-        for (k in 1..5) assertTrue(attempt("00000$k")!!.contains("pairing code wrong"))
-        val locked = attempt("482913")
-        assertTrue(locked != null && "too many wrong pairing codes" in locked, "the right code while locked out: $locked")
-        now += 59_000_000_000L
-        assertTrue(attempt("482913") != null, "still locked out after 59 s")
-        now += 2_000_000_000L
-        assertEquals(null, attempt("482913"), "the right code after the lockout")
-        // A right code resets the count: four wrong ones then do not lock the address out.
         for (k in 1..4) assertTrue(attempt("00000$k")!!.contains("pairing code wrong"))
-        assertEquals(null, attempt("482913"))
+        assertTrue(shown.isEmpty())
+        assertEquals(null, attempt("482913"), "the right code after four wrong ones")
+        assertTrue(attempt("000005")!!.contains("pairing code wrong"))
+        assertEquals(listOf("123456"), shown.toList())
+        assertEquals("123456", s.pairingCode)
+        // Paused: not even the new code is looked at (this address sent a wrong code since it paired).
+        assertTrue(attempt("123456")!!.contains("pairing paused"))
+        now += 59_000_000_000L
+        assertTrue(attempt("123456")!!.contains("pairing paused"))
+        now += 2_000_000_000L
+        assertTrue(attempt("482913")!!.contains("pairing code wrong"))
+        assertEquals(null, attempt("123456"))
     }
 
     @Test

@@ -94,6 +94,49 @@ class UdpPushTest {
     }
 
     @Test
+    fun `a hello too long for one datagram goes brief, then in parts that make the whole hello`() {
+        val full = dev.motionfusion.core.session.SessionReader.open(java.nio.file.Paths.get("..", "samples", "sim-session.zip")).use { it.metadata }
+        val big = StreamOffer("Motion Fusion 0.1.0", full, listOf(SessionStream.GYROSCOPE, SessionStream.ORIENTATION))
+        assertTrue(StreamCodec.encode(StreamMessage.Hello(big.source, full, big.streams, null)).length > UdpPush.MAX_DATAGRAM_BYTES)
+        val p = UdpPush(InetSocketAddress(InetAddress.getLoopbackAddress(), receiver.localPort), { big }).also { push = it }
+        p.start()
+        p.publishOrientation(1_000_000_000L, 1.0, 0.0, 0.0, 0.0)
+        val lines = ArrayList<String>()
+        while (lines.none { it.startsWith("{\"type\":\"orientation\"") }) {
+            check(lines.size < 100) { "no orientation after ${lines.size} datagrams" }
+            lines += receive()
+        }
+        assertTrue(lines.all { it.toByteArray().size <= UdpPush.MAX_DATAGRAM_BYTES }, lines.map { it.length }.toString())
+        val brief = StreamCodec.decode(lines.first().trimEnd(), "datagram") as StreamMessage.Hello
+        assertEquals(full.startAnchor, brief.metadata.startAnchor)
+        val parts = lines.drop(1).filter { "\"hello_part\"" in it }
+        val pieces = parts.map { Regex("\"base64\":\"([^\"]*)\"").find(it)!!.groupValues[1] }
+        val whole = pieces.joinToString("") { String(java.util.Base64.getDecoder().decode(it), Charsets.ISO_8859_1) }.toByteArray(Charsets.ISO_8859_1)
+        val hello = StreamCodec.decode(String(whole, Charsets.UTF_8).trimEnd(), "hello parts") as StreamMessage.Hello
+        assertEquals(full, hello.metadata)
+        assertTrue(parts.last().contains("\"part\":${parts.size},\"parts\":${parts.size}"), parts.last())
+        assertEquals(0L, p.droppedCount)
+    }
+
+    @Test
+    fun `a closed port is counted as dropped`() {
+        val closed = DatagramSocket(InetSocketAddress(InetAddress.getLoopbackAddress(), 0)).let { val port = it.localPort; it.close(); port }
+        val p = UdpPush(InetSocketAddress(InetAddress.getLoopbackAddress(), closed), { offer }).also { push = it }
+        p.start()
+        val n = 200
+        // One at a time: each send meets the port-unreachable answer of the one before.
+        for (k in 0 until n) {
+            p.publishOrientation(k * 1_000_000L, 1.0, 0.0, 0.0, 0.0)
+            val deadline = System.nanoTime() + 10_000_000_000L
+            while (p.sent + p.droppedCount < k + 1) {
+                check(System.nanoTime() < deadline) { "message $k neither sent nor dropped" }
+                java.util.concurrent.locks.LockSupport.parkNanos(100_000)
+            }
+        }
+        assertTrue(p.droppedCount >= n / 4, "sent ${p.sent}, dropped ${p.droppedCount}")
+    }
+
+    @Test
     fun `only a target on the local network`() {
         val e = assertThrows<IllegalArgumentException> { UdpPush(InetSocketAddress(InetAddress.getByName("8.8.8.8"), 9000), { offer }) }
         assertTrue(e.message!!.contains("not on the local network"), e.message)

@@ -121,15 +121,23 @@ internal class StreamController(
         StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
     }
 
-    private class Running(val server: StreamServer, val code: String, val raw: RawListener, val oriented: OrientationListener, val refresh: Job)
+    private class Running(val server: StreamServer, val raw: RawListener, val oriented: OrientationListener, val refresh: Job)
 
     /** Starting, on, or stopping: something may listen. */
     val isOn: Boolean get() = running != null || starting != null || stopping
 
     fun start() {
         if (isOn) return
-        val code = String.format(java.util.Locale.ROOT, "%06d", random.nextInt(1_000_000))
-        val server = StreamServer(InetSocketAddress(port), code, offerNow, serverSettings)
+        val code = newCode()
+        lateinit var server: StreamServer
+        server = StreamServer(
+            InetSocketAddress(port), code, offerNow, serverSettings,
+            newPairingCode = ::newCode,
+            // After too many wrong codes the server makes a new one: shown at once.
+            onPairingCodeChanged = { scope.launch { if (running?.server === server) showNow() } },
+            // A server that died (out of memory, say) is not shown as on.
+            onFailure = { reason -> scope.launch { if (running?.server === server) stop(failure = reason) } },
+        )
         starting = server
         stateFlow.value = StreamState.Starting
         keepAlive()?.let { reason ->
@@ -144,12 +152,12 @@ internal class StreamController(
             } catch (e: IOException) {
                 e.message ?: e.javaClass.simpleName
             }
-            scope.launch { started(server, code, failure) }
+            scope.launch { started(server, failure) }
         }
     }
 
     /** Back on the main thread: the server listens (or could not). Given up meanwhile ([stop]): nothing more to do here. */
-    private fun started(server: StreamServer, code: String, failure: String?) {
+    private fun started(server: StreamServer, failure: String?) {
         if (starting !== server) return
         starting = null
         if (failure != null) {
@@ -172,21 +180,24 @@ internal class StreamController(
         capture.listen(oriented)
         val refresh = scope.launch {
             while (isActive) {
-                stateFlow.value = on(server, code)
+                stateFlow.value = on(server)
                 delay(refreshMs)
             }
         }
-        running = Running(server, code, raw, oriented, refresh)
-        stateFlow.value = on(server, code)
+        running = Running(server, raw, oriented, refresh)
+        stateFlow.value = on(server)
     }
 
-    private fun on(server: StreamServer, code: String) = StreamState.On(
-        addresses(), server.port, code, server.clients(),
+    private fun newCode() = String.format(java.util.Locale.ROOT, "%06d", random.nextInt(1_000_000))
+
+    /** The code is the server's: a new one after too many wrong codes. */
+    private fun on(server: StreamServer) = StreamState.On(
+        addresses(), server.port, server.pairingCode, server.clients(),
         udp?.let { UdpView.Pushing(it.target.let { a -> "${a.hostString}:${a.port}" }, it.sent, it.droppedCount) } ?: udpView,
     )
 
     private fun showNow() {
-        running?.let { stateFlow.value = on(it.server, it.code) }
+        running?.let { stateFlow.value = on(it.server) }
     }
 
     /**

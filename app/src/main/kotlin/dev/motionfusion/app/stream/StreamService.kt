@@ -48,7 +48,7 @@ internal fun interface WifiLocks {
 
 /**
  * Keeps the live stream going with the screen off and the app in the background: a foreground service
- * of type `specialUse` (as the recording's, docs/RECORDING.md), started by [StreamController.start],
+ * of type `connectedDevice` (a link to the laptop), started by [StreamController.start],
  * that holds a partial wake lock (renewed while streaming, [RenewedWakeLock]) and Wi-Fi locks
  * ([wifiLockModes]) and shows an ongoing notification with the clients and a Stop action. It follows
  * the controller's state and ends itself when streaming is off, however it was turned off (the
@@ -194,7 +194,13 @@ class StreamService : Service() {
                 ),
             )
             .also { ongoing = it }
-        return builder.setContentText(text).build()
+        // On the lock screen the pairing code stays hidden: there the public version, without it, is shown.
+        val public = NotificationCompat.Builder(this, Foreground.CHANNEL_STREAMING)
+            .setSmallIcon(R.drawable.ic_stream)
+            .setContentTitle(getString(R.string.stream_notification_title))
+            .setCategory(NotificationCompat.CATEGORY_SERVICE)
+            .build()
+        return builder.setContentText(text).setVisibility(NotificationCompat.VISIBILITY_PRIVATE).setPublicVersion(public).build()
     }
 
     companion object {
@@ -205,8 +211,8 @@ class StreamService : Service() {
         /** How often the wake lock's renewal is looked at (it renews once a minute of the clock). */
         internal const val RENEW_TICK_MS = 10_000L
 
-        /** The manifest's android:foregroundServiceType, as the recording's (ForegroundServiceTest). */
-        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE
+        /** The manifest's android:foregroundServiceType: connectedDevice, a link to another device (ForegroundServiceTest). */
+        internal const val FOREGROUND_SERVICE_TYPE = ServiceInfo.FOREGROUND_SERVICE_TYPE_CONNECTED_DEVICE
 
         /**
          * The Wi-Fi locks held while streaming, by API level. `WIFI_MODE_FULL_HIGH_PERF` keeps Wi-Fi out of

@@ -25,6 +25,7 @@ class ForegroundServiceTest {
         "dataSync" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_DATA_SYNC to "android.permission.FOREGROUND_SERVICE_DATA_SYNC"),
         "specialUse" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE to "android.permission.FOREGROUND_SERVICE_SPECIAL_USE"),
         "location" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_LOCATION to "android.permission.FOREGROUND_SERVICE_LOCATION"),
+        "connectedDevice" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_CONNECTED_DEVICE to "android.permission.FOREGROUND_SERVICE_CONNECTED_DEVICE"),
     )
 
     /** Each foreground service of the app (its class name's end) and the type it passes to startForeground. */
@@ -65,6 +66,15 @@ class ForegroundServiceTest {
             // FOREGROUND_SERVICE_HEALTH also needs ACTIVITY_RECOGNITION, BODY_SENSORS or HIGH_SAMPLING_RATE_SENSORS.
             "health" -> {
                 val anyOf = setOf("android.permission.ACTIVITY_RECOGNITION", "android.permission.BODY_SENSORS", "android.permission.HIGH_SAMPLING_RATE_SENSORS")
+                assertTrue(permissions.any { it in anyOf }, "$permissions")
+            }
+            // Android 14+ starts a connectedDevice service only for an app that holds one of these (ServiceInfo docs).
+            "connectedDevice" -> {
+                val anyOf = setOf(
+                    "android.permission.BLUETOOTH_ADVERTISE", "android.permission.BLUETOOTH_CONNECT", "android.permission.BLUETOOTH_SCAN",
+                    "android.permission.CHANGE_NETWORK_STATE", "android.permission.CHANGE_WIFI_STATE", "android.permission.CHANGE_WIFI_MULTICAST_STATE",
+                    "android.permission.NFC", "android.permission.TRANSMIT_IR", "android.permission.UWB_RANGING",
+                )
                 assertTrue(permissions.any { it in anyOf }, "$permissions")
             }
             else -> error("no requirements known for type $declared")

@@ -148,6 +148,41 @@ class StreamControllerTest {
     }
 
     @Test
+    fun `after five wrong codes, from any address, the server makes a new code and it is shown`() {
+        controller.start()
+        val first = (controller.state.value as StreamState.On)
+        val wrong = if (first.code == "000000") "000001" else "000000"
+        repeat(5) {
+            val client = StreamClient(URI("ws://127.0.0.1:${first.port}"), StreamMessage.Pair(wrong)) {}
+            runCatching { client.connect() }
+            client.close()
+        }
+        awaitState("a new code") { it is StreamState.On && it.code != first.code }
+    }
+
+    @Test
+    fun `a server that dies while on is shown as failed, not on`() {
+        var boom = false
+        val dying = StreamController(
+            c.capture, { if (boom) throw OutOfMemoryError("simulated") else metadata }, scope, port = 0, addresses = { emptyList() },
+            control = Executor { it.run() }, lookup = Executor { it.run() },
+        )
+        try {
+            dying.start()
+            val on = dying.state.value as StreamState.On
+            boom = true
+            // Pairing asks for the metadata: what a server out of memory meets there ends it.
+            val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) {}
+            runCatching { client.connect(5_000) }
+            client.close()
+            runBlocking { withTimeoutOrNull(10_000) { dying.state.first { it is StreamState.Failed } } } ?: error("not shown as failed: ${dying.state.value}")
+            assertEquals(StreamState.Failed("the stream server stopped: OutOfMemoryError: simulated"), dying.state.value)
+        } finally {
+            dying.stop()
+        }
+    }
+
+    @Test
     fun `a wrong pairing code is refused and every start makes a new code`() {
         controller.start()
         val first = (controller.state.value as StreamState.On)

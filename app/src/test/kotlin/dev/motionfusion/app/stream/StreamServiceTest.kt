@@ -74,13 +74,13 @@ class StreamServiceTest {
 
     @Test
     @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
-    fun `streaming runs in the foreground as specialUse with a wake lock and the level's Wi-Fi locks, and Stop in the notification ends it`() {
+    fun `streaming runs in the foreground as connectedDevice with a wake lock and the level's Wi-Fi locks, and Stop in the notification ends it`() {
         val c = startStreaming()
         val service = shadowOf(c.get())
         val on = controller.state.value as StreamState.On
         // Types exist from API 29 and are required from 34: below 34 the service starts without one.
         if (Build.VERSION.SDK_INT >= 29) {
-            val expected = if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_SPECIAL_USE else 0
+            val expected = if (Build.VERSION.SDK_INT >= 34) ServiceInfo.FOREGROUND_SERVICE_TYPE_CONNECTED_DEVICE else 0
             assertEquals(expected, c.get().foregroundServiceType)
         }
         val nm = app.getSystemService(android.app.NotificationManager::class.java)
@@ -89,6 +89,12 @@ class StreamServiceTest {
         val shown = shadowOf(nm).getNotification(StreamService.NOTIFICATION_ID)
         assertEquals("Waiting for a client · code ${on.code}", text(shown))
         assertEquals("Stop", shown.actions.single().title.toString())
+        // On the lock screen the public version is shown: the title, not the pairing code.
+        assertEquals(Notification.VISIBILITY_PRIVATE, shown.visibility)
+        val public = shown.publicVersion
+        assertTrue("a public version", public != null)
+        assertFalse(on.code in public!!.extras.getCharSequence(Notification.EXTRA_TEXT)?.toString().orEmpty())
+        assertFalse(on.code in public.extras.getCharSequence(Notification.EXTRA_TITLE)?.toString().orEmpty())
         val lock = ShadowPowerManager.getLatestWakeLock()
         assertTrue("partial wake lock held", lock.isHeld)
         val modes = graph.wifiLocks.held.toList()
