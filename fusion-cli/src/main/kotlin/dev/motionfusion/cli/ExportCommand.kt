@@ -18,7 +18,7 @@ import java.nio.file.Path
 import java.util.Locale
 
 /**
- * `fusion export INPUT --format euroc|kalibr|gcsv -o OUT`: a recording in the layout another tool
+ * `fusion export INPUT --format euroc|kalibr|gcsv|ros2 -o OUT`: a recording in the layout another tool
  * reads (docs/EXPORT.md). The samples are those the replay steps on (one row per gyroscope sample,
  * the accelerometer and magnetometer held at that instant, as `fusion replay --rows`), the
  * orientation that of the same replay, with the same options. Frames: readings in Android's device
@@ -27,9 +27,9 @@ import java.util.Locale
  */
 internal class ExportCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
     override val name = "export"
-    override val summary = "write a recording as EuRoC (ASL), Kalibr or Gyroflow gcsv for other tools"
+    override val summary = "write a recording as EuRoC (ASL), Kalibr, Gyroflow gcsv or ROS 2 MCAP for other tools"
     override val help = """
-        |Usage: fusion export INPUT --format euroc|kalibr|gcsv -o OUT [options] [filter settings]
+        |Usage: fusion export INPUT --format euroc|kalibr|gcsv|ros2 -o OUT [options] [filter settings]
         |
         |Writes the recording (any input of fusion replay) in a layout other tools read; the
         |details, frames and checks are in docs/EXPORT.md:
@@ -40,14 +40,17 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |  kalibr   OUT/ holding imu0.csv (timestamp,omega_x,…,alpha_z) and imu.yaml, as
         |           kalibr_bagcreater and kalibr read them
         |  gcsv     OUT as a Gyroflow gcsv 1.3 log (gyroscope, accelerometer, magnetometer)
+        |  ros2     OUT as a ROS 2 MCAP file (CDR): sensor_msgs/msg/Imu on imu/data_raw (no
+        |           orientation) and imu/data (the replay's orientation), MagneticField on imu/mag
+        |           (tesla), frame_id ${Ros2Writer.FRAME_ID}, covariances unknown (0) as REP-145 says
         |Rows: one per gyroscope sample from the first accelerometer reading on (for gcsv with a
         |magnetometer: from the first of both), the other sensors held at its instant. Times: the
         |recording's own clock, ns (gcsv: tscale 1e-9). Frame: Android device axes (x right, y up,
         |z out of the screen); orientation [w, x, y, z] sensor → ENU, Hamilton.
         |
         |Options:
-        |  --format F           euroc, kalibr or gcsv (required)
-        |  -o, --output OUT     the folder (euroc, kalibr; must not exist or be empty) or file (gcsv)
+        |  --format F           euroc, kalibr, gcsv or ros2 (required)
+        |  -o, --output OUT     the folder (euroc, kalibr; must not exist or be empty) or file (gcsv, ros2)
         |  --noise FILE         the phone's noise model: an imu.yaml of fusion allan (kalibr's keys);
         |                       its four figures go into EuRoC's sensor.yaml, the file itself becomes
         |                       Kalibr's imu.yaml. Without it no noise figure is written (a comment
@@ -66,9 +69,9 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "export needs an INPUT" else "export takes one INPUT")
         val format = when (val f = o.value("--format")?.lowercase()) {
-            null -> throw UsageException("export needs --format euroc, kalibr or gcsv")
-            "euroc", "kalibr", "gcsv" -> f
-            else -> throw UsageException("--format expects euroc, kalibr or gcsv, got '$f'")
+            null -> throw UsageException("export needs --format euroc, kalibr, gcsv or ros2")
+            "euroc", "kalibr", "gcsv", "ros2" -> f
+            else -> throw UsageException("--format expects euroc, kalibr, gcsv or ros2, got '$f'")
         }
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("export needs -o OUT")
         FilterOptions.settings(o) // usage errors before the input is opened
@@ -86,7 +89,8 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             val writer: ExportWriter = when (format) {
                 "euroc" -> EurocWriter(outputs.folder(output, inputs), magnetometer, noise, about)
                 "kalibr" -> KalibrWriter(outputs.folder(output, inputs), noise, about)
-                else -> GcsvWriter(outputs.file(output, inputs), magnetometer, about)
+                "gcsv" -> GcsvWriter(outputs.file(output, inputs), magnetometer, about)
+                else -> Ros2Writer(outputs.file(output, inputs), magnetometer, about)
             }
             val progress = Progress(err, name, rec.metadata?.streams?.values?.sumOf { it.samples })
             val replayer = Replayer(settings)
@@ -111,8 +115,8 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             if (!o.has("--quiet")) {
                 err.println(
                     "fusion export: ${rec.format.description} ${rec.name} → $format $output: ${writer.imuRows} IMU rows" +
-                        (if (format == "euroc") ", ${writer.orientationRows} orientation rows" else "") +
-                        (if (format == "euroc" && magnetometer) ", ${writer.magnetometerRows} magnetometer rows" else "") +
+                        (if (format == "euroc" || format == "ros2") ", ${writer.orientationRows} orientation rows" else "") +
+                        (if ((format == "euroc" || format == "ros2") && magnetometer) ", ${writer.magnetometerRows} magnetometer rows" else "") +
                         " (${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer samples read)",
                 )
             }

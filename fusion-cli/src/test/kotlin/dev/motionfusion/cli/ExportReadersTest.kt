@@ -15,7 +15,8 @@ import java.util.concurrent.TimeUnit
 /**
  * Each `fusion export` format read back by the tool it is for: EuRoC by evo (PyPI), Kalibr's
  * imu0.csv and imu.yaml as kalibr_bagcreater and kalibr parse them (Python csv, PyYAML), gcsv by
- * Gyroflow's telemetry-parser crate (built with cargo). Every row is compared with what the replay
+ * Gyroflow's telemetry-parser crate (built with cargo), the ROS 2 MCAP file by the mcap package with
+ * mcap-ros2-support's CDR decoder and by rosbags. Every row is compared with what the replay
  * stepped on (`fusion replay --rows`), its orientation and the session's own timestamps: the count,
  * the first and last timestamps and every value, as doubles parsed from both sides (to the last
  * digit). A reader that cannot be installed skips its test with the reason.
@@ -131,6 +132,50 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `ros2 read back by mcap with mcap-ros2-support and by rosbags`() {
+        val out = dir.resolve("walk.mcap")
+        val r = fusion("export", session.toString(), "--format", "ros2", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel")
+        for (reader in listOf("mcap", "rosbags")) {
+            for (topic in listOf("imu/data_raw", "imu/data")) {
+                val messages = read.getValue("$reader:$topic")
+                assertEquals(times.size, messages.size, "$reader $topic messages")
+                for ((k, m) in messages.withIndex()) {
+                    stamp(times[k], m, "$reader $topic $k")
+                    assertEquals(Ros2Writer.FRAME_ID, m[3])
+                    val v = m.drop(4).map { it.toDouble() }
+                    if (topic == "imu/data") {
+                        // The replay's CSV has the quaternion to 9 decimals; the message its full double.
+                        for (c in 0 until 4) assertEquals(quaternions[k][c].toDouble(), v[c], 5e-10, "$reader $topic $k q$c")
+                    } else {
+                        for (c in 0 until 4) assertEquals(0.0, v[c])
+                    }
+                    // Gyroscope and accelerometer: the recorded float, exactly.
+                    for (c in 0 until 6) assertEquals(rows[k][c].toFloat().toDouble(), v[4 + c], "$reader $topic $k value $c")
+                    assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0] (REP-145: -1 = not provided)")
+                    assertEquals(0.0, v[11]); assertEquals(0.0, v[12]); assertEquals(0.0, v[13])
+                }
+            }
+            val mag = read.getValue("$reader:imu/mag")
+            assertEquals(magnetometer.size, mag.size, "$reader magnetometer messages")
+            for ((k, m) in mag.withIndex()) {
+                stamp(magnetometer[k][0].toLong(), m, "$reader mag $k")
+                // Tesla: the recorded µT float × 1e-6, the same double operation here.
+                for (c in 0 until 3) assertEquals(magnetometer[k][1 + c].toFloat().toDouble() * 1e-6, m[4 + c].toDouble(), "$reader mag $k axis $c")
+            }
+        }
+        println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} imu/data_raw, ${times.size} imu/data, ${magnetometer.size} imu/mag messages each; " +
+            "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals)")
+    }
+
+    /** Log time and header stamp of a message line both [ns]. */
+    private fun stamp(ns: Long, m: List<String>, what: String) {
+        assertEquals(ns, m[0].toLong(), "$what log time")
+        assertEquals(ns, m[1].toLong() * 1_000_000_000L + m[2].toLong(), "$what header stamp")
+    }
+
+    @Test
     fun `refused outputs create nothing`() {
         val out = dir.resolve("inside")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
@@ -139,7 +184,7 @@ class ExportReadersTest {
         assertTrue(!Files.exists(session.resolve("x")))
         val f = fusion("export", session.toString(), "--format", "ros9", "-o", out.toString())
         assertEquals(ExitCode.USAGE, f.code)
-        assertTrue("--format expects euroc, kalibr or gcsv, got 'ros9'" in f.err, f.err)
+        assertTrue("--format expects euroc, kalibr, gcsv or ros2, got 'ros9'" in f.err, f.err)
         val bad = dir.resolve("bad-noise.yaml")
         Files.writeString(bad, "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: lots\n")
         val n = fusion("export", session.toString(), "--format", "kalibr", "--noise", bad.toString(), "-o", out.toString())
@@ -165,7 +210,7 @@ class ExportReadersTest {
         val python = System.getenv("FUSION_PYTHON") ?: "python3"
         val probe = runCatching { run(listOf(python, "-c", "import $module"), dir, 120) }.getOrNull()
         assumeTrue(probe != null && probe.first == 0) {
-            "skipped: $python cannot import $module (pip install evo pyyaml; .ci/run installs them where pip reaches PyPI)"
+            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags; .ci/run installs them where pip reaches PyPI)"
         }
         val script = dir.resolve("read_export.py")
         javaClass.getResourceAsStream("export/read_export.py")!!.use { Files.copy(it, script, java.nio.file.StandardCopyOption.REPLACE_EXISTING) }

@@ -5,6 +5,8 @@
                                      with evo's CSV reader (file_interface.csv_read_matrix)
   read_export.py kalibr FOLDER       imu0.csv as kalibr_bagcreater parses it (csv module, int ns,
                                      float values), imu.yaml with PyYAML as kalibr loads it
+  read_export.py ros2 FILE.mcap      the MCAP file with the mcap package and mcap-ros2-support's
+                                     CDR decoder, and again with rosbags (AnyReader)
 
 Output lines: "<table> <field> ..." with every number as Python's repr (the shortest decimal
 that reads back to the same double), so the caller can compare them to the last digit.
@@ -47,5 +49,33 @@ def kalibr(folder):
         print("yaml", k, repr(conf[k]))
 
 
+def ros2(path):
+    from pathlib import Path
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+    from rosbags.highlevel import AnyReader
+    with open(path, "rb") as f:
+        for _, channel, message, m in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
+            ros2_row("mcap", channel.topic, message.log_time, m)
+    with AnyReader([Path(path)]) as reader:
+        for connection, t, raw in reader.messages():
+            ros2_row("rosbags", connection.topic, t, reader.deserialize(raw, connection.msgtype))
+
+
+def ros2_row(reader, topic, log_time, m):
+    """One message: log time, stamp, frame_id, the values, the covariances' first entry and largest magnitude."""
+    if topic == "imu/mag":
+        values = [m.magnetic_field.x, m.magnetic_field.y, m.magnetic_field.z]
+        covariances = [list(m.magnetic_field_covariance)]
+    else:
+        q, w, a = m.orientation, m.angular_velocity, m.linear_acceleration
+        values = [q.w, q.x, q.y, q.z, w.x, w.y, w.z, a.x, a.y, a.z]
+        covariances = [list(m.orientation_covariance), list(m.angular_velocity_covariance), list(m.linear_acceleration_covariance)]
+    first = [c[0] for c in covariances]
+    rest = max(abs(v) for c in covariances for v in c[1:])
+    print(reader + ":" + topic, log_time, m.header.stamp.sec, m.header.stamp.nanosec, m.header.frame_id,
+          *(repr(float(v)) for v in values + first + [rest]))
+
+
 if __name__ == "__main__":
-    {"euroc": euroc, "kalibr": kalibr}[sys.argv[1]](sys.argv[2])
+    {"euroc": euroc, "kalibr": kalibr, "ros2": ros2}[sys.argv[1]](sys.argv[2])
