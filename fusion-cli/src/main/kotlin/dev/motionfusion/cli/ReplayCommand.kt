@@ -1,6 +1,8 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
@@ -87,21 +89,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         FilterOptions.settings(o) // usage errors before the input is opened
         val offline = FilterOptions.offline(o)
         val output = o.value("-o") ?: o.value("--output")
-        val calibrationOption = o.value("--calibration")
-        val file = calibrationOption?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
+        val file = calibrationFile(o)
         InputOptions.open(input, o, err, name).use { rec ->
             val settings = FilterOptions.settings(o, rec, err, name)
-            val recorded = rec.metadata?.calibration
-            val calibration = when (calibrationOption) {
-                null -> recorded?.takeIf { it.appliedInLiveFilter }?.calibration?.also {
-                    if (!o.has("--quiet")) err.println("fusion replay: note: ${rec.name}: applying the calibration the live filter used (meta.json; --calibration none to replay without)")
-                }
-                "none" -> null
-                "recorded" -> recorded?.calibration ?: throw UsageException("--calibration recorded: ${rec.name} has no calibration in its meta.json")
-                else -> file
-            }
-            CalibrateCommand.requireApplies(rec, calibration, if (file != null) calibrationOption else "${rec.name}: meta.json: calibration")
-            if (file != null && !o.has("--quiet")) CalibrateCommand.deviceNote(rec, file, calibrationOption!!)?.let { err.println("fusion replay: note: $it") }
+            val calibration = calibration(o, file, rec, err, name)
             val total = rec.metadata?.streams?.values?.sumOf { it.samples }
             val progress = Progress(err, "replay", total)
             val stream = if (output == null) StdoutGuard(out) else BufferedOutputStream(outputs.file(output, listOf(input)), 1 shl 16).let {
@@ -154,6 +145,32 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             }
         }
         return ExitCode.OK
+    }
+
+    companion object {
+        /** The calibration file named by --calibration (not `recorded` or `none`), read before the input is opened. */
+        fun calibrationFile(o: Options): Calibration? =
+            o.value("--calibration")?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }
+
+        /**
+         * The calibration a replay of [rec] applies under --calibration ([file]: the one it names), checked to
+         * apply to [rec]: by default the one the live filter used (a note on [err] unless --quiet).
+         */
+        fun calibration(o: Options, file: Calibration?, rec: Recording, err: PrintStream, command: String): Calibration? {
+            val option = o.value("--calibration")
+            val recorded = rec.metadata?.calibration
+            val calibration = when (option) {
+                null -> recorded?.takeIf { it.appliedInLiveFilter }?.calibration?.also {
+                    if (!o.has("--quiet")) err.println("fusion $command: note: ${rec.name}: applying the calibration the live filter used (meta.json; --calibration none to replay without)")
+                }
+                "none" -> null
+                "recorded" -> recorded?.calibration ?: throw UsageException("--calibration recorded: ${rec.name} has no calibration in its meta.json")
+                else -> file
+            }
+            CalibrateCommand.requireApplies(rec, calibration, if (file != null) option else "${rec.name}: meta.json: calibration")
+            if (file != null && !o.has("--quiet")) CalibrateCommand.deviceNote(rec, file, option!!)?.let { err.println("fusion $command: note: $it") }
+            return calibration
+        }
     }
 
     /** `fusion replay IN... -o DIR/`: one output per input, DIR/NAME.csv, in parallel (Batch). */

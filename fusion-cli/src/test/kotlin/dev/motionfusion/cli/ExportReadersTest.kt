@@ -1,0 +1,258 @@
+package dev.motionfusion.cli
+
+import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertTrue
+import org.junit.jupiter.api.Assumptions.assumeTrue
+import org.junit.jupiter.api.BeforeAll
+import org.junit.jupiter.api.Test
+import org.junit.jupiter.api.TestInstance
+import org.junit.jupiter.api.io.TempDir
+import java.nio.file.Files
+import java.nio.file.Path
+import java.nio.file.Paths
+import java.util.concurrent.TimeUnit
+
+/**
+ * Each `fusion export` format read back by the tool it is for: EuRoC by evo (PyPI), Kalibr's
+ * imu0.csv and imu.yaml as kalibr_bagcreater and kalibr parse them (Python csv, PyYAML), gcsv by
+ * Gyroflow's telemetry-parser crate (built with cargo), the ROS 2 MCAP file by the mcap package with
+ * mcap-ros2-support's CDR decoder and by rosbags. Every row is compared with what the replay
+ * stepped on (`fusion replay --rows`), its orientation and the session's own timestamps: the count,
+ * the first and last timestamps and every value, as doubles parsed from both sides (to the last
+ * digit). A reader that cannot be installed skips its test with the reason.
+ */
+@TestInstance(TestInstance.Lifecycle.PER_CLASS)
+class ExportReadersTest {
+    private lateinit var dir: Path
+
+    private lateinit var session: Path
+    /** The session's gyroscope timestamps, ns: the export's rows. */
+    private lateinit var times: List<Long>
+    /** `fusion replay --rows`: gx..az, mx..mz as written, one per gyroscope sample. */
+    private lateinit var rows: List<List<String>>
+    /** The replay's qw, qx, qy, qz per row. */
+    private lateinit var quaternions: List<List<String>>
+    /** The session's magnetometer: timestamp ns, x, y, z. */
+    private lateinit var magnetometer: List<List<String>>
+
+    @BeforeAll
+    fun recording(@TempDir temp: Path) {
+        dir = temp
+        session = dir.resolve("walk")
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", session.toString(), "--duration", "6", "--seed", "3").code)
+        val r = fusion("replay", session.toString(), "-o", dir.resolve("replay.csv").toString(), "--rows", dir.resolve("rows.csv").toString(), "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        times = csv(session.resolve("gyroscope.csv")).map { it[0].toLong() }
+        rows = csv(dir.resolve("rows.csv")).map { it.drop(1) }
+        quaternions = csv(dir.resolve("replay.csv")).map { it.subList(1, 5) }
+        magnetometer = csv(session.resolve("magnetometer.csv")).map { it.take(4) }
+        assertEquals(times.size, rows.size)
+        assertTrue(times.size > 500)
+    }
+
+    @Test
+    fun `euroc read back by evo`() {
+        val out = dir.resolve("euroc")
+        val r = fusion("export", session.toString(), "--format", "euroc", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertEquals(EurocWriter.IMU_HEADER, Files.readAllLines(out.resolve("mav0/imu0/data.csv"))[0])
+        val read = python("euroc", out.resolve("mav0"), "evo")
+        // Orientation: evo's trajectory (seconds as ns / 1e9, quaternion w x y z, position).
+        val pose = read.getValue("pose_row")
+        assertEquals(times.size, pose.size, "orientation rows")
+        for ((k, p) in pose.withIndex()) {
+            assertEquals(times[k] / 1e9, p[0].toDouble(), "pose $k time")
+            for (c in 0 until 4) assertEquals(quaternions[k][c].toDouble(), p[1 + c].toDouble(), "pose $k q$c")
+            for (c in 5 until 8) assertEquals(0.0, p[c].toDouble())
+        }
+        // IMU: evo's CSV reader, every row.
+        val imu = read.getValue("imu0_row")
+        assertEquals(times.size, imu.size, "imu rows")
+        for ((k, row) in imu.withIndex()) {
+            assertEquals(times[k], row[0].toLong(), "imu $k time")
+            for (c in 0 until 6) assertEquals(rows[k][c].toDouble(), row[1 + c].toDouble(), "imu $k column ${c + 1}")
+        }
+        // Magnetometer at its own times.
+        val mag = read.getValue("mag0_row")
+        assertEquals(magnetometer.size, mag.size, "magnetometer rows")
+        for ((k, row) in mag.withIndex()) {
+            assertEquals(magnetometer[k][0].toLong(), row[0].toLong())
+            for (c in 1..3) assertEquals(magnetometer[k][c].toDouble(), row[c].toDouble(), "mag $k column $c")
+        }
+        println("euroc via evo: ${pose.size} poses, ${imu.size} IMU rows, ${mag.size} magnetometer rows; " +
+            "first/last ${imu.first()[0]}/${imu.last()[0]} ns; every value equal")
+    }
+
+    @Test
+    fun `kalibr read back as kalibr_bagcreater and kalibr parse it`() {
+        val noise = dir.resolve("noise.yaml")
+        Files.writeString(noise, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
+            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
+        val out = dir.resolve("kalibr")
+        val r = fusion("export", session.toString(), "--format", "kalibr", "--noise", noise.toString(), "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val read = python("kalibr", out, "yaml")
+        assertEquals(KalibrWriter.HEADER, read.getValue("header").single()[0])
+        val imu = read.getValue("imu0_row")
+        assertEquals(times.size, imu.size)
+        for ((k, row) in imu.withIndex()) {
+            assertEquals(times[k], row[0].toLong(), "imu $k time")
+            for (c in 0 until 6) assertEquals(rows[k][c].toDouble(), row[1 + c].toDouble(), "imu $k column ${c + 1}")
+        }
+        val yaml = read.getValue("yaml").associate { it[0] to it[1] }
+        assertEquals("0.00017", yaml["gyroscope_noise_density"])
+        assertEquals("2.1e-05", yaml["gyroscope_random_walk"])
+        assertEquals("'/imu0'", yaml["rostopic"])
+        println("kalibr via csv/PyYAML: ${imu.size} rows, first/last ${imu.first()[0]}/${imu.last()[0]} ns; every value equal; imu.yaml keys ${yaml.keys}")
+    }
+
+    @Test
+    fun `gcsv read back by telemetry-parser`() {
+        val reader = gcsvReader()
+        val out = dir.resolve("walk.gcsv")
+        val r = fusion("export", session.toString(), "--format", "gcsv", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val p = run(listOf(reader.toString(), out.toString()), dir, 120)
+        assertEquals(0, p.first, p.third)
+        val read = parse(p.second)
+        assertEquals("motion_fusion", read.getValue("camera").single()[0])
+        for ((name, from, scale) in listOf(Triple("gyro", 0, Math.PI / 180), Triple("accl", 3, 9.80665), Triple("magn", 6, 10000.0))) {
+            val head = read.getValue(name).single()
+            assertEquals(times.size, head[0].toInt(), "$name samples")
+            assertEquals(scale, head[1].toDouble(), 1e-12 * scale, "$name scale")
+            assertEquals("XYZ", head[2])
+            val samples = read.getValue("${name}_row")
+            for ((k, s) in samples.withIndex()) {
+                // telemetry-parser: t = raw t × tscale (1e-9), the same double operation here.
+                assertEquals(times[k].toDouble() * 1e-9, s[0].toDouble(), "$name $k time")
+                for (c in 0 until 3) assertEquals(rows[k][from + c].toDouble(), s[1 + c].toDouble(), "$name $k axis $c")
+            }
+        }
+        println("gcsv via telemetry-parser: ${times.size} samples of gyro, accl, magn; first/last ${times.first() * 1e-9}/${times.last() * 1e-9} s; every value equal")
+    }
+
+    @Test
+    fun `ros2 read back by mcap with mcap-ros2-support and by rosbags`() {
+        val out = dir.resolve("walk.mcap")
+        val r = fusion("export", session.toString(), "--format", "ros2", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel")
+        for (reader in listOf("mcap", "rosbags")) {
+            for (topic in listOf("imu/data_raw", "imu/data")) {
+                val messages = read.getValue("$reader:$topic")
+                assertEquals(times.size, messages.size, "$reader $topic messages")
+                for ((k, m) in messages.withIndex()) {
+                    stamp(times[k], m, "$reader $topic $k")
+                    assertEquals(Ros2Writer.FRAME_ID, m[3])
+                    val v = m.drop(4).map { it.toDouble() }
+                    if (topic == "imu/data") {
+                        // The replay's CSV has the quaternion to 9 decimals; the message its full double.
+                        for (c in 0 until 4) assertEquals(quaternions[k][c].toDouble(), v[c], 5e-10, "$reader $topic $k q$c")
+                    } else {
+                        for (c in 0 until 4) assertEquals(0.0, v[c])
+                    }
+                    // Gyroscope and accelerometer: the recorded float, exactly.
+                    for (c in 0 until 6) assertEquals(rows[k][c].toFloat().toDouble(), v[4 + c], "$reader $topic $k value $c")
+                    assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0] (REP-145: -1 = not provided)")
+                    assertEquals(0.0, v[11]); assertEquals(0.0, v[12]); assertEquals(0.0, v[13])
+                }
+            }
+            val mag = read.getValue("$reader:imu/mag")
+            assertEquals(magnetometer.size, mag.size, "$reader magnetometer messages")
+            for ((k, m) in mag.withIndex()) {
+                stamp(magnetometer[k][0].toLong(), m, "$reader mag $k")
+                // Tesla: the recorded µT float × 1e-6, the same double operation here.
+                for (c in 0 until 3) assertEquals(magnetometer[k][1 + c].toFloat().toDouble() * 1e-6, m[4 + c].toDouble(), "$reader mag $k axis $c")
+            }
+        }
+        println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} imu/data_raw, ${times.size} imu/data, ${magnetometer.size} imu/mag messages each; " +
+            "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals)")
+    }
+
+    /** Log time and header stamp of a message line both [ns]. */
+    private fun stamp(ns: Long, m: List<String>, what: String) {
+        assertEquals(ns, m[0].toLong(), "$what log time")
+        assertEquals(ns, m[1].toLong() * 1_000_000_000L + m[2].toLong(), "$what header stamp")
+    }
+
+    @Test
+    fun `refused outputs create nothing`() {
+        val out = dir.resolve("inside")
+        val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
+        assertEquals(ExitCode.USAGE, r.code)
+        assertTrue("lies inside the input" in r.err, r.err)
+        assertTrue(!Files.exists(session.resolve("x")))
+        val f = fusion("export", session.toString(), "--format", "ros9", "-o", out.toString())
+        assertEquals(ExitCode.USAGE, f.code)
+        assertTrue("--format expects euroc, kalibr, gcsv or ros2, got 'ros9'" in f.err, f.err)
+        val bad = dir.resolve("bad-noise.yaml")
+        Files.writeString(bad, "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: lots\n")
+        val n = fusion("export", session.toString(), "--format", "kalibr", "--noise", bad.toString(), "-o", out.toString())
+        assertEquals(ExitCode.DATA_ERROR, n.code)
+        assertTrue("bad-noise.yaml:2:" in n.err && "gyroscope_random_walk: 'lots'" in n.err, n.err)
+        assertTrue(!Files.exists(out))
+        assertTrue(Files.list(dir).use { s -> s.noneMatch { it.fileName.toString().startsWith(".inside") } })
+    }
+
+    @Test
+    fun `an imu table exports like a session`() {
+        val table = dir.resolve("table.csv")
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", table.toString(), "--duration", "5").code)
+        val out = dir.resolve("table-euroc")
+        val r = fusion("export", table.toString(), "--format", "euroc", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertEquals(501, Files.readAllLines(out.resolve("mav0/imu0/data.csv")).size)
+        assertTrue(Files.exists(out.resolve("mav0/mag0/data.csv")))
+    }
+
+    /** Runs read_export.py [mode] on [path]; skips when python3 or [module] is missing. */
+    private fun python(mode: String, path: Path, module: String): Map<String, List<List<String>>> {
+        val python = System.getenv("FUSION_PYTHON") ?: "python3"
+        val probe = runCatching { run(listOf(python, "-c", "import $module"), dir, 120) }.getOrNull()
+        assumeTrue(probe != null && probe.first == 0) {
+            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags; .ci/run installs them where pip reaches PyPI)"
+        }
+        val script = dir.resolve("read_export.py")
+        javaClass.getResourceAsStream("export/read_export.py")!!.use { Files.copy(it, script, java.nio.file.StandardCopyOption.REPLACE_EXISTING) }
+        val p = run(listOf(python, script.toString(), mode, path.toString()), dir, 300)
+        assertEquals(0, p.first, p.third)
+        return parse(p.second)
+    }
+
+    /** Builds the gcsv reader (telemetry-parser from crates.io) once under target/; skips without cargo or crates.io. */
+    private fun gcsvReader(): Path {
+        val cargo = System.getenv("CARGO") ?: "cargo"
+        val version = runCatching { run(listOf(cargo, "--version"), dir, 60) }.getOrNull()
+        assumeTrue(version != null && version.first == 0) { "skipped: cargo not found (install Rust to check gcsv with Gyroflow's telemetry-parser)" }
+        val project = Paths.get("target", "gcsv-reader").toAbsolutePath()
+        Files.createDirectories(project.resolve("src"))
+        for (f in listOf("Cargo.toml", "src/main.rs")) {
+            val bytes = javaClass.getResourceAsStream("export/gcsv-reader/$f")!!.use { it.readBytes() }
+            val target = project.resolve(f)
+            if (!Files.exists(target) || !Files.readAllBytes(target).contentEquals(bytes)) Files.write(target, bytes)
+        }
+        val build = run(listOf(cargo, "build", "-q"), project, 900)
+        assumeTrue(build.first == 0) { "skipped: building telemetry-parser failed (offline?): ${build.third.lines().takeLast(5).joinToString(" | ")}" }
+        return project.resolve("target/debug/gcsv-reader")
+    }
+
+    private companion object {
+        fun csv(p: Path): List<List<String>> = Files.readAllLines(p).drop(1).filter { it.isNotBlank() }.map { it.split(',') }
+
+        /** "key v1 v2 …" lines grouped by key. */
+        fun parse(text: String): Map<String, List<List<String>>> =
+            text.lines().filter { it.isNotBlank() }.map { it.split(' ') }.groupBy({ it[0] }, { it.drop(1) })
+
+        /** Exit code, standard output, standard error; a process over [seconds] is killed and fails. */
+        fun run(command: List<String>, dir: Path, seconds: Long): Triple<Int, String, String> {
+            val err = Files.createTempFile(dir, "err", ".txt")
+            val out = Files.createTempFile(dir, "out", ".txt")
+            val p = ProcessBuilder(command).directory(dir.toFile()).redirectOutput(out.toFile()).redirectError(err.toFile()).start()
+            if (!p.waitFor(seconds, TimeUnit.SECONDS)) {
+                p.destroyForcibly()
+                return Triple(-1, "", "timed out after $seconds s: ${command.joinToString(" ")}")
+            }
+            return Triple(p.exitValue(), Files.readString(out), Files.readString(err)).also { Files.delete(out); Files.delete(err) }
+        }
+    }
+}
