@@ -471,7 +471,7 @@ public class StreamServer @JvmOverloads constructor(
             }
             var text: String? = null
             for (c in clients) {
-                if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
+                if (!c.paired && !awaitHello(c)) continue
                 if (!c.due(stream, t)) continue
                 if (text == null) {
                     sb.setLength(0)
@@ -483,9 +483,32 @@ public class StreamServer @JvmOverloads constructor(
         }
     }
 
+    /**
+     * Whether [c] has its hello queued, waiting for it (at most [HELLO_WAIT_NS]) when the client is already listed as
+     * paired ([Client.accepted]) and only the hello is still to go: so every message published once a client is listed
+     * as paired reaches it.
+     */
+    private fun awaitHello(c: Client): Boolean {
+        if (!c.accepted || c.helloLate) return synchronized(c.pairing) { c.paired }
+        val deadline = System.nanoTime() + HELLO_WAIT_NS
+        while (!synchronized(c.pairing) { c.paired }) {
+            if (!running) return false
+            if (System.nanoTime() - deadline > 0) {
+                // Something kept the hello (it never waits again for this client).
+                c.helloLate = true
+                return false
+            }
+            Thread.yield()
+        }
+        return true
+    }
+
     private inner class Client(val conn: WebSocketImpl, val acceptedNs: Long) {
         /** The peer's address, known once its upgrade is done. */
         @Volatile var address: String = "?"
+
+        /** The sender once waited [HELLO_WAIT_NS] for this client's hello in vain. */
+        @Volatile var helloLate = false
 
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
@@ -572,6 +595,9 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     public companion object {
+        /** How long the sender waits for the hello of a client listed as paired (its hello is being queued), ns. */
+        private const val HELLO_WAIT_NS = 50_000_000L
+
         /** Close codes (4000–4999 are the application's; docs/STREAMING.md): a refused request (wrong code, malformed, binary, too late). */
         public const val CLOSE_REFUSED: Int = 4001
 
