@@ -26,7 +26,8 @@ import java.util.concurrent.atomic.AtomicInteger;
 import java.util.concurrent.locks.LockSupport;
 
 public final class StreamLatency {
-    private static final List<SessionStream> STREAMS = List.of(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE,
+    /** The seven sensor streams a phone streams, published by [publishRealTime]. */
+    static final List<SessionStream> STREAMS = List.of(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE,
         SessionStream.MAGNETOMETER, SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.MAGNETOMETER_UNCALIBRATED,
         SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR);
 
@@ -54,12 +55,12 @@ public final class StreamLatency {
         client.connect(10_000);
         com.sun.management.OperatingSystemMXBean os = (com.sun.management.OperatingSystemMXBean) ManagementFactory.getOperatingSystemMXBean();
         // Warm-up: two seconds, not counted.
-        run(server, 2);
+        publishRealTime(server, 2);
         while (received.get() < 2 * 1600) LockSupport.parkNanos(1_000_000);
         received.set(0);
         long cpu0 = os.getProcessCpuTime();
         java.util.Map<String, Long> threads0 = threadCpu();
-        run(server, seconds);
+        publishRealTime(server, seconds);
         long deadline = System.nanoTime() + 5_000_000_000L;
         while (received.get() < total && System.nanoTime() < deadline) LockSupport.parkNanos(1_000_000);
         long cpu = os.getProcessCpuTime() - cpu0;
@@ -99,7 +100,7 @@ public final class StreamLatency {
     }
 
     /** Publishes [seconds] of the seven streams at 200 Hz and the orientation, in real time; timestamps are System.nanoTime. */
-    private static void run(StreamServer server, int seconds) {
+    static void publishRealTime(StreamServer server, int seconds) {
         long start = System.nanoTime();
         float[] v = new float[6];
         for (int k = 0; k < seconds * 200; k++) {

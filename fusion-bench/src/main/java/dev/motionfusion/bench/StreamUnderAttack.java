@@ -37,9 +37,6 @@ import java.util.concurrent.atomic.AtomicLong;
 import java.util.concurrent.locks.LockSupport;
 
 public final class StreamUnderAttack {
-    private static final List<SessionStream> STREAMS = List.of(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE,
-        SessionStream.MAGNETOMETER, SessionStream.GYROSCOPE_UNCALIBRATED, SessionStream.MAGNETOMETER_UNCALIBRATED,
-        SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR);
     private static final String CODE = "482913";
     private static final String REQUEST = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
         + "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
@@ -51,7 +48,7 @@ public final class StreamUnderAttack {
 
     public static void main(String[] args) throws Exception {
         int seconds = args.length > 0 ? Integer.parseInt(args[0]) : 10;
-        List<SessionStream> offered = new ArrayList<>(STREAMS);
+        List<SessionStream> offered = new ArrayList<>(StreamLatency.STREAMS);
         offered.add(SessionStream.ORIENTATION);
         StreamOffer offer = new StreamOffer("bench", new SessionMetadata(), offered);
         System.out.printf(Locale.ROOT, "%d s per attack, 1,600 messages/s to one paired client, loopback%n%n", seconds);
@@ -90,7 +87,7 @@ public final class StreamUnderAttack {
             return kotlin.Unit.INSTANCE;
         });
         client.connect(10_000);
-        publish(server, 1); // warm-up
+        StreamLatency.publishRealTime(server, 1); // warm-up
         System.gc();
         long heap0 = usedHeap();
         AtomicBoolean stop = new AtomicBoolean();
@@ -105,7 +102,7 @@ public final class StreamUnderAttack {
         }, "attack");
         counting.set(true);
         attacker.start();
-        publish(server, seconds);
+        StreamLatency.publishRealTime(server, seconds);
         long deadline = System.nanoTime() + 3_000_000_000L;
         while (received.get() < total && System.nanoTime() < deadline) LockSupport.parkNanos(1_000_000);
         counting.set(false);
@@ -140,20 +137,6 @@ public final class StreamUnderAttack {
         return ManagementFactory.getMemoryMXBean().getHeapMemoryUsage().getUsed();
     }
 
-    /** [seconds] of the seven streams at 200 Hz and the orientation, in real time; timestamps are System.nanoTime. */
-    private static void publish(StreamServer server, int seconds) {
-        long start = System.nanoTime();
-        float[] v = new float[6];
-        for (int k = 0; k < seconds * 200; k++) {
-            long due = start + k * 5_000_000L;
-            long wait;
-            while ((wait = due - System.nanoTime()) > 0) LockSupport.parkNanos(wait);
-            for (SessionStream s : STREAMS) {
-                v[0] = k * 1e-3f;
-                server.publishSample(s, System.nanoTime(), v, 3);
-            }
-            server.publishOrientation(System.nanoTime(), 1.0, 0.0, 0.0, 0.0);
-        }
     }
 
     private static Socket connect(int port, String local) throws IOException {

@@ -64,6 +64,14 @@ class ListenCommandTest {
 
     private fun listen(vararg args: String): Future<CliResult> = pool.submit<CliResult> { fusion("listen", *args) }
 
+    /** `fusion listen` from [s] into [dir] in a process of its own (to be killed or signalled), its standard error to [err]. */
+    private fun forkListen(s: StreamServer, dir: java.nio.file.Path, err: java.io.File): Process {
+        val javaBin = java.io.File(System.getProperty("java.home"), "bin/java").path
+        return ProcessBuilder(
+            listOf(javaBin, "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt", "listen", "ws://127.0.0.1:${s.port}", "--code", "271828", "-o", dir.toString()),
+        ).redirectError(err).redirectOutput(java.io.File(err.path + ".out")).start()
+    }
+
     private fun awaitPaired(s: StreamServer) {
         val deadline = System.nanoTime() + TimeUnit.SECONDS.toNanos(30)
         while (s.clients().none { it.paired }) {
@@ -245,11 +253,8 @@ class ListenCommandTest {
     fun `listen killed mid-stream leaves a session that recover repairs to every sample received`() {
         val s = serve()
         val dir = tmp.resolve("killed")
-        val javaBin = java.io.File(System.getProperty("java.home"), "bin/java").path
         val err = tmp.resolve("stderr").toFile()
-        val p = ProcessBuilder(
-            listOf(javaBin, "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt", "listen", "ws://127.0.0.1:${s.port}", "--code", "271828", "-o", dir.toString()),
-        ).redirectErrorStream(false).redirectError(err).redirectOutput(tmp.resolve("stdout").toFile()).start()
+        val p = forkListen(s, dir, err)
         try {
             awaitPaired(s)
             // 3 s of sample time, accelerometer and gyroscope at 200 Hz, then wait until the listener got them all.
@@ -286,11 +291,8 @@ class ListenCommandTest {
     fun `listen stopped by a signal closes its session and prints the summary`() {
         val s = serve()
         val dir = tmp.resolve("term")
-        val javaBin = java.io.File(System.getProperty("java.home"), "bin/java").path
         val err = tmp.resolve("stderr-term").toFile()
-        val p = ProcessBuilder(
-            listOf(javaBin, "-cp", System.getProperty("java.class.path"), "dev.motionfusion.cli.MainKt", "listen", "ws://127.0.0.1:${s.port}", "--code", "271828", "-o", dir.toString()),
-        ).redirectError(err).redirectOutput(tmp.resolve("stdout-term").toFile()).start()
+        val p = forkListen(s, dir, err)
         try {
             awaitPaired(s)
             for (k in 0 until 100) s.publishSample(SessionStream.GYROSCOPE, k * 5_000_000L, floatArrayOf(0f, 0f, 0f), 3)
