@@ -20,7 +20,7 @@ import kotlin.math.sin
 import kotlin.math.sqrt
 
 /**
- * The second round of hostile and tricky runs (issue 42: no silently wrong result in eval, allan,
+ * The second round of hostile and tricky runs (no silently wrong result in eval, allan,
  * calibration files, batch folders and killed runs). One test per case; each checks the exit code,
  * the message, that no stack trace is printed and, where a number is the result, the number.
  * The counts over the suite are printed at the end, as HostileCasesTest does.
