@@ -75,7 +75,7 @@ public final class MagDisturbanceReport {
             + (peerDir != null ? " | peer: start / max / end, RMS during, RMS after" : "") + " | gyroscope alone at the end |");
         List<String> summary = new ArrayList<>();
         for (File d : Evaluation.INSTANCE.findTrials(dirs)) {
-            TuneFilter.Loaded t = new TuneFilter.Loaded(d, false);
+            TuneFilter.Loaded t = new TuneFilter.Loaded(d, false, List.of());
             summary.add(report(t, TuneFilter.parse(spec), peerDir, headingThr, normThr, minLen, after));
         }
         System.out.println();

@@ -137,8 +137,6 @@ public final class StreamUnderAttack {
         return ManagementFactory.getMemoryMXBean().getHeapMemoryUsage().getUsed();
     }
 
-    }
-
     private static Socket connect(int port, String local) throws IOException {
         Socket s = new Socket();
         s.bind(new InetSocketAddress(local, 0));
