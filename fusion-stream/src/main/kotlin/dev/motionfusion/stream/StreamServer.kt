@@ -364,25 +364,29 @@ public class StreamServer @JvmOverloads constructor(
         val offered = offer()
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
-        val admitted = synchronized(unpaired) {
-            if (clients.count { it.accepted } >= settings.maxClients) {
-                false
-            } else {
-                unpaired.remove(client)
-                // [Client.accepted] is set before the hello goes out, so that whoever has received it finds the client
-                // listed as paired.
-                client.accepted = true
-                true
+        // Admission, the hello and the flag under the client's pairing lock: the sender, which takes that lock for a
+        // client not yet paired, waits until the hello is queued, so every message published once the client is
+        // listed as paired reaches it, and none goes before the hello.
+        val admitted = synchronized(client.pairing) {
+            val room = synchronized(unpaired) {
+                if (clients.count { it.accepted } >= settings.maxClients) {
+                    false
+                } else {
+                    unpaired.remove(client)
+                    // [Client.accepted] is set before the hello goes out, so that whoever has received it finds the
+                    // client listed as paired.
+                    client.accepted = true
+                    true
+                }
             }
+            if (room) {
+                client.subscribe(streams, request.rateHz)
+                client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
+                client.paired = true
+            }
+            room
         }
-        if (!admitted) return refuse(client, "too many clients (${settings.maxClients})", CLOSE_TOO_MANY)
-        client.subscribe(streams, request.rateHz)
-        // The hello and the flag together: the sender waits for both, so every message published after the
-        // client got its hello reaches it, and none goes before the hello.
-        synchronized(client.pairing) {
-            client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
-            client.paired = true
-        }
+        if (!admitted) refuse(client, "too many clients (${settings.maxClients})", CLOSE_TOO_MANY)
     }
 
     /**
@@ -471,7 +475,7 @@ public class StreamServer @JvmOverloads constructor(
             }
             var text: String? = null
             for (c in clients) {
-                if (!c.paired && !awaitHello(c)) continue
+                if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
                 if (!c.due(stream, t)) continue
                 if (text == null) {
                     sb.setLength(0)
@@ -483,32 +487,9 @@ public class StreamServer @JvmOverloads constructor(
         }
     }
 
-    /**
-     * Whether [c] has its hello queued, waiting for it (at most [HELLO_WAIT_NS]) when the client is already listed as
-     * paired ([Client.accepted]) and only the hello is still to go: so every message published once a client is listed
-     * as paired reaches it.
-     */
-    private fun awaitHello(c: Client): Boolean {
-        if (!c.accepted || c.helloLate) return synchronized(c.pairing) { c.paired }
-        val deadline = System.nanoTime() + HELLO_WAIT_NS
-        while (!synchronized(c.pairing) { c.paired }) {
-            if (!running) return false
-            if (System.nanoTime() - deadline > 0) {
-                // Something kept the hello (it never waits again for this client).
-                c.helloLate = true
-                return false
-            }
-            Thread.yield()
-        }
-        return true
-    }
-
     private inner class Client(val conn: WebSocketImpl, val acceptedNs: Long) {
         /** The peer's address, known once its upgrade is done. */
         @Volatile var address: String = "?"
-
-        /** The sender once waited [HELLO_WAIT_NS] for this client's hello in vain. */
-        @Volatile var helloLate = false
 
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
@@ -595,9 +576,6 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     public companion object {
-        /** How long the sender waits for the hello of a client listed as paired (its hello is being queued), ns. */
-        private const val HELLO_WAIT_NS = 50_000_000L
-
         /** Close codes (4000–4999 are the application's; docs/STREAMING.md): a refused request (wrong code, malformed, binary, too late). */
         public const val CLOSE_REFUSED: Int = 4001
 

@@ -24,6 +24,8 @@ import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.TemporaryFiles
 import java.io.Closeable
 import java.io.IOException
 import java.nio.Buffer
@@ -33,7 +35,6 @@ import java.nio.channels.FileChannel
 import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.StandardOpenOption
-import dev.motionfusion.core.io.TemporaryFiles
 import kotlin.math.PI
 import kotlin.math.abs
 import kotlin.math.asin
@@ -643,7 +644,7 @@ internal class Spill(dir: Path?) : Closeable {
     } catch (e: IOException) {
         throw java.nio.file.FileSystemException(
             folder, null,
-            "the offline estimate's temporary file (java.io.tmpdir; give it room, or another folder with -Djava.io.tmpdir=DIR): ${dev.motionfusion.core.io.AtomicFiles.reason(e)}",
+            "the offline estimate's temporary file (java.io.tmpdir; give it room, or another folder with -Djava.io.tmpdir=DIR): ${AtomicFiles.reason(e)}",
         ).apply { initCause(e) }
     }
 
