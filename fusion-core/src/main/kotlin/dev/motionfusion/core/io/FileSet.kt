@@ -218,7 +218,8 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         private fun spooled(input: InputStream, shown: String, guard: CompressionGuard): FileSet {
             val spool = TemporaryFiles.createInput()
             try {
-                val size = Files.newOutputStream(spool).use { out ->
+                // Opened without CREATE: if a signal's clean-up has removed it, it is not made again.
+                val size = Files.newOutputStream(spool, java.nio.file.StandardOpenOption.WRITE).use { out ->
                     val buf = ByteArray(Inputs.BUFFER_BYTES)
                     var total = 0L
                     while (true) {

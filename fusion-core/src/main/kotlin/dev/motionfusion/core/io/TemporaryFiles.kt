@@ -94,11 +94,19 @@ public object TemporaryFiles {
     /** The owner tag followed by [separator], or nothing without an owner. */
     internal fun tag(separator: String): String = owner.let { if (it.isEmpty()) "" else it + separator }
 
-    /** Removes [p], a file or a folder with what it holds (links removed, never followed); never throws. */
+    /**
+     * Removes [p], a file or a folder with what it holds (links removed, never followed); never
+     * throws. The process's other threads keep running while shutdown hooks do, so a folder may
+     * gain a file between its listing and its removal: it is listed again, a few times.
+     */
     internal fun removeTree(p: Path) {
-        runCatching {
-            if (Files.isDirectory(p, LinkOption.NOFOLLOW_LINKS)) Files.newDirectoryStream(p).use { s -> s.toList() }.forEach { removeTree(it) }
-            Files.deleteIfExists(p)
+        for (attempt in 0 until 20) {
+            val gone = runCatching {
+                if (Files.isDirectory(p, LinkOption.NOFOLLOW_LINKS)) Files.newDirectoryStream(p).use { s -> s.toList() }.forEach { removeTree(it) }
+                Files.deleteIfExists(p)
+                true
+            }.getOrDefault(false)
+            if (gone || !Files.isDirectory(p, LinkOption.NOFOLLOW_LINKS)) return
         }
     }
 }
