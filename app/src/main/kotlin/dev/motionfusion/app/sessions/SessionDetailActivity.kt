@@ -2,6 +2,7 @@ package dev.motionfusion.app.sessions
 
 import android.content.ActivityNotFoundException
 import android.content.Context
+import android.content.Intent
 import com.google.android.material.progressindicator.LinearProgressIndicator
 import android.os.Bundle
 import android.text.InputType
@@ -66,12 +67,16 @@ class SessionDetailActivity : AppCompatActivity() {
                 model.message(getString(R.string.export_failed, e.message))
             }
         }
-        findViewById<Button>(R.id.detail_share).setOnClickListener { export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) } }
+        findViewById<Button>(R.id.detail_share).setOnClickListener { share() }
         findViewById<Button>(R.id.detail_export_cancel).setOnClickListener { model.cancelExport() }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
+        // Opened by the record bar's Share: the share starts once (not again after a rotation).
+        if (savedInstanceState == null && intent.getBooleanExtra(EXTRA_SHARE, false)) share()
     }
+
+    private fun share() = export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) }
 
     override fun onSupportNavigateUp(): Boolean {
         finish()
@@ -89,7 +94,10 @@ class SessionDetailActivity : AppCompatActivity() {
         }
         findViewById<TextView>(R.id.detail_name).text = state.name
         title = state.name
-        findViewById<TextView>(R.id.detail_message).text = state.message ?: ""
+        findViewById<TextView>(R.id.detail_message).apply {
+            text = state.message ?: ""
+            visibility = if (state.message == null) View.GONE else View.VISIBLE
+        }
         showExport(state)
         val whenText = findViewById<TextView>(R.id.detail_when)
         val s = state.summary
@@ -186,5 +194,10 @@ class SessionDetailActivity : AppCompatActivity() {
 
     internal companion object {
         const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
+        const val EXTRA_SHARE = "dev.motionfusion.app.sessions.SHARE"
+
+        /** The detail of the session folder [name]; [share]: its Share started as it opens. */
+        fun intent(context: Context, name: String, share: Boolean = false): Intent =
+            Intent(context, SessionDetailActivity::class.java).putExtra(EXTRA_SESSION, name).putExtra(EXTRA_SHARE, share)
     }
 }

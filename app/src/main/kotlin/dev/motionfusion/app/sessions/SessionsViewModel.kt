@@ -58,6 +58,7 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
         }
     }
 
+    /** Newest first by the start time meta.json records (a renamed session keeps its place); unreadable ones last, by name. */
     private fun load(): List<SessionItem> {
         deps.sessions.repairInterrupted()
         return deps.sessions.list().map { dir ->
@@ -66,7 +67,12 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
             } catch (e: Exception) {
                 SessionItem(dir, null, readError(dir, e))
             }
-        }
+        }.sortedWith(NEWEST_FIRST)
+    }
+
+    private companion object {
+        val NEWEST_FIRST: Comparator<SessionItem> =
+            compareByDescending<SessionItem> { it.summary?.startWallClockMs ?: Long.MIN_VALUE }.thenByDescending { it.dir.name }
     }
 
     class Factory(private val deps: SessionsDependencies) : ViewModelProvider.Factory {
