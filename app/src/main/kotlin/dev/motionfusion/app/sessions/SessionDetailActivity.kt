@@ -19,6 +19,7 @@ import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.Failure
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.AnglePlotView
@@ -64,7 +65,7 @@ class SessionDetailActivity : AppCompatActivity() {
             try {
                 saveAs.launch(Exporter.zipName(model.name))
             } catch (e: ActivityNotFoundException) {
-                model.message(getString(R.string.export_failed, e.message))
+                model.message(getString(R.string.export_failed, getString(Failure.of(e, "opening another app").text)))
             }
         }
         findViewById<Button>(R.id.detail_share).setOnClickListener { share() }
@@ -129,7 +130,7 @@ class SessionDetailActivity : AppCompatActivity() {
      */
     private fun export(action: (Context, File, Exporter.Progress) -> Any) {
         val app = applicationContext
-        model.export({ reason -> app.getString(R.string.export_failed, reason) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
+        model.export({ failure -> app.getString(R.string.export_failed, app.getString(failure.text)) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
     }
 
     /** An export under way: its progress and Cancel, the export buttons off; a share's chooser started once. */
@@ -151,7 +152,7 @@ class SessionDetailActivity : AppCompatActivity() {
             try {
                 startActivity(it)
             } catch (e: ActivityNotFoundException) {
-                model.message(getString(R.string.export_failed, e.message))
+                model.message(getString(R.string.export_failed, getString(Failure.of(e, "opening another app").text)))
             }
         }
     }
@@ -188,7 +189,7 @@ class SessionDetailActivity : AppCompatActivity() {
         dialog = MaterialAlertDialogBuilder(this)
             .setMessage(getString(R.string.session_delete_confirm, model.name))
             .setNegativeButton(R.string.cancel, null)
-            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete { getString(R.string.session_delete_failed, it) } }
+            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete { getString(R.string.session_delete_failed, getString(it.text)) } }
             .show()
     }
 
