@@ -133,7 +133,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         val settings = forward.settings
         // Backward: time runs as −t, so that it advances.
         val back = MadgwickFilter(settings)
-        back.restore(forward.snapshot())
+        back.restore(forward.state())
         back.turnAround(reversed(spill.lastStepNs))
         val q = DoubleArray(4)
         // A gyroscope reading is the rate over the interval that ends at its timestamp (the forward
@@ -187,7 +187,7 @@ internal class OfflinePass(private val forward: MadgwickFilter, private val offl
         }
         // Forward again, from where the backward pass ended.
         val again = MadgwickFilter(settings)
-        again.restore(back.snapshot())
+        again.restore(back.state())
         again.turnAround(spill.firstStepNs)
         val step = ReplayStep()
         val values = DoubleArray(Spill.MAX_VALUES)
