@@ -12,7 +12,7 @@
  * Start (Initialisation.FIRST_SAMPLE): the first gyroscope sample with a fresh accelerometer sample, and in
  * MARG mode a magnetometer sample too, waited for at most maxGap after the first accelerometer sample.
  * Gaps: a timestamp that does not advance, or a gap longer than maxGap, is counted and not integrated.
- * Saturation: a gyroscope axis at or beyond gyroSaturation is flagged (Step-wise) and counted.
+ * Saturation: a gyroscope axis at or beyond gyroSaturation is flagged for the step and counted.
  * Timestamps ns, readings SI (rad/s, m/s², µT). Allocation-free.
  */
 package dev.motionfusion.core.filter

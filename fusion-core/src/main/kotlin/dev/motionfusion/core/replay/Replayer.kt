@@ -1,7 +1,7 @@
 /*
  * Replay: runs the Madgwick filter over recorded events in time order, as the app would have
  * live. Accelerometer and magnetometer samples are held; each gyroscope sample is one filter
- * step and one output step (MadgwickFilter's pairing rule). Orientation sensor → ENU,
+ * step and one output step (the filter's pairing rule, filter/SampleGate.kt). Orientation sensor → ENU,
  * quaternions [w, x, y, z] Hamilton; timestamps ns, times s relative to the recording's origin.
  */
 package dev.motionfusion.core.replay
