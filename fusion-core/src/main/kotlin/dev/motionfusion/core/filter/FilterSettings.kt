@@ -153,6 +153,7 @@ public data class FilterSettings(
     val restAccThreshold: Double = 0.5,
     val restMinTime: Double = 1.5,
     val restBiasTime: Double = 2.0,
+    val restMaxRate: Double = 3.0 * DEG,
     val magDisturbanceRejection: Boolean = false,
     val magNormTolerance: Double = 0.1,
     val magDipTolerance: Double = 10.0 * DEG,
@@ -180,6 +181,11 @@ public data class FilterSettings(
     val motionBiasGain: Double = 0.003,
     val motionBiasRestTime: Double = 300.0,
     val motionBiasLimit: Double = 2.0 * DEG,
+    val accBiasEstimation: Boolean = false,
+    val accBiasSigmaMotion: Double = 0.1 * DEG,
+    val accBiasForgettingTime: Double = 100.0,
+    val accBiasVerticalFactor: Double = 1e-4,
+    val accBiasLowPassTime: Double = 3.0,
     val outputFrame: WorldFrame = WorldFrame.ENU,
     val maxGap: Double = 0.5,
 ) {
@@ -190,6 +196,7 @@ public data class FilterSettings(
         requirePositive("restAccThreshold", restAccThreshold)
         requireFinite("restMinTime", restMinTime, min = 0.0)
         requirePositive("restBiasTime", restBiasTime)
+        requirePositive("restMaxRate", restMaxRate)
         requirePositive("magNormTolerance", magNormTolerance)
         require(magDipTolerance > 0.0 && magDipTolerance < PI / 2) { "magDipTolerance must be in (0, π/2) rad: $magDipTolerance" }
         requirePositive("magMaxRejectionTime", magMaxRejectionTime)
@@ -216,6 +223,10 @@ public data class FilterSettings(
         requireFinite("gyroSaturation", gyroSaturation, min = 0.0)
         requirePositive("motionBiasLimit", motionBiasLimit)
         requireFinite("motionBiasRestTime", motionBiasRestTime, min = 0.0)
+        requirePositive("accBiasSigmaMotion", accBiasSigmaMotion)
+        requirePositive("accBiasForgettingTime", accBiasForgettingTime)
+        requirePositive("accBiasVerticalFactor", accBiasVerticalFactor)
+        requirePositive("accBiasLowPassTime", accBiasLowPassTime)
     }
 
     public companion object {

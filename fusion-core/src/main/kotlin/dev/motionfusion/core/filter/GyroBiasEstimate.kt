@@ -20,6 +20,8 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
     private val motionGain = settings.motionBiasGain
     private val motionRestTime = settings.motionBiasRestTime
     private val limit = settings.motionBiasLimit
+    private val accBias = if (settings.accBiasEstimation) AccelerometerBiasEstimate(settings) else null
+    private val scratch = DoubleArray(3)
 
     /** ω_b, rad/s, device frame (the gradient step's ζ term adds to it too). */
     var x = 0.0
@@ -45,6 +47,11 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
         } else if (motionGain != 0.0) {
             sinceRest += dt
         }
+        if (accBias != null) {
+            scratch[0] = x; scratch[1] = y; scratch[2] = z
+            accBias.update(dt, gx, gy, gz, accOk, ax, ay, az, atRest, scratch)
+            x = scratch[0]; y = scratch[1]; z = scratch[2]
+        }
     }
 
     /** The motion estimate after a heading step of weight [dt] s that found the error sin δ = [sinDelta]; ([upX], [upY], [upZ]) the estimated up. */
@@ -60,27 +67,33 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
     fun reverse() {
         x = -x; y = -y; z = -z
         rest?.reverse()
+        accBias?.reverse()
     }
 
     fun reset() {
         x = 0.0; y = 0.0; z = 0.0
         sinceRest = Double.POSITIVE_INFINITY
         rest?.reset()
+        accBias?.reset()
     }
 
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = x; d[at + 1] = y; d[at + 2] = z
         d[at + 3] = sinceRest
-        return rest?.writeState(d, at + 4) ?: (at + STATE_SIZE)
+        rest?.writeState(d, at + 4)
+        accBias?.writeState(d, at + 4 + RestDetector.STATE_SIZE)
+        return at + STATE_SIZE
     }
 
     fun readState(d: DoubleArray, at: Int): Int {
         x = d[at]; y = d[at + 1]; z = d[at + 2]
         sinceRest = d[at + 3]
-        return rest?.readState(d, at + 4) ?: (at + STATE_SIZE)
+        rest?.readState(d, at + 4)
+        accBias?.readState(d, at + 4 + RestDetector.STATE_SIZE)
+        return at + STATE_SIZE
     }
 
     companion object {
-        const val STATE_SIZE = 4 + RestDetector.STATE_SIZE
+        const val STATE_SIZE = 4 + RestDetector.STATE_SIZE + AccelerometerBiasEstimate.STATE_SIZE
     }
 }

@@ -10,6 +10,7 @@ package dev.motionfusion.core.filter
 
 internal class RestDetector(settings: FilterSettings) {
     private val gyroThreshold2 = settings.restGyroThreshold * settings.restGyroThreshold
+    private val maxRate2 = minOf(settings.restGyroThreshold, settings.restMaxRate).let { it * it }
     private val accThreshold2 = settings.restAccThreshold * settings.restAccThreshold
     private val minTime = settings.restMinTime
 
@@ -54,7 +55,7 @@ internal class RestDetector(settings: FilterSettings) {
         val day = sy - ay
         val daz = sz - az
         val still = dgx * dgx + dgy * dgy + dgz * dgz < gyroThreshold2 &&
-            gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
+            gx * gx + gy * gy + gz * gz < maxRate2 &&
             dax * dax + day * day + daz * daz < accThreshold2
         restTime = if (still) restTime + dt else 0.0
         atRest = still && restTime >= minTime
