@@ -16,12 +16,9 @@ package dev.motionfusion.core.filter
 internal class GyroBiasEstimate(settings: FilterSettings) {
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
     private val restBiasTime = settings.restBiasTime
-    private val restMinTime = settings.restMinTime
     private val motionGain = settings.motionBiasGain
     private val motionRestTime = settings.motionBiasRestTime
     private val limit = settings.motionBiasLimit
-    private val accBias = if (settings.accBiasEstimation) AccelerometerBiasEstimate(settings) else null
-    private val scratch = DoubleArray(3)
 
     /** ω_b, rad/s, device frame (the gradient step's ζ term adds to it too). */
     var x = 0.0
@@ -41,16 +38,11 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
     fun update(dt: Double, gx: Double, gy: Double, gz: Double, accOk: Boolean, ax: Double, ay: Double, az: Double) {
         if (rest != null && rest.update(dt, gx, gy, gz, accOk, ax, ay, az)) {
             // Mean of the readings since rest began, then a moving average over restBiasTime.
-            val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
+            val k = dt / minOf(restBiasTime, rest.restTime - rest.acceptedAfter + dt)
             x += k * (gx - x); y += k * (gy - y); z += k * (gz - z)
             sinceRest = 0.0
         } else if (motionGain != 0.0) {
             sinceRest += dt
-        }
-        if (accBias != null) {
-            scratch[0] = x; scratch[1] = y; scratch[2] = z
-            accBias.update(dt, gx, gy, gz, accOk, ax, ay, az, atRest, scratch)
-            x = scratch[0]; y = scratch[1]; z = scratch[2]
         }
     }
 
@@ -67,33 +59,27 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
     fun reverse() {
         x = -x; y = -y; z = -z
         rest?.reverse()
-        accBias?.reverse()
     }
 
     fun reset() {
         x = 0.0; y = 0.0; z = 0.0
         sinceRest = Double.POSITIVE_INFINITY
         rest?.reset()
-        accBias?.reset()
     }
 
     fun writeState(d: DoubleArray, at: Int): Int {
         d[at] = x; d[at + 1] = y; d[at + 2] = z
         d[at + 3] = sinceRest
-        rest?.writeState(d, at + 4)
-        accBias?.writeState(d, at + 4 + RestDetector.STATE_SIZE)
-        return at + STATE_SIZE
+        return rest?.writeState(d, at + 4) ?: (at + STATE_SIZE)
     }
 
     fun readState(d: DoubleArray, at: Int): Int {
         x = d[at]; y = d[at + 1]; z = d[at + 2]
         sinceRest = d[at + 3]
-        rest?.readState(d, at + 4)
-        accBias?.readState(d, at + 4 + RestDetector.STATE_SIZE)
-        return at + STATE_SIZE
+        return rest?.readState(d, at + 4) ?: (at + STATE_SIZE)
     }
 
     companion object {
-        const val STATE_SIZE = 4 + RestDetector.STATE_SIZE + AccelerometerBiasEstimate.STATE_SIZE
+        const val STATE_SIZE = 4 + RestDetector.STATE_SIZE
     }
 }

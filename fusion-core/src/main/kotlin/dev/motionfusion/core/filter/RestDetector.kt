@@ -3,14 +3,18 @@
  *
  * Inputs in the Android device frame, SI units (rad/s, m/s², s). The sensor is at rest when, for
  * at least restMinTime, the gyroscope stays within restGyroThreshold of its low-passed value, that
- * low-passed value stays within restGyroThreshold of zero, and the accelerometer stays within
- * restAccThreshold of its low-passed value. Allocation-free; state is primitive fields.
+ * low-passed value (the bias the rest estimate takes) stays within restGyroThreshold of zero, and the
+ * accelerometer stays within
+ * restAccThreshold of its low-passed value, and, unless these have held for restImplausibleTime, the
+ * low-passed gyroscope has stayed within restMaxRate of zero for restMinTime (a slow turn below
+ * restGyroThreshold, as of a phone carried upright or an elevator ride, looks like a rest with its rate as bias). Allocation-free; state is primitive fields.
  */
 package dev.motionfusion.core.filter
 
 internal class RestDetector(settings: FilterSettings) {
     private val gyroThreshold2 = settings.restGyroThreshold * settings.restGyroThreshold
-    private val maxRate2 = minOf(settings.restGyroThreshold, settings.restMaxRate).let { it * it }
+    private val maxRate2 = settings.restMaxRate * settings.restMaxRate
+    private val implausibleTime = maxOf(settings.restMinTime, settings.restImplausibleTime)
     private val accThreshold2 = settings.restAccThreshold * settings.restAccThreshold
     private val minTime = settings.restMinTime
 
@@ -25,7 +29,17 @@ internal class RestDetector(settings: FilterSettings) {
     var restTime = 0.0
         private set
 
-    /** True once the rest conditions have held for restMinTime. */
+    /**
+     * The rest time at which the current rest was declared: restMinTime, or restImplausibleTime when the
+     * low-passed gyroscope was beyond restMaxRate then.
+     */
+    var acceptedAfter = minTime
+        private set
+
+    // Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s.
+    private var plausibleTime = 0.0
+
+    /** True once the rest conditions have held for restMinTime (restImplausibleTime for a mean rate beyond restMaxRate). */
     var atRest = false
         private set
 
@@ -55,10 +69,15 @@ internal class RestDetector(settings: FilterSettings) {
         val day = sy - ay
         val daz = sz - az
         val still = dgx * dgx + dgy * dgy + dgz * dgz < gyroThreshold2 &&
-            gx * gx + gy * gy + gz * gz < maxRate2 &&
+            gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
             dax * dax + day * day + daz * daz < accThreshold2
         restTime = if (still) restTime + dt else 0.0
-        atRest = still && restTime >= minTime
+        // A mean rate beyond restMaxRate is more likely a slow turn than a bias: the rest conditions must then have
+        // held for restImplausibleTime, else restMinTime within restMaxRate.
+        plausibleTime = if (still && gx * gx + gy * gy + gz * gz < maxRate2) plausibleTime + dt else 0.0
+        val was = atRest
+        atRest = still && (plausibleTime >= minTime || restTime >= implausibleTime)
+        if (atRest && !was) acceptedAfter = if (plausibleTime >= minTime) restTime - plausibleTime + minTime else implausibleTime
         return atRest
     }
 
@@ -73,6 +92,8 @@ internal class RestDetector(settings: FilterSettings) {
         ax = 0.0; ay = 0.0; az = 0.0
         restTime = 0.0
         atRest = false
+        acceptedAfter = minTime
+        plausibleTime = 0.0
     }
 
     fun writeState(d: DoubleArray, at: Int): Int {
@@ -81,6 +102,8 @@ internal class RestDetector(settings: FilterSettings) {
         d[at + 4] = ax; d[at + 5] = ay; d[at + 6] = az
         d[at + 7] = restTime
         d[at + 8] = if (atRest) 1.0 else 0.0
+        d[at + 9] = acceptedAfter
+        d[at + 10] = plausibleTime
         return at + STATE_SIZE
     }
 
@@ -90,12 +113,14 @@ internal class RestDetector(settings: FilterSettings) {
         ax = d[at + 4]; ay = d[at + 5]; az = d[at + 6]
         restTime = d[at + 7]
         atRest = d[at + 8] != 0.0
+        acceptedAfter = d[at + 9]
+        plausibleTime = d[at + 10]
         return at + STATE_SIZE
     }
 
     companion object {
         /** Time constant of the low-pass references, s. */
         const val LOW_PASS_TIME = 0.5
-        const val STATE_SIZE = 9
+        const val STATE_SIZE = 11
     }
 }
