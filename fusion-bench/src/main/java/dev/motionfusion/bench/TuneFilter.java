@@ -117,8 +117,16 @@ public final class TuneFilter {
         /** The offline estimate (Replayer.runOffline through the library's trial evaluation; reads the trial's files). */
         ErrorRmse run(FilterSettings s, OfflineSettings offline) {
             if (offline == null) return run(s);
-            if (offsetRemoved) throw new IllegalArgumentException("--offset with offline sets is not supported: " + name);
-            return Evaluation.INSTANCE.evaluate(Trial.Companion.load(dir), s, offline).getError();
+            if (!offsetRemoved) return Evaluation.INSTANCE.evaluate(Trial.Companion.load(dir), s, offline).getError();
+            // Heading offset removed: the offline estimate collected, then scored as the causal one is.
+            double[][] est = new double[tNs.length][];
+            int[] i = {0};
+            Evaluation.INSTANCE.runOffline(Trial.Companion.load(dir), s, offline, (q, truthRow, scored) -> {
+                est[i[0]++] = q.clone();
+                return kotlin.Unit.INSTANCE;
+            });
+            if (i[0] != tNs.length) throw new IllegalStateException(name + ": " + i[0] + " offline rows, " + tNs.length + " loaded");
+            return BroadMetric.INSTANCE.rmse(est, truth, movement, true);
         }
 
         ErrorRmse run(FilterSettings s) {
@@ -356,7 +364,16 @@ public final class TuneFilter {
      * mean on the same trials (with peer figures), else the mean over the groups of their means.
      */
     static double lodoObjective(int si, String heldOut, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline) {
+        return lodoObjective(si, heldOut, trials, res, peers, offline, false);
+    }
+
+    /**
+     * [lodoObjective], or with [meanRatio] the mean over the groups of the ratio to the peer (the tie-break between
+     * sets whose worst group is the same, as when that group does not move with the setting).
+     */
+    static double lodoObjective(int si, String heldOut, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline, boolean meanRatio) {
         double worst = 0;
+        double ratioSum = 0;
         double sum = 0;
         int n = 0;
         boolean ratio = !peers.isEmpty();
@@ -369,10 +386,12 @@ public final class TuneFilter {
                 p /= g.getValue().size();
                 if (Double.isNaN(p)) throw new IllegalArgumentException("no peer figure for a trial of " + g.getKey());
                 worst = Math.max(worst, ours / p);
+                ratioSum += ours / p;
             }
             sum += ours;
             n++;
         }
+        if (meanRatio) return ratio ? ratioSum / n : sum / n;
         return ratio ? worst : sum / n;
     }
 
@@ -385,8 +404,11 @@ public final class TuneFilter {
             double bo = Double.POSITIVE_INFINITY;
             for (int si = 0; si < specs.size(); si++) {
                 double o = lodoObjective(si, held, trials, res, peers, offline.get(si) != null);
-                if (o < bo) {
-                    bo = o;
+                // A tie on the worst group (within 0.1 %) goes to the better mean ratio.
+                boolean tie = b >= 0 && Math.abs(o - bo) <= 1e-3 * bo;
+                if (tie ? lodoObjective(si, held, trials, res, peers, offline.get(si) != null, true)
+                        < lodoObjective(b, held, trials, res, peers, offline.get(b) != null, true) : o < bo) {
+                    bo = Math.min(o, bo);
                     b = si;
                 }
             }

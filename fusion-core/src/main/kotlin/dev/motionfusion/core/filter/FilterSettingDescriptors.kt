@@ -136,6 +136,8 @@ public object FilterSettingDescriptors {
         number("restAccThreshold", "rest_acc_threshold_m_s2", "m/s²", G.BIAS, "Rest: accelerometer within", 0.05..2.0, off = false, { it.restAccThreshold }) { s, v -> s.copy(restAccThreshold = v) },
         number("restMinTime", "rest_min_time_s", "s", G.BIAS, "Rest: held for", 0.0..10.0, off = false, { it.restMinTime }) { s, v -> s.copy(restMinTime = v) },
         number("restBiasTime", "rest_bias_time_s", "s", G.BIAS, "Rest: bias averaged over", 0.1..20.0, off = false, { it.restBiasTime }) { s, v -> s.copy(restBiasTime = v) },
+        number("restMaxRate", "rest_max_rate_rad_s", "rad/s", G.BIAS, "Rest: mean rate (the bias) within", 0.002..0.2, off = false, { it.restMaxRate }) { s, v -> s.copy(restMaxRate = v) },
+        number("restImplausibleTime", "rest_implausible_time_s", "s", G.BIAS, "Rest beyond that mean rate: held for", 0.0..60.0, off = false, { it.restImplausibleTime }) { s, v -> s.copy(restImplausibleTime = v) },
         flag("magDisturbanceRejection", "mag_disturbance_rejection", G.REJECTION, "Ignore a disturbed magnetic field", { it.magDisturbanceRejection }) { s, v -> s.copy(magDisturbanceRejection = v) },
         number("magNormTolerance", "mag_norm_tolerance", "", G.REJECTION, "Field strength tolerance (ratio)", 0.01..0.5, off = false, { it.magNormTolerance }) { s, v -> s.copy(magNormTolerance = v) },
         number("magDipTolerance", "mag_dip_tolerance_rad", "rad", G.REJECTION, "Dip angle tolerance", 0.01..0.7, off = false, { it.magDipTolerance }) { s, v -> s.copy(magDipTolerance = v) },

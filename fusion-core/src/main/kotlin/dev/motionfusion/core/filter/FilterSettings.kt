@@ -48,12 +48,21 @@ public enum class Initialisation {
  * @property initialisation [Initialisation.FIRST_SAMPLE] by default.
  * @property restBiasEstimation estimate the gyroscope bias while the sensor is at rest.
  * @property restGyroThreshold rest when the gyroscope deviates from its low-passed value, and that
- *   value from zero, by less than this, rad/s. Default 3°/s.
+ *   value from zero, by less than this, rad/s (see also restMaxRate). Default 3°/s.
  * @property restAccThreshold rest when the accelerometer deviates from its low-passed value by less
  *   than this, m/s². Default 0.5 m/s².
  * @property restMinTime time the rest conditions must hold before rest is declared, s. Default 1.5 s.
  * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began, for up to
  *   this long, then a moving average with this time constant, s. Default 2 s.
+ * @property restMaxRate a rest's plausibility: rest is declared after restMinTime only if the low-passed
+ *   gyroscope (what the rest estimate takes as the bias) has stayed within this of zero for that long, rad/s;
+ *   a larger mean rate needs the rest conditions held for restImplausibleTime. A slow turn below
+ *   restGyroThreshold (a phone carried upright, in a bag, an elevator ride) otherwise passes as a rest, its
+ *   rate is taken as the bias and the heading then drifts at that rate; with iOS's bias-corrected rates this
+ *   cost OxIOD 1–3° per group (docs/ACCURACY.md). Default 0.015 rad/s (0.86°/s).
+ * @property restImplausibleTime see restMaxRate: how long the rest conditions must hold with a mean rate
+ *   beyond restMaxRate (a real bias that large, as of an uncalibrated gyroscope, is still estimated), s; at
+ *   most restMinTime turns the check off. Default 5 s.
  * @property magDisturbanceRejection ignore the magnetometer while its magnitude or dip angle
  *   departs from a learned reference (the gyroscope then holds heading). Default off: indoors a
  *   phone's field varies by more than the tolerances and the rejection then costs more heading
@@ -153,6 +162,8 @@ public data class FilterSettings(
     val restAccThreshold: Double = 0.5,
     val restMinTime: Double = 1.5,
     val restBiasTime: Double = 2.0,
+    val restMaxRate: Double = 0.015,
+    val restImplausibleTime: Double = 5.0,
     val magDisturbanceRejection: Boolean = false,
     val magNormTolerance: Double = 0.1,
     val magDipTolerance: Double = 10.0 * DEG,
@@ -190,6 +201,8 @@ public data class FilterSettings(
         requirePositive("restAccThreshold", restAccThreshold)
         requireFinite("restMinTime", restMinTime, min = 0.0)
         requirePositive("restBiasTime", restBiasTime)
+        requirePositive("restMaxRate", restMaxRate)
+        requireFinite("restImplausibleTime", restImplausibleTime, min = 0.0)
         requirePositive("magNormTolerance", magNormTolerance)
         require(magDipTolerance > 0.0 && magDipTolerance < PI / 2) { "magDipTolerance must be in (0, π/2) rad: $magDipTolerance" }
         requirePositive("magMaxRejectionTime", magMaxRejectionTime)

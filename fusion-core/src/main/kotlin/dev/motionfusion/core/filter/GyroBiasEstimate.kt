@@ -18,7 +18,6 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
     private val zeta = settings.zeta
     private val restBiasTime = settings.restBiasTime
-    private val restMinTime = settings.restMinTime
     private val motionGain = settings.motionBiasGain
     private val motionRestTime = settings.motionBiasRestTime
     private val limit = settings.motionBiasLimit
@@ -47,7 +46,7 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     fun update(dt: Double, gx: Double, gy: Double, gz: Double, accOk: Boolean, ax: Double, ay: Double, az: Double) {
         if (rest != null && rest.update(dt, gx, gy, gz, accOk, ax, ay, az)) {
             // Mean of the readings since rest began, then a moving average over restBiasTime.
-            val k = dt / minOf(restBiasTime, rest.restTime - restMinTime + dt)
+            val k = dt / minOf(restBiasTime, rest.restTime - rest.acceptedAfter + dt)
             x += k * (gx - x); y += k * (gy - y); z += k * (gz - z)
             sinceRest = 0.0
         } else if (motionGain != 0.0) {

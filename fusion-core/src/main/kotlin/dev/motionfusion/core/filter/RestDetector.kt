@@ -3,13 +3,18 @@
  *
  * Inputs in the Android device frame, SI units (rad/s, m/s², s). The sensor is at rest when, for
  * at least restMinTime, the gyroscope stays within restGyroThreshold of its low-passed value, that
- * low-passed value stays within restGyroThreshold of zero, and the accelerometer stays within
- * restAccThreshold of its low-passed value. Allocation-free; state is primitive fields.
+ * low-passed value (the bias the rest estimate takes) stays within restGyroThreshold of zero, and the
+ * accelerometer stays within
+ * restAccThreshold of its low-passed value, and, unless these have held for restImplausibleTime, the
+ * low-passed gyroscope has stayed within restMaxRate of zero for restMinTime (a slow turn below
+ * restGyroThreshold, as of a phone carried upright or an elevator ride, looks like a rest with its rate as bias). Allocation-free; state is primitive fields.
  */
 package dev.motionfusion.core.filter
 
 internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State> {
     private val gyroThreshold2 = settings.restGyroThreshold * settings.restGyroThreshold
+    private val maxRate2 = settings.restMaxRate * settings.restMaxRate
+    private val implausibleTime = maxOf(settings.restMinTime, settings.restImplausibleTime)
     private val accThreshold2 = settings.restAccThreshold * settings.restAccThreshold
     private val minTime = settings.restMinTime
 
@@ -24,7 +29,17 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     var restTime = 0.0
         private set
 
-    /** True once the rest conditions have held for restMinTime. */
+    /**
+     * The rest time at which the current rest was declared: restMinTime, or restImplausibleTime when the
+     * low-passed gyroscope was beyond restMaxRate then.
+     */
+    var acceptedAfter = minTime
+        private set
+
+    // Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s.
+    private var plausibleTime = 0.0
+
+    /** True once the rest conditions have held for restMinTime (restImplausibleTime for a mean rate beyond restMaxRate). */
     var atRest = false
         private set
 
@@ -57,7 +72,12 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
             gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
             dax * dax + day * day + daz * daz < accThreshold2
         restTime = if (still) restTime + dt else 0.0
-        atRest = still && restTime >= minTime
+        // A mean rate beyond restMaxRate is more likely a slow turn than a bias: the rest conditions must then have
+        // held for restImplausibleTime, else restMinTime within restMaxRate.
+        plausibleTime = if (still && gx * gx + gy * gy + gz * gz < maxRate2) plausibleTime + dt else 0.0
+        val was = atRest
+        atRest = still && (plausibleTime >= minTime || restTime >= implausibleTime)
+        if (atRest && !was) acceptedAfter = if (plausibleTime >= minTime) restTime - plausibleTime + minTime else implausibleTime
         return atRest
     }
 
@@ -72,15 +92,18 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         ax = 0.0; ay = 0.0; az = 0.0
         restTime = 0.0
         atRest = false
+        acceptedAfter = minTime
+        plausibleTime = 0.0
     }
 
-    /** The low-passed gyroscope and accelerometer, the time at rest and the verdict. */
+    /** The low-passed gyroscope and accelerometer, the time at rest, the verdict and the rest plausibility's times. */
     data class State(
         val started: Boolean, val gx: Double, val gy: Double, val gz: Double,
         val ax: Double, val ay: Double, val az: Double, val restTime: Double, val atRest: Boolean,
+        val acceptedAfter: Double, val plausibleTime: Double,
     )
 
-    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest)
+    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest, acceptedAfter, plausibleTime)
 
     override fun restore(state: State) {
         started = state.started
@@ -88,6 +111,8 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         ax = state.ax; ay = state.ay; az = state.az
         restTime = state.restTime
         atRest = state.atRest
+        acceptedAfter = state.acceptedAfter
+        plausibleTime = state.plausibleTime
     }
 
     companion object {

@@ -13,18 +13,23 @@ import kotlin.math.abs
 
 /**
  * The default settings against VQF on the evaluation subsets beside the repository
- * (../shared/data; never copied into it): on BROAD and Tyrex, overall and in each group
- * (undisturbed, disturbed), the project's mean total RMSE (BROAD's metric) is
- * at most [PeerFigures.RMSE_MARGIN] (0: the target is to be ahead) above VQF's on the same trials, VQF's figures being
+ * (../shared/data; never copied into it): on each of BROAD, Tyrex, OxIOD and ADVIO, overall and in each group
+ * (undisturbed, disturbed; in the hand, pocket, handbag, running; mall, metro, office, outdoor), the project's mean
+ * total RMSE (BROAD's metric; ADVIO with the heading offset removed, as its README scores) is at most
+ * [PeerFigures.RMSE_MARGIN] (0: the target is to be ahead) above VQF's on the same trials, VQF's figures being
  * those committed in peers/vqf.csv ([PeerFigures]): the causal replay against VQF's real-time
- * filter, the offline replay (default [OfflineSettings]) against `vqf.offlineVQF`. On all four subsets (also OxIOD
- * and ADVIO, not yet compared with the project) the committed VQF figures are checked against the READMEs. Groups
- * come from each trial's meta.json ([PeerFigures.group]). Skipped when the data is absent; a trial missing from the
- * data or from the figures fails.
+ * filter, the offline replay (default [OfflineSettings]) against `vqf.offlineVQF`. Where the project is still
+ * behind ([BEHIND]: OxIOD in the hand causal, ADVIO causal and offline, docs/ACCURACY.md "Not done yet"), the group's
+ * measured figure is asserted instead, with [BEHIND_MARGIN], so that a regression fails there too. The committed
+ * VQF figures are checked against the READMEs. Groups come from each trial's meta.json ([PeerFigures.group]).
+ * Skipped when the data is absent; a trial missing from the data or from the figures fails.
  */
 class SubsetAccuracyTest {
     /** The subsets the project is compared with VQF on. */
-    private val compared = listOf("broad-subset", "tyrex-subset")
+    private val compared = listOf("broad-subset", "tyrex-subset", "oxiod-subset", "advio-subset")
+
+    /** The subsets the offline estimate's gain over the causal one is checked on (ADVIO's outdoor walk has none yet). */
+    private val offlineGain = listOf("broad-subset", "tyrex-subset", "oxiod-subset")
 
     private fun results(offline: OfflineSettings?): Map<String, List<TrialResult>> =
         compared.associateWith { name ->
@@ -110,7 +115,7 @@ class SubsetAccuracyTest {
     /** The offline estimate's other target: at least 15 % below the causal defaults on the same trials, overall and in each group. */
     @TestFactory
     fun `offline defaults at least 15 percent below the causal defaults on each subset overall and in each group`(): List<DynamicTest> =
-        groups().map { (subset, group) ->
+        groups(offlineGain).map { (subset, group) ->
             DynamicTest.dynamicTest("offline against causal $subset $group") {
                 assumeTrue(PeerFigures.data != null, "no ../shared/data beside the repository: not evaluated")
                 fun mean(r: Map<String, List<TrialResult>>): Double {
@@ -126,7 +131,7 @@ class SubsetAccuracyTest {
             }
         }
 
-    private fun groups() = compared.flatMap { subset -> (listOf(PeerFigures.OVERALL) + PeerFigures.subsets.getValue(subset).groups).map { group -> subset to group } }
+    private fun groups(subsets: List<String> = compared) = subsets.flatMap { subset -> (listOf(PeerFigures.OVERALL) + PeerFigures.subsets.getValue(subset).groups).map { group -> subset to group } }
 
     private fun compare(label: String, metric: String, results: () -> Map<String, List<TrialResult>>): List<DynamicTest> =
         groups().map { (subset, group) ->
@@ -137,11 +142,38 @@ class SubsetAccuracyTest {
                 val ours = trials.map { it.error.totalDeg }.average()
                 val vqf = trials.map { PeerFigures.of("$subset/${it.trial}", metric) }.average()
                 println(String.format(Locale.ROOT, "%s %s %s: %.2f° (VQF %.2f°)", label, subset, group, ours, vqf))
+                val measured = BEHIND["$label $subset $group"]
+                if (measured != null) {
+                    // Still behind VQF here: the measured figure holds, so a regression fails.
+                    assertTrue(ours <= measured * (1 + BEHIND_MARGIN), String.format(Locale.ROOT, "%s %s %s (%d trials): mean total RMSE %.2f°, measured %.2f° (+%.0f %% allowed; VQF %.2f°)", label, subset, group, trials.size, ours, measured, 100 * BEHIND_MARGIN, vqf))
+                    return@dynamicTest
+                }
                 assertTrue(ours <= vqf * (1 + PeerFigures.RMSE_MARGIN), String.format(Locale.ROOT, "%s %s %s (%d trials): mean total RMSE %.2f°, VQF %.2f° (behind by %.2f°, %.0f %%)", label, subset, group, trials.size, ours, vqf, ours - vqf, 100 * (ours - vqf) / vqf))
             }
         }
 
     private companion object {
+        /**
+         * The groups where the defaults are still behind VQF ("causal|offline subset group"), with the defaults'
+         * measured mean total RMSE there, degrees (docs/ACCURACY.md, "Not done yet").
+         */
+        val BEHIND = mapOf(
+            "causal oxiod-subset hand" to 5.03,
+            "causal advio-subset overall" to 21.53,
+            "causal advio-subset mall" to 21.65,
+            "causal advio-subset metro" to 39.11,
+            "causal advio-subset office" to 17.79,
+            "causal advio-subset outdoor" to 18.27,
+            "offline advio-subset overall" to 14.57,
+            "offline advio-subset mall" to 12.88,
+            "offline advio-subset metro" to 32.19,
+            "offline advio-subset office" to 11.36,
+            "offline advio-subset outdoor" to 18.21,
+        )
+
+        /** How far above its measured figure a [BEHIND] group may be (noise of a rebuild, not a regression). */
+        const val BEHIND_MARGIN = 0.02
+
         /** The READMEs' VQF rows (by how the row starts) and the committed metric each gives. */
         val PUBLISHED_ROWS = listOf("| VQF 9D" to PeerFigures.TOTAL_RMSE, "| VQF offline" to PeerFigures.OFFLINE_TOTAL_RMSE, "| VQF 6D" to PeerFigures.TOTAL_RMSE_6D)
 

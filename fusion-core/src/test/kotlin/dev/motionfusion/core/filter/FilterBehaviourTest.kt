@@ -63,10 +63,38 @@ class FilterBehaviourTest {
 
     @Test
     fun `rest is flagged at rest and not in motion`() {
+        // The simulated bias (1.55°/s) is beyond restMaxRate: rest is declared after restImplausibleTime (5 s), not restMinTime.
         val filter = MadgwickFilter()
         val flags = data.map { s -> filter.update(s.timestampNs, s.gyro, s.acc, s.mag); filter.diagnostics().atRest }
-        assertTrue((index(data, 2.0) until index(data, 7.9)).all { flags[it] }, "rest not flagged in 2..7.9 s")
+        assertTrue((index(data, 5.5) until index(data, 7.9)).all { flags[it] }, "rest not flagged in 5.5..7.9 s")
         assertTrue((index(data, 10.0) until data.size).none { flags[it] }, "rest flagged in motion")
+        // A bias within restMaxRate: rest from restMinTime (1.5 s).
+        val small = MotionSimulator(base.copy(gyroBias = Vector3(0.005, -0.004, 0.006))).run()
+        val f2 = MadgwickFilter()
+        val flags2 = small.map { s -> f2.update(s.timestampNs, s.gyro, s.acc, s.mag); f2.diagnostics().atRest }
+        assertTrue((index(small, 2.0) until index(small, 7.9)).all { flags2[it] }, "rest not flagged in 2..7.9 s with a small bias")
+    }
+
+    @Test
+    fun `a slow steady turn is not taken as a rest and its rate not as the bias`() {
+        // Flat, turning about the vertical at 1.7°/s with no bias: within restGyroThreshold (3°/s) and the accelerometer
+        // steady, so without the plausibility check it was a rest after 1.5 s and the turn became the bias.
+        val filter = MadgwickFilter()
+        val rate = 0.03
+        var t = 0L
+        fun turn(seconds: Double) {
+            repeat((seconds * 100).toInt()) {
+                t += 10_000_000L
+                filter.update(t, 0.0, 0.0, rate, 0.0, 0.0, 9.81)
+            }
+        }
+        turn(4.5)
+        assertFalse(filter.diagnostics().atRest, "a 1.7°/s turn flagged as rest within 4.5 s")
+        assertTrue(filter.diagnostics().gyroBias.norm() < 1e-3, "bias ${filter.diagnostics().gyroBias} rad/s from a slow turn")
+        // Held for restImplausibleTime it is a rest: a bias that large (an uncalibrated gyroscope) is still estimated.
+        turn(2.0)
+        assertTrue(filter.diagnostics().atRest, "rest not flagged after 6.5 s")
+        assertEquals(rate, filter.diagnostics().gyroBias.z, 1e-3)
     }
 
     @Test
