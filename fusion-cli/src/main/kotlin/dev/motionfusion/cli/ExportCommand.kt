@@ -196,33 +196,6 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     override fun close() = out.close()
 }
 
-/** The four noise figures of kalibr's imu.yaml (as `fusion allan` writes it), and the file itself. */
-internal class NoiseModel(val text: String, val figures: Map<String, Double>) {
-    companion object {
-        val KEYS = listOf("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk")
-
-        fun read(path: Path): NoiseModel {
-            val text = String(Files.readAllBytes(path), StandardCharsets.UTF_8)
-            val figures = LinkedHashMap<String, Double>()
-            text.lines().forEachIndexed { i, raw ->
-                val line = raw.substringBefore('#').trim()
-                val key = line.substringBefore(':').trim()
-                if (key in KEYS) {
-                    val v = line.substringAfter(':').trim()
-                    val d = v.toDoubleOrNull()
-                    if (d == null || !d.isFinite() || d < 0) {
-                        throw DataFormatException(path.toString(), (i + 1).toLong(), raw.indexOf(v).coerceAtLeast(0) + 1, "$key: '$v' is not a noise figure (a finite number ≥ 0)")
-                    }
-                    figures[key] = d
-                }
-            }
-            val missing = KEYS.filter { it !in figures }
-            if (missing.isNotEmpty()) throw DataFormatException(path.toString(), 0, 0, "not a noise model: ${missing.joinToString(", ")} missing (kalibr's imu.yaml, as fusion allan writes it)")
-            return NoiseModel(text, figures)
-        }
-    }
-}
-
 /** The events of a replay, each magnetometer reading also handed to [writer] at its own time. */
 private class MagnetometerTee(private val events: SensorEvents, private val writer: ExportWriter) : SensorEvents by events {
     override fun next(): Boolean {
@@ -286,6 +259,7 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
                 appendLine("gyroscope_random_walk: ${noise.figures.getValue("gyroscope_random_walk")}  # rad/s^2/sqrt(Hz)")
                 appendLine("accelerometer_noise_density: ${noise.figures.getValue("accelerometer_noise_density")}  # m/s^2/sqrt(Hz)")
                 appendLine("accelerometer_random_walk: ${noise.figures.getValue("accelerometer_random_walk")}  # m/s^3/sqrt(Hz)")
+                if (rateHz().isFinite()) append(NoiseConfigs.discreteComment(noise, rateHz()))
             }
         })
         write("state_groundtruth_estimate0/sensor.yaml", buildString {

@@ -176,6 +176,60 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `allan's noise configurations read by the stacks' reader, each with its conversion`() {
+        // 120 s still at 100 Hz with white noise of known density (σd = N·√f per sample).
+        val table = dir.resolve("still.csv")
+        val rnd = java.util.Random(11)
+        val f = 100.0
+        Files.newBufferedWriter(table).use { w ->
+            w.write("t_s,gx,gy,gz,ax,ay,az\n")
+            for (k in 0 until 12_000) {
+                fun g(n: Double) = n * Math.sqrt(f) * rnd.nextGaussian()
+                w.write("${k / f},${g(0.001)},${g(0.001)},${g(0.001)},${g(0.02)},${g(0.02)},${9.81 + g(0.02)}\n")
+            }
+        }
+        val out = dir.resolve("configs")
+        val r = fusion("allan", table.toString(), "--configs", out.toString(), "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val model = NoiseModel.parse(r.out, "imu.yaml")
+        assertEquals(r.out, Files.readString(out.resolve("imu.yaml")))
+        assertEquals(0.001, model.gyroscopeNoiseDensity, 0.0002)
+        val rate = model.rateHz!!
+        assertEquals(f, rate, 1e-6)
+        // The discrete figures at the rate, stated beside the continuous ones.
+        val sd = Regex("""# gyroscope discrete at 100 Hz: white noise sigma_d ([^ ]+) rad/s, bias random walk sigma_bd ([^ ]+) rad/s per sample""").find(r.out)
+        assertTrue(sd != null, r.out)
+        assertEquals(model.gyroscopeNoiseDensity * 10, sd!!.groupValues[1].toDouble(), 1e-5 * model.gyroscopeNoiseDensity * 10)
+        assertEquals(model.gyroscopeRandomWalk / 10, sd.groupValues[2].toDouble(), 1e-5 * model.gyroscopeRandomWalk / 10)
+        val read = python("configs", out, "cv2, yaml").mapValues { (_, v) -> v }
+        fun value(file: String, key: String) = read.getValue(file).single { it[0] == key }[1].toDouble()
+        fun close(expected: Double, actual: Double, what: String) = assertEquals(expected, actual, 1e-5 * expected, what)
+        // kalibr and OpenVINS: continuous time, as they are.
+        for (k in NoiseModel.KEYS) {
+            close(model.figures.getValue(k), value("kalibr", k), "kalibr $k")
+            close(model.figures.getValue(k), value("kalibr_imu_chain.yaml", k), "OpenVINS $k")
+        }
+        close(rate, value("kalibr_imu_chain.yaml", "update_rate"), "OpenVINS update_rate")
+        assertEquals("kalibr", read.getValue("kalibr_imu_chain.yaml").single { it[0] == "model" }[1])
+        assertEquals(listOf(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+            read.getValue("kalibr_imu_chain.yaml").single { it[0] == "T_i_b" }.drop(1).map { it.toDouble() })
+        // VINS: per sample at the rate: noise × √f, bias walk × √f (its bias moves by acc_w·dt per sample).
+        val sf = Math.sqrt(rate)
+        close(model.accelerometerNoiseDensity * sf, value("vins_imu.yaml", "acc_n"), "acc_n")
+        close(model.gyroscopeNoiseDensity * sf, value("vins_imu.yaml", "gyr_n"), "gyr_n")
+        close(model.accelerometerRandomWalk * sf, value("vins_imu.yaml", "acc_w"), "acc_w")
+        close(model.gyroscopeRandomWalk * sf, value("vins_imu.yaml", "gyr_w"), "gyr_w")
+        // ORB-SLAM3: continuous, with the rate it discretises them at.
+        close(model.gyroscopeNoiseDensity, value("orbslam3_imu.yaml", "IMU.NoiseGyro"), "IMU.NoiseGyro")
+        close(model.accelerometerNoiseDensity, value("orbslam3_imu.yaml", "IMU.NoiseAcc"), "IMU.NoiseAcc")
+        close(model.gyroscopeRandomWalk, value("orbslam3_imu.yaml", "IMU.GyroWalk"), "IMU.GyroWalk")
+        close(model.accelerometerRandomWalk, value("orbslam3_imu.yaml", "IMU.AccWalk"), "IMU.AccWalk")
+        close(rate, value("orbslam3_imu.yaml", "IMU.Frequency"), "IMU.Frequency")
+        println("noise configurations via cv2.FileStorage and PyYAML: N_g ${model.gyroscopeNoiseDensity} rad/s/sqrt(Hz) → gyr_n ${value("vins_imu.yaml", "gyr_n")} rad/s at $rate Hz; " +
+            "N_a ${model.accelerometerNoiseDensity} → acc_n ${value("vins_imu.yaml", "acc_n")}")
+    }
+
+    @Test
     fun `refused outputs create nothing`() {
         val out = dir.resolve("inside")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
@@ -210,7 +264,7 @@ class ExportReadersTest {
         val python = System.getenv("FUSION_PYTHON") ?: "python3"
         val probe = runCatching { run(listOf(python, "-c", "import $module"), dir, 120) }.getOrNull()
         assumeTrue(probe != null && probe.first == 0) {
-            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags; .ci/run installs them where pip reaches PyPI)"
+            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags opencv-python-headless; .ci/run installs them where pip reaches PyPI)"
         }
         val script = dir.resolve("read_export.py")
         javaClass.getResourceAsStream("export/read_export.py")!!.use { Files.copy(it, script, java.nio.file.StandardCopyOption.REPLACE_EXISTING) }
