@@ -36,6 +36,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |    or a folder holding input.csv[.gz] (a BROAD trial)
         |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder),
         |    Android or iOS (sign and units from Metadata.csv, else --platform); see docs/IMPORT.md
+        |  the IMU of an EuRoC (ASL) folder (mav0/imu0/data.csv; mav0/mag0/data.csv too, as fusion
+        |    export writes it) or of a Kalibr imu0.csv (timestamp,omega_x,…,alpha_z), or that file
+        |    alone: times in ns of their own clock (t_s from the first row), so public VIO data
+        |    sets and fusion export's output replay as they come
         |One input is one recording: a folder holding several is an error that lists them.
         |What an import assumed (a platform, a file left out) is printed as a note.
         |
