@@ -312,6 +312,48 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `heading tare on replay and export turns the output frame about up only`() {
+        val plain = replayRows(session, "--default-settings")
+        fun angle(a: String, b: String) = Math.abs(Math.IEEEremainder(a.toDouble() - b.toDouble(), 360.0))
+        fun checkTare(rows: List<List<String>>, deltaDeg: Double, what: String) {
+            assertEquals(plain.size, rows.size)
+            for ((k, r) in rows.withIndex()) {
+                if (plain[k][1] == "NaN") { assertEquals("NaN", r[1]); continue }
+                assertEquals(0.0, angle(plain[k][8], (r[8].toDouble() - deltaDeg).toString()), 2e-4, "$what row $k yaw + Δ")
+                assertEquals(plain[k][9], r[9], "$what row $k pitch")
+                assertEquals(0.0, angle(plain[k][10], r[10]), 2e-4, "$what row $k roll")
+                assertEquals(plain[k][13].toDouble(), r[13].toDouble(), 2e-5, "$what row $k vertical linear acceleration")
+            }
+        }
+        // At a time: the first row with an orientation at or after it reads the heading given.
+        val at = replayRows(session, "--default-settings", "--heading-tare", "2.5=30")
+        val k = at.indexOfFirst { it[0].toDouble() >= 2.5 }
+        assertEquals(30.0, at[k][8].toDouble(), 1e-4)
+        checkTare(at, at[k][8].toDouble() - plain[k][8].toDouble(), "tare at 2.5 s")
+        // At the start: the first orientation reads 0.
+        val start = replayRows(session, "--default-settings", "--heading-tare", "start")
+        val first = start.indexOfFirst { it[1] != "NaN" }
+        assertEquals(0.0, Math.abs(start[first][8].toDouble()), 1e-4)
+        checkTare(start, -plain[first][8].toDouble(), "tare at start")
+        checkTare(replayRows(session, "--default-settings", "--heading-offset", "90"), 90.0, "offset 90")
+        // The export carries the tared orientation and names its frame.
+        val out = dir.resolve("tared-euroc")
+        val r = fusion("export", session.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings", "--heading-tare", "2.5=30")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val pose = csv(out.resolve("mav0/state_groundtruth_estimate0/data.csv"))
+        for (j in pose.indices) for (c in 0 until 4) assertEquals(at[j][1 + c].toDouble(), pose[j][4 + c].trim().toDouble(), 1e-9, "pose $j q$c")
+        val yaml = Files.readString(out.resolve("mav0/state_groundtruth_estimate0/sensor.yaml"))
+        assertTrue("R is ENU turned about up (heading tare: every heading + " in yaml && "so that it reads 30 deg at t = 2.5 s" in yaml, yaml)
+        // Usage and data errors.
+        assertEquals(ExitCode.USAGE, fusion("replay", session.toString(), "--heading-tare", "start", "--heading-offset", "3").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", session.toString(), "--heading-tare", "soon").code)
+        val late = fusion("replay", session.toString(), "--heading-tare", "60", "-o", dir.resolve("late.csv").toString())
+        assertEquals(ExitCode.DATA_ERROR, late.code, late.err)
+        assertTrue("no orientation at or after t = 60 s" in late.err, late.err)
+        assertTrue(!Files.exists(dir.resolve("late.csv")))
+    }
+
+    @Test
     fun `refused outputs create nothing`() {
         val out = dir.resolve("inside")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
