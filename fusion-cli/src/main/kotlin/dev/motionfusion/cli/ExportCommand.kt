@@ -332,15 +332,20 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
     }
 
     override fun finish() {
-        // The noise model of fusion allan as it wrote it; else the keys kalibr needs besides it.
-        val text = noise?.text ?: buildString {
+        // The frames first (comments: kalibr reads the keys only); then the noise model of fusion allan as it
+        // wrote it, else the keys kalibr needs besides it.
+        val frames = buildString {
             appendLine("# ${about.source}")
+            appendLine("# imu0.csv: omega (gyroscope, rad/s) and alpha (accelerometer, specific force, m/s^2) in the")
+            appendLine("# ${About.AXES}; timestamp: ${About.TIME}.")
+        }
+        val text = frames + (noise?.text ?: buildString {
             appendLine("# No noise model known for this phone: kalibr needs accelerometer_noise_density,")
             appendLine("# accelerometer_random_walk, gyroscope_noise_density and gyroscope_random_walk; run")
             appendLine("# fusion allan on a still recording of the phone and export with --noise IMU.yaml.")
             appendLine("rostopic: /imu0")
             appendLine("update_rate: ${rate()}  # Hz, mean rate of imu0.csv")
-        }
+        })
         Files.write(root.resolve("imu.yaml"), text.toByteArray(StandardCharsets.UTF_8))
     }
 

@@ -354,6 +354,42 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `an iOS and an Android Sensor Logger export of the same motion export to the same frame`() {
+        // The session's samples written as both apps write them: Android's convention, and raw iOS
+        // (CoreMotion's: the acceleration with the opposite sign); gyroscope and magnetometer alike.
+        fun table(name: String) = csv(session.resolve(name)).map { r -> r[0] to r.subList(1, 4).map { it.toDouble() } }
+        val streams = mapOf("TotalAcceleration.csv" to table("accelerometer.csv"), "Gyroscope.csv" to table("gyroscope.csv"), "Magnetometer.csv" to table("magnetometer.csv"))
+        val t0 = times.first()
+        val exported = HashMap<String, List<String>>()
+        for (platform in listOf("android", "ios")) {
+            val folder = Files.createDirectories(dir.resolve("sensor-logger-$platform"))
+            Files.writeString(folder.resolve("Metadata.csv"), "version,device name,platform,appVersion,standardisation\n3,phone,$platform,1.40.0,false\n")
+            for ((file, rows) in streams) {
+                val sign = if (platform == "ios" && file == "TotalAcceleration.csv") -1.0 else 1.0
+                Files.write(folder.resolve(file), listOf("time,seconds_elapsed,z,y,x") + rows.map { (t, v) ->
+                    "$t,${(t.toLong() - t0) / 1e9},${sign * v[2]},${sign * v[1]},${sign * v[0]}"
+                })
+            }
+            val out = dir.resolve("sensor-logger-$platform-euroc")
+            val r = fusion("export", folder.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings")
+            assertEquals(ExitCode.OK, r.code, r.err)
+            val meta = Files.readString(out.resolve("mav0/imu0/sensor.yaml"))
+            assertTrue("Readings in ${About.AXES}" in meta, meta)
+            exported[platform] = listOf("imu0", "mag0", "state_groundtruth_estimate0").flatMap { Files.readAllLines(out.resolve("mav0/$it/data.csv")) }
+        }
+        assertEquals(exported.getValue("android"), exported.getValue("ios"))
+        // The session names its frames in meta.json, and every reader of it still opens it (this test's replays).
+        val meta = Files.readString(session.resolve("meta.json"))
+        assertTrue(Regex(""""frames":\s*\{\s*"device":\s*"android_sensor: x right, y up, z out of screen",\s*"world":\s*"ENU: x east, y magnetic north, z up",\s*"quaternion":\s*"qw,qx,qy,qz Hamilton, device to world"""").containsMatchIn(meta), meta)
+        // And that frame is the session's: +9.8 m/s² on the up axis at rest, the same rows as the session's own export.
+        val own = dir.resolve("session-euroc-frames")
+        assertEquals(ExitCode.OK, fusion("export", session.toString(), "--format", "euroc", "-o", own.toString(), "--default-settings", "--quiet").code)
+        val ownImu = Files.readAllLines(own.resolve("mav0/imu0/data.csv"))
+        assertEquals(ownImu, exported.getValue("android").take(ownImu.size))
+        println("sensor logger android and ios (raw CoreMotion signs) → euroc: ${exported.getValue("ios").size} lines, identical, and equal to the session's own IMU rows")
+    }
+
+    @Test
     fun `refused outputs create nothing`() {
         val out = dir.resolve("inside")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
