@@ -156,7 +156,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
     companion object {
         /** One replay of [rec] into [listener] (with [replayer], else a new one), as every command runs it. */
         fun replay(
-            rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings, offline: dev.motionfusion.core.replay.OfflineSettings?,
+            rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings, offline: dev.motionfusion.core.filter.offline.OfflineSettings?,
             listener: ReplayListener, progress: ((Long) -> Unit)?, replayer: Replayer = Replayer(settings),
         ): dev.motionfusion.core.replay.ReplayCounts =
             CalibrateCommand.calibrated(rec, calibration).use { e ->
