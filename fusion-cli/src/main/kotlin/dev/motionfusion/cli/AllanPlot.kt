@@ -2,6 +2,7 @@ package dev.motionfusion.cli
 
 import dev.motionfusion.core.calib.AllanCurve
 import dev.motionfusion.core.calib.AllanResult
+import dev.motionfusion.core.calib.DiscreteNoise
 import dev.motionfusion.core.calib.NoiseTerms
 import java.util.Locale
 import kotlin.math.sqrt
@@ -43,6 +44,10 @@ internal object AllanPlot {
                 val k = if (t.randomWalk.isFinite()) g(t.randomWalk) else "< ${g(t.randomWalkUpperBound)}"
                 appendLine(String.format(Locale.ROOT, "  %-4s %-14s %-14s %-14s %s", AXES[a], g(t.whiteNoise), g(t.biasInstability), k, g(t.biasInstabilityTau)))
             }
+            // The same figures per sample at the recording's rate (white: N·√f, bias random walk: K/√f).
+            val f = curve.rateHz
+            appendLine("  discrete, per sample at ${g(f)} Hz: white noise sigma_d ${terms.joinToString(" ") { g(DiscreteNoise.white(it.whiteNoise, f)) }} $unit, " +
+                "bias random walk sigma_bd ${terms.joinToString(" ") { g(DiscreteNoise.randomWalk(if (it.randomWalk.isFinite()) it.randomWalk else it.randomWalkUpperBound, f)) }} $unit (x y z)")
         }
         rows("gyroscope", r.gyroscope, r.gyroscopeTerms, "rad/s")
         rows("accelerometer", r.accelerometer, r.accelerometerTerms, "m/s²")

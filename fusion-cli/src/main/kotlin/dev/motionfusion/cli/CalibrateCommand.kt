@@ -142,7 +142,7 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
     override val name = "allan"
     override val summary = "Allan deviation of gyroscope and accelerometer; noise figures as kalibr YAML"
     override val help = """
-        |Usage: fusion allan INPUT [-o FILE.yaml] [--plot FILE.svg]
+        |Usage: fusion allan INPUT [-o FILE.yaml] [--plot FILE.svg] [--configs DIR]
         |
         |Computes the overlapping Allan deviation per axis of the gyroscope (the uncalibrated
         |stream when recorded) and the accelerometer of a long still recording (the phone
@@ -154,21 +154,32 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         |Writes them as YAML in the layout of kalibr's imu.yaml (accelerometer_noise_density,
         |accelerometer_random_walk, gyroscope_noise_density, gyroscope_random_walk, update_rate;
         |the largest axis, per-axis values in comments) and prints a table on standard error.
+        |The four keys are continuous-time figures (kalibr's convention, independent of the rate);
+        |comments give the discrete-time ones per sample at update_rate f: white noise
+        |sigma_d = density * sqrt(f), bias random walk sigma_bd = random_walk / sqrt(f).
         |The app's still-recording mode makes such sessions ("still_recording": true in
         |meta.json); a session without that mark gets a note.
         |
         |Options:
         |  -o, --output FILE    write the YAML there instead of standard output
         |  --plot FILE          draw the curves with the fitted lines as SVG
+        |  --configs DIR        also write the noise model for each VIO stack into DIR (new or empty),
+        |                       each file with its conversion in its comments (docs/EXPORT.md):
+        |                       imu.yaml (kalibr, as -o), kalibr_imu_chain.yaml (OpenVINS,
+        |                       continuous), vins_imu.yaml (VINS-Mono/Fusion acc_n, gyr_n, acc_w,
+        |                       gyr_w: per sample at the rate), orbslam3_imu.yaml (ORB-SLAM3
+        |                       IMU.NoiseGyro ...: continuous, with IMU.Frequency)
         |  --quiet              no table on standard error
         |Exit codes: 0 ok, 1 malformed input or no gyroscope/accelerometer, 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--plot"), setOf("--quiet"))
+        val o = Options(args, setOf("-o", "--output", "--plot", "--configs"), setOf("--quiet"))
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "allan needs an INPUT" else "allan takes one INPUT")
         val output = o.value("-o") ?: o.value("--output")
         val plot = o.value("--plot")
+        val configs = o.value("--configs")
+        configs?.let { outputs.check(it, listOf(input)) }
         val outputTarget = output?.let { outputs.check(it, listOf(input)) }
         val plotTarget = plot?.let { outputs.check(it, listOf(input)) }
         // Real paths (links followed), so a link to the other output is the same file.
@@ -199,6 +210,14 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         val yaml = result.kalibrYaml("fusion allan ${Cli.VERSION} from $name")
         if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
         if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
+        if (configs != null) {
+            val model = NoiseModel.parse(yaml, "the noise model of $input")
+            val rate = model.rateHz ?: throw DataFormatException(input, 0, 0, "no sample rate for the noise configurations")
+            val folder = outputs.folder(configs, listOf(input))
+            for ((file, text) in NoiseConfigs.all(model, rate, "fusion allan ${Cli.VERSION} from $name")) {
+                Files.write(folder.resolve(file), text.toByteArray(StandardCharsets.UTF_8))
+            }
+        }
         return ExitCode.OK
     }
 

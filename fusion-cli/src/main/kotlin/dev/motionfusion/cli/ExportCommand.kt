@@ -57,6 +57,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |                       says so)
         |  --calibration FILE|recorded|none   as in fusion replay (default: as the live filter did)
         |  --quiet              no summary on standard error
+        |${HeadingOptions.HELP}
         |${FilterOptions.HELP}
         |${InputOptions.HELP}
         |The output is written aside and moved into place only when the export succeeds; an
@@ -65,7 +66,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val valued = setOf("-o", "--output", "--format", "--noise", "--calibration") + FilterOptions.VALUED + InputOptions.VALUED
+        val valued = setOf("-o", "--output", "--format", "--noise", "--calibration") + FilterOptions.VALUED + InputOptions.VALUED + HeadingOptions.VALUED
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "export needs an INPUT" else "export takes one INPUT")
         val format = when (val f = o.value("--format")?.lowercase()) {
@@ -76,6 +77,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("export needs -o OUT")
         FilterOptions.settings(o) // usage errors before the input is opened
         val offline = FilterOptions.offline(o)
+        val heading = HeadingOptions.spec(o)
         val noiseFile = o.value("--noise")
         val inputs = listOfNotNull(input, noiseFile, o.value("--calibration")?.takeUnless { it == "recorded" || it == "none" })
         outputs.check(output, inputs)
@@ -85,7 +87,15 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             val settings = FilterOptions.settings(o, rec, err, name)
             val calibration = ReplayCommand.calibration(o, file, rec, err, name)
             val magnetometer = SessionStream.MAGNETOMETER in rec.streams
-            val about = About(rec, settings.mode.name, offline != null, calibration != null)
+            // A heading tare is known before anything is written (a first replay finds the heading at its moment), so the metadata can name the frame.
+            val tareRad = heading?.let { h ->
+                val at = if (h.offsetDeg == null) HeadingOptions.Spec(null, h.atS ?: Double.NEGATIVE_INFINITY, h.headingDeg) else h
+                HeadingOptions.wrap(at, object : ReplayListener { override fun step(step: ReplayStep) {} }, rec.name) { probe ->
+                    ReplayCommand.replay(rec, calibration, settings, offline, probe, null)
+                }!!.offsetRad
+            }
+            val world = if (heading == null || tareRad == null) About.WORLD else heading.describe(Math.toDegrees(tareRad))
+            val about = About(rec, settings.mode.name, offline != null, calibration != null, world)
             val writer: ExportWriter = when (format) {
                 "euroc" -> EurocWriter(outputs.folder(output, inputs), magnetometer, noise, about)
                 "kalibr" -> KalibrWriter(outputs.folder(output, inputs), noise, about)
@@ -95,9 +105,10 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             val progress = Progress(err, name, rec.metadata?.streams?.values?.sumOf { it.samples })
             val replayer = Replayer(settings)
             val counts = writer.use { w ->
-                val listener = object : ReplayListener {
+                val plain = object : ReplayListener {
                     override fun step(step: ReplayStep) = w.step(step)
                 }
+                val listener = tareRad?.let { dev.motionfusion.core.replay.HeadingTare.offset(plain, it) } ?: plain
                 MagnetometerTee(CalibrateCommand.calibrated(rec, calibration), w).use { e ->
                     if (offline == null) replayer.run(e, rec.originNs, listener, progress::update, rec.name)
                     else replayer.runOffline(e, rec.originNs, listener, progress::update, rec.name, offline)
@@ -126,7 +137,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
 }
 
 /** What every export says about where it came from and its frames. */
-internal class About(rec: Recording, mode: String, offline: Boolean, calibrated: Boolean) {
+internal class About(rec: Recording, mode: String, offline: Boolean, calibrated: Boolean, val world: String = WORLD) {
     val source = "fusion export ${Cli.VERSION} from ${rec.format.description} ${rec.name}"
     val device = rec.metadata?.device?.let { "${it.manufacturer} ${it.model}".trim() }?.takeIf { it.isNotEmpty() }
     val filter = "Madgwick ${if (mode == "IMU") "6D" else "9D"}${if (offline) " offline" else ""}${if (calibrated) ", calibrated readings" else ""}"
@@ -134,7 +145,7 @@ internal class About(rec: Recording, mode: String, offline: Boolean, calibrated:
     companion object {
         const val AXES = "Android device axes: x right, y up (top edge), z out of the screen; right-handed"
         const val WORLD = "ENU: x east, y magnetic north, z up"
-        const val QUATERNION = "[w, x, y, z] Hamilton, rotating sensor (device) vectors into ENU"
+        const val QUATERNION = "[w, x, y, z] Hamilton, rotating sensor (device) vectors into the world frame"
         const val TIME = "the recording's own clock, ns"
     }
 }
@@ -194,33 +205,6 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     private fun sep() { if (p > 0) buf[p++] = ','.code.toByte() }
 
     override fun close() = out.close()
-}
-
-/** The four noise figures of kalibr's imu.yaml (as `fusion allan` writes it), and the file itself. */
-internal class NoiseModel(val text: String, val figures: Map<String, Double>) {
-    companion object {
-        val KEYS = listOf("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk")
-
-        fun read(path: Path): NoiseModel {
-            val text = String(Files.readAllBytes(path), StandardCharsets.UTF_8)
-            val figures = LinkedHashMap<String, Double>()
-            text.lines().forEachIndexed { i, raw ->
-                val line = raw.substringBefore('#').trim()
-                val key = line.substringBefore(':').trim()
-                if (key in KEYS) {
-                    val v = line.substringAfter(':').trim()
-                    val d = v.toDoubleOrNull()
-                    if (d == null || !d.isFinite() || d < 0) {
-                        throw DataFormatException(path.toString(), (i + 1).toLong(), raw.indexOf(v).coerceAtLeast(0) + 1, "$key: '$v' is not a noise figure (a finite number ≥ 0)")
-                    }
-                    figures[key] = d
-                }
-            }
-            val missing = KEYS.filter { it !in figures }
-            if (missing.isNotEmpty()) throw DataFormatException(path.toString(), 0, 0, "not a noise model: ${missing.joinToString(", ")} missing (kalibr's imu.yaml, as fusion allan writes it)")
-            return NoiseModel(text, figures)
-        }
-    }
 }
 
 /** The events of a replay, each magnetometer reading also handed to [writer] at its own time. */
@@ -286,13 +270,14 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
                 appendLine("gyroscope_random_walk: ${noise.figures.getValue("gyroscope_random_walk")}  # rad/s^2/sqrt(Hz)")
                 appendLine("accelerometer_noise_density: ${noise.figures.getValue("accelerometer_noise_density")}  # m/s^2/sqrt(Hz)")
                 appendLine("accelerometer_random_walk: ${noise.figures.getValue("accelerometer_random_walk")}  # m/s^3/sqrt(Hz)")
+                if (rateHz().isFinite()) append(NoiseConfigs.discreteComment(noise, rateHz()))
             }
         })
         write("state_groundtruth_estimate0/sensor.yaml", buildString {
             appendLine("# ${about.source}")
             appendLine("# NOT ground truth: the orientation estimated by the ${about.filter} filter of fusion replay")
             appendLine("# (the same options give the same rows). Position: not estimated, written as 0.")
-            appendLine("# q_RS: ${About.QUATERNION}; R is $WORLD_COMMENT; S the device ($AXES_COMMENT).")
+            appendLine("# q_RS: ${About.QUATERNION}; R is ${about.world}; S the device ($AXES_COMMENT).")
             appendLine("# Rows from the filter's first orientation on; times: ${About.TIME}.")
             appendLine("sensor_type: orientation_estimate")
             appendLine("comment: ${yamlString("fused orientation (${about.filter}), an estimate; position 0")}")
@@ -330,7 +315,6 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
         const val POSE_HEADER = "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []"
         const val MAG_HEADER = "#timestamp [ns],m_S_x [uT],m_S_y [uT],m_S_z [uT]"
         private const val AXES_COMMENT = About.AXES
-        private const val WORLD_COMMENT = About.WORLD
 
         /** A YAML double-quoted scalar. */
         fun yamlString(s: String) = "\"" + s.replace("\\", "\\\\").replace("\"", "\\\"") + "\""
@@ -348,15 +332,20 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
     }
 
     override fun finish() {
-        // The noise model of fusion allan as it wrote it; else the keys kalibr needs besides it.
-        val text = noise?.text ?: buildString {
+        // The frames first (comments: kalibr reads the keys only); then the noise model of fusion allan as it
+        // wrote it, else the keys kalibr needs besides it.
+        val frames = buildString {
             appendLine("# ${about.source}")
+            appendLine("# imu0.csv: omega (gyroscope, rad/s) and alpha (accelerometer, specific force, m/s^2) in the")
+            appendLine("# ${About.AXES}; timestamp: ${About.TIME}.")
+        }
+        val text = frames + (noise?.text ?: buildString {
             appendLine("# No noise model known for this phone: kalibr needs accelerometer_noise_density,")
             appendLine("# accelerometer_random_walk, gyroscope_noise_density and gyroscope_random_walk; run")
             appendLine("# fusion allan on a still recording of the phone and export with --noise IMU.yaml.")
             appendLine("rostopic: /imu0")
             appendLine("update_rate: ${rate()}  # Hz, mean rate of imu0.csv")
-        }
+        })
         Files.write(root.resolve("imu.yaml"), text.toByteArray(StandardCharsets.UTF_8))
     }
 

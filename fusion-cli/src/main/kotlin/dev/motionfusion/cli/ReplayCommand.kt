@@ -36,6 +36,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |    or a folder holding input.csv[.gz] (a BROAD trial)
         |  a phyphox export (zip, folder or single CSV) or a Sensor Logger export (zip or folder),
         |    Android or iOS (sign and units from Metadata.csv, else --platform); see docs/IMPORT.md
+        |  the IMU of an EuRoC (ASL) folder (mav0/imu0/data.csv; mav0/mag0/data.csv too, as fusion
+        |    export writes it) or of a Kalibr imu0.csv (timestamp,omega_x,…,alpha_z), or that file
+        |    alone: times in ns of their own clock (t_s from the first row), so public VIO data
+        |    sets and fusion export's output replay as they come
         |One input is one recording: a folder holding several is an error that lists them.
         |What an import assumed (a platform, a file left out) is printed as a note.
         |
@@ -57,6 +61,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |                       Default: as the live filter did: a session whose meta.json says
         |                       the phone's calibration was applied live is replayed with it (a
         |                       note says so), so the output reproduces its orientation.csv
+        |${HeadingOptions.HELP}
         |${FilterOptions.HELP}
         |${InputOptions.HELP}
         |Several inputs (or one with -o ending in /): each is replayed as if alone into
@@ -78,7 +83,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val valued = setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED
+        val valued = setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED + HeadingOptions.VALUED
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("replay needs an INPUT")
         val target = o.value("-o") ?: o.value("--output")
@@ -87,6 +92,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         }
         val input = o.positional.single()
         FilterOptions.settings(o) // usage errors before the input is opened
+        val heading = HeadingOptions.spec(o)
         val offline = FilterOptions.offline(o)
         val output = o.value("-o") ?: o.value("--output")
         val file = calibrationFile(o)
@@ -105,7 +111,7 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             val rows = rowsFile?.let { ImuTableWriter(outputs.file(it, listOf(input)), it.endsWith(".gz"), SessionStream.MAGNETOMETER in rec.streams) }
             val counts = rows.use { r ->
                 writer.use { w ->
-                    val listener = if (r == null) w else object : ReplayListener {
+                    val plain = if (r == null) w else object : ReplayListener {
                         override fun step(step: ReplayStep) {
                             w.step(step)
                             r.row(step.timeS, step.angularVelocity, step.specificForce, step.magneticField)
@@ -113,10 +119,10 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
 
                         override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
                     }
-                    CalibrateCommand.calibrated(rec, calibration).use { e ->
-                        if (offline == null) replayer.run(e, rec.originNs, listener, progress::update, rec.name)
-                        else replayer.runOffline(e, rec.originNs, listener, progress::update, rec.name, offline)
-                    }
+                    val tare = HeadingOptions.wrap(heading, plain, rec.name) { probe -> replay(rec, calibration, settings, offline, probe, null) }
+                    val counts = replay(rec, calibration, settings, offline, tare ?: plain, progress::update, replayer)
+                    if (tare != null && !o.has("--quiet")) err.println("fusion replay: note: ${rec.name}: ${HeadingOptions.note(heading!!, tare)}")
+                    counts
                 }
             }
             progress.finish()
@@ -148,6 +154,16 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
     }
 
     companion object {
+        /** One replay of [rec] into [listener] (with [replayer], else a new one), as every command runs it. */
+        fun replay(
+            rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings, offline: dev.motionfusion.core.filter.offline.OfflineSettings?,
+            listener: ReplayListener, progress: ((Long) -> Unit)?, replayer: Replayer = Replayer(settings),
+        ): dev.motionfusion.core.replay.ReplayCounts =
+            CalibrateCommand.calibrated(rec, calibration).use { e ->
+                if (offline == null) replayer.run(e, rec.originNs, listener, progress, rec.name)
+                else replayer.runOffline(e, rec.originNs, listener, progress, rec.name, offline)
+            }
+
         /** The calibration file named by --calibration (not `recorded` or `none`), read before the input is opened. */
         fun calibrationFile(o: Options): Calibration? =
             o.value("--calibration")?.let { if (it == "recorded" || it == "none") null else CalibrateCommand.read(InputOptions.path(it)) }

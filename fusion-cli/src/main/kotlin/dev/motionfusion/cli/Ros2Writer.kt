@@ -29,7 +29,7 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
         if (hasMagnetometer) write(OP_SCHEMA) { u16(2); string("sensor_msgs/msg/MagneticField"); string("ros2msg"); bytes(MAG_DEFINITION.toByteArray(StandardCharsets.UTF_8)) }
         val metadata = mapOf(
             "source" to about.source,
-            "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (ENU: ${About.WORLD}); stamps: ${About.TIME}",
+            "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (world: ${about.world}); stamps: ${About.TIME}",
         )
         channel(IMU_RAW, 1, "imu/data_raw", metadata)
         channel(IMU, 1, "imu/data", metadata)

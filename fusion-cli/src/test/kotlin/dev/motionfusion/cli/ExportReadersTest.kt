@@ -176,6 +176,220 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `allan's noise configurations read by the stacks' reader, each with its conversion`() {
+        // 120 s still at 100 Hz with white noise of known density (σd = N·√f per sample).
+        val table = dir.resolve("still.csv")
+        val rnd = java.util.Random(11)
+        val f = 100.0
+        Files.newBufferedWriter(table).use { w ->
+            w.write("t_s,gx,gy,gz,ax,ay,az\n")
+            for (k in 0 until 12_000) {
+                fun g(n: Double) = n * Math.sqrt(f) * rnd.nextGaussian()
+                w.write("${k / f},${g(0.001)},${g(0.001)},${g(0.001)},${g(0.02)},${g(0.02)},${9.81 + g(0.02)}\n")
+            }
+        }
+        val out = dir.resolve("configs")
+        val r = fusion("allan", table.toString(), "--configs", out.toString(), "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val model = NoiseModel.parse(r.out, "imu.yaml")
+        assertEquals(r.out, Files.readString(out.resolve("imu.yaml")))
+        assertEquals(0.001, model.gyroscopeNoiseDensity, 0.0002)
+        val rate = model.rateHz!!
+        assertEquals(f, rate, 1e-6)
+        // The discrete figures at the rate, stated beside the continuous ones.
+        val sd = Regex("""# gyroscope discrete at 100 Hz: white noise sigma_d ([^ ]+) rad/s, bias random walk sigma_bd ([^ ]+) rad/s per sample""").find(r.out)
+        assertTrue(sd != null, r.out)
+        assertEquals(model.gyroscopeNoiseDensity * 10, sd!!.groupValues[1].toDouble(), 1e-5 * model.gyroscopeNoiseDensity * 10)
+        assertEquals(model.gyroscopeRandomWalk / 10, sd.groupValues[2].toDouble(), 1e-5 * model.gyroscopeRandomWalk / 10)
+        val read = python("configs", out, "cv2, yaml").mapValues { (_, v) -> v }
+        fun value(file: String, key: String) = read.getValue(file).single { it[0] == key }[1].toDouble()
+        fun close(expected: Double, actual: Double, what: String) = assertEquals(expected, actual, 1e-5 * expected, what)
+        // kalibr and OpenVINS: continuous time, as they are.
+        for (k in NoiseModel.KEYS) {
+            close(model.figures.getValue(k), value("kalibr", k), "kalibr $k")
+            close(model.figures.getValue(k), value("kalibr_imu_chain.yaml", k), "OpenVINS $k")
+        }
+        close(rate, value("kalibr_imu_chain.yaml", "update_rate"), "OpenVINS update_rate")
+        assertEquals("kalibr", read.getValue("kalibr_imu_chain.yaml").single { it[0] == "model" }[1])
+        assertEquals(listOf(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0),
+            read.getValue("kalibr_imu_chain.yaml").single { it[0] == "T_i_b" }.drop(1).map { it.toDouble() })
+        // VINS: per sample at the rate: noise × √f, bias walk × √f (its bias moves by acc_w·dt per sample).
+        val sf = Math.sqrt(rate)
+        close(model.accelerometerNoiseDensity * sf, value("vins_imu.yaml", "acc_n"), "acc_n")
+        close(model.gyroscopeNoiseDensity * sf, value("vins_imu.yaml", "gyr_n"), "gyr_n")
+        close(model.accelerometerRandomWalk * sf, value("vins_imu.yaml", "acc_w"), "acc_w")
+        close(model.gyroscopeRandomWalk * sf, value("vins_imu.yaml", "gyr_w"), "gyr_w")
+        // ORB-SLAM3: continuous, with the rate it discretises them at.
+        close(model.gyroscopeNoiseDensity, value("orbslam3_imu.yaml", "IMU.NoiseGyro"), "IMU.NoiseGyro")
+        close(model.accelerometerNoiseDensity, value("orbslam3_imu.yaml", "IMU.NoiseAcc"), "IMU.NoiseAcc")
+        close(model.gyroscopeRandomWalk, value("orbslam3_imu.yaml", "IMU.GyroWalk"), "IMU.GyroWalk")
+        close(model.accelerometerRandomWalk, value("orbslam3_imu.yaml", "IMU.AccWalk"), "IMU.AccWalk")
+        close(rate, value("orbslam3_imu.yaml", "IMU.Frequency"), "IMU.Frequency")
+        println("noise configurations via cv2.FileStorage and PyYAML: N_g ${model.gyroscopeNoiseDensity} rad/s/sqrt(Hz) → gyr_n ${value("vins_imu.yaml", "gyr_n")} rad/s at $rate Hz; " +
+            "N_a ${model.accelerometerNoiseDensity} → acc_n ${value("vins_imu.yaml", "acc_n")}")
+    }
+
+    /** `fusion replay` of [input] with [options]: its rows (t_s, q and the rest as text). */
+    private fun replayRows(input: Path, vararg options: String): List<List<String>> {
+        val out = Files.createTempFile(dir, "replay", ".csv")
+        val r = fusion("replay", input.toString(), "-o", out.toString(), "--quiet", *options)
+        assertEquals(ExitCode.OK, r.code, r.err)
+        return csv(out)
+    }
+
+    /**
+     * Rows of the replay of an export against those of the original: the same count and every
+     * quaternion component within [tolerance]; t_s counts from the first row in an export (its
+     * own clock), so the times are compared as differences from the first. Returns the largest
+     * quaternion difference.
+     */
+    private fun sameReplay(original: List<List<String>>, exported: List<List<String>>, tolerance: Double, what: String): Double {
+        assertEquals(original.size, exported.size, "$what rows")
+        var worst = 0.0
+        val t0 = original[0][0].toDouble()
+        val e0 = exported[0][0].toDouble()
+        for (k in original.indices) {
+            assertEquals(original[k][0].toDouble() - t0, exported[k][0].toDouble() - e0, 1e-9, "$what row $k time")
+            for (c in 1..4) {
+                val d = Math.abs(original[k][c].toDouble() - exported[k][c].toDouble())
+                if (!(d <= tolerance) && !(original[k][c] == "NaN" && exported[k][c] == "NaN")) {
+                    throw AssertionError("$what row $k q${c - 1}: ${original[k][c]} against ${exported[k][c]}")
+                }
+                if (d.isFinite()) worst = maxOf(worst, d)
+            }
+        }
+        return worst
+    }
+
+    @Test
+    fun `an export replays as the original did, EuRoC 9D with its magnetometer and Kalibr 6D`() {
+        // The replay of the export steps on the same samples at the same times, so the orientation is the
+        // same within float precision: a session's readings are floats read as their exact double, the
+        // export's their shortest decimal read as a double (a difference in the ninth digit).
+        val original = replayRows(session, "--default-settings")
+        val euroc = dir.resolve("roundtrip-euroc")
+        assertEquals(ExitCode.OK, fusion("export", session.toString(), "--format", "euroc", "-o", euroc.toString(), "--quiet").code)
+        val r = fusion("replay", euroc.toString(), "-o", dir.resolve("euroc-replay.csv").toString(), "--default-settings")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue("EuRoC (ASL) IMU data roundtrip-euroc: " in r.err && "600 gyroscope, 600 accelerometer, 600 magnetometer" in r.err, r.err)
+        val eurocWorst = sameReplay(original, csv(dir.resolve("euroc-replay.csv")), 1e-6, "euroc")
+        // The mav0 folder and its imu0/data.csv alone read the same (the latter without the magnetometer).
+        assertEquals(csv(dir.resolve("euroc-replay.csv")), replayRows(euroc.resolve("mav0"), "--default-settings"))
+        val sixD = replayRows(session, "--default-settings", "--mode", "6d")
+        sameReplay(sixD, replayRows(euroc.resolve("mav0/imu0/data.csv"), "--default-settings", "--mode", "6d"), 1e-6, "euroc imu0 alone")
+        val kalibr = dir.resolve("roundtrip-kalibr")
+        assertEquals(ExitCode.OK, fusion("export", session.toString(), "--format", "kalibr", "-o", kalibr.toString(), "--quiet").code)
+        val kalibrWorst = sameReplay(sixD, replayRows(kalibr, "--default-settings", "--mode", "6d"), 1e-6, "kalibr")
+        assertEquals(replayRows(kalibr, "--default-settings", "--mode", "6d"), replayRows(kalibr.resolve("imu0.csv"), "--default-settings", "--mode", "6d"))
+        println("round trip: euroc 9D ${original.size} rows, largest quaternion difference $eurocWorst; kalibr 6D ${sixD.size} rows, $kalibrWorst")
+    }
+
+    @Test
+    fun `real exports replay the same after an EuRoC export, within the float rounding of the readings`() {
+        val root = Paths.get("../shared/data/realdata").let { if (Files.isDirectory(it)) it else Paths.get("../../shared/data/realdata") }
+        assumeTrue(Files.isDirectory(root), "no ../shared/data/realdata beside the repository: real exports not tested")
+        fun roundTrip(name: String, input: Path, mode: String, tolerance: Double): Double {
+            val out = dir.resolve("$name-euroc")
+            val e = fusion("export", input.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings", "--mode", mode)
+            assertEquals(ExitCode.OK, e.code, e.err)
+            val original = replayRows(input, "--default-settings", "--mode", mode)
+            val exported = replayRows(out, "--default-settings", "--mode", mode)
+            // Rows before the first accelerometer reading are not exported.
+            val skipped = original.size - exported.size
+            assertTrue(skipped in 0..2, "$name: $skipped rows")
+            val worst = sameReplay(original.drop(skipped), exported, tolerance, "$name → euroc")
+            println("$name → euroc → replay ($mode): ${exported.size} rows ($skipped before the first accelerometer reading not exported); largest quaternion difference $worst")
+            return worst
+        }
+        // Sensor Logger with every sensor at the same instants: only the readings' rounding to float differs
+        // (its readings are doubles); measured: the largest difference is at the second row (3.4e-4), about
+        // 1e-6 by row 7000.
+        val sl = roundTrip("sl-unknown-shuhrat", root.resolve("sl-unknown-shuhrat"), "9d", 1e-3)
+        // phyphox (iOS) with the accelerometer at its own times: a gyroscope step holds the latest reading
+        // either way, but the filter also sees the readings between two gyroscope samples in the original.
+        val pp = roundTrip("pp-ios-foger3", root.resolve("pp-ios-foger3/dataset/raw/Falling exp 2023-06-09 12-54-45-round1-nicole"), "6d", 1e-3)
+        assertTrue(sl > 0.0 && pp > 0.0) // the readings were rounded: a difference of exactly 0 would mean the export was not read
+    }
+
+    @Test
+    fun `heading tare on replay and export turns the output frame about up only`() {
+        val plain = replayRows(session, "--default-settings")
+        fun angle(a: String, b: String) = Math.abs(Math.IEEEremainder(a.toDouble() - b.toDouble(), 360.0))
+        fun checkTare(rows: List<List<String>>, deltaDeg: Double, what: String) {
+            assertEquals(plain.size, rows.size)
+            for ((k, r) in rows.withIndex()) {
+                if (plain[k][1] == "NaN") { assertEquals("NaN", r[1]); continue }
+                assertEquals(0.0, angle(plain[k][8], (r[8].toDouble() - deltaDeg).toString()), 2e-4, "$what row $k yaw + Δ")
+                assertEquals(plain[k][9], r[9], "$what row $k pitch")
+                assertEquals(0.0, angle(plain[k][10], r[10]), 2e-4, "$what row $k roll")
+                assertEquals(plain[k][13].toDouble(), r[13].toDouble(), 2e-5, "$what row $k vertical linear acceleration")
+            }
+        }
+        // At a time: the first row with an orientation at or after it reads the heading given.
+        val at = replayRows(session, "--default-settings", "--heading-tare", "2.5=30")
+        val k = at.indexOfFirst { it[0].toDouble() >= 2.5 }
+        assertEquals(30.0, at[k][8].toDouble(), 1e-4)
+        checkTare(at, at[k][8].toDouble() - plain[k][8].toDouble(), "tare at 2.5 s")
+        // At the start: the first orientation reads 0.
+        val start = replayRows(session, "--default-settings", "--heading-tare", "start")
+        val first = start.indexOfFirst { it[1] != "NaN" }
+        assertEquals(0.0, Math.abs(start[first][8].toDouble()), 1e-4)
+        checkTare(start, -plain[first][8].toDouble(), "tare at start")
+        checkTare(replayRows(session, "--default-settings", "--heading-offset", "90"), 90.0, "offset 90")
+        // The export carries the tared orientation and names its frame.
+        val out = dir.resolve("tared-euroc")
+        val r = fusion("export", session.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings", "--heading-tare", "2.5=30")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val pose = csv(out.resolve("mav0/state_groundtruth_estimate0/data.csv"))
+        for (j in pose.indices) for (c in 0 until 4) assertEquals(at[j][1 + c].toDouble(), pose[j][4 + c].trim().toDouble(), 1e-9, "pose $j q$c")
+        val yaml = Files.readString(out.resolve("mav0/state_groundtruth_estimate0/sensor.yaml"))
+        assertTrue("R is ENU turned about up (heading tare: every heading + " in yaml && "so that it reads 30 deg at t = 2.5 s" in yaml, yaml)
+        // Usage and data errors.
+        assertEquals(ExitCode.USAGE, fusion("replay", session.toString(), "--heading-tare", "start", "--heading-offset", "3").code)
+        assertEquals(ExitCode.USAGE, fusion("replay", session.toString(), "--heading-tare", "soon").code)
+        val late = fusion("replay", session.toString(), "--heading-tare", "60", "-o", dir.resolve("late.csv").toString())
+        assertEquals(ExitCode.DATA_ERROR, late.code, late.err)
+        assertTrue("no orientation at or after t = 60 s" in late.err, late.err)
+        assertTrue(!Files.exists(dir.resolve("late.csv")))
+    }
+
+    @Test
+    fun `an iOS and an Android Sensor Logger export of the same motion export to the same frame`() {
+        // The session's samples written as both apps write them: Android's convention, and raw iOS
+        // (CoreMotion's: the acceleration with the opposite sign); gyroscope and magnetometer alike.
+        fun table(name: String) = csv(session.resolve(name)).map { r -> r[0] to r.subList(1, 4).map { it.toDouble() } }
+        val streams = mapOf("TotalAcceleration.csv" to table("accelerometer.csv"), "Gyroscope.csv" to table("gyroscope.csv"), "Magnetometer.csv" to table("magnetometer.csv"))
+        val t0 = times.first()
+        val exported = HashMap<String, List<String>>()
+        for (platform in listOf("android", "ios")) {
+            val folder = Files.createDirectories(dir.resolve("sensor-logger-$platform"))
+            Files.writeString(folder.resolve("Metadata.csv"), "version,device name,platform,appVersion,standardisation\n3,phone,$platform,1.40.0,false\n")
+            for ((file, rows) in streams) {
+                val sign = if (platform == "ios" && file == "TotalAcceleration.csv") -1.0 else 1.0
+                Files.write(folder.resolve(file), listOf("time,seconds_elapsed,z,y,x") + rows.map { (t, v) ->
+                    "$t,${(t.toLong() - t0) / 1e9},${sign * v[2]},${sign * v[1]},${sign * v[0]}"
+                })
+            }
+            val out = dir.resolve("sensor-logger-$platform-euroc")
+            val r = fusion("export", folder.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings")
+            assertEquals(ExitCode.OK, r.code, r.err)
+            val meta = Files.readString(out.resolve("mav0/imu0/sensor.yaml"))
+            assertTrue("Readings in ${About.AXES}" in meta, meta)
+            exported[platform] = listOf("imu0", "mag0", "state_groundtruth_estimate0").flatMap { Files.readAllLines(out.resolve("mav0/$it/data.csv")) }
+        }
+        assertEquals(exported.getValue("android"), exported.getValue("ios"))
+        // The session names its frames in meta.json, and every reader of it still opens it (this test's replays).
+        val meta = Files.readString(session.resolve("meta.json"))
+        assertTrue(Regex(""""frames":\s*\{\s*"device":\s*"android_sensor: x right, y up, z out of screen",\s*"world":\s*"ENU: x east, y magnetic north, z up",\s*"quaternion":\s*"qw,qx,qy,qz Hamilton, device to world"""").containsMatchIn(meta), meta)
+        // And that frame is the session's: +9.8 m/s² on the up axis at rest, the same rows as the session's own export.
+        val own = dir.resolve("session-euroc-frames")
+        assertEquals(ExitCode.OK, fusion("export", session.toString(), "--format", "euroc", "-o", own.toString(), "--default-settings", "--quiet").code)
+        val ownImu = Files.readAllLines(own.resolve("mav0/imu0/data.csv"))
+        assertEquals(ownImu, exported.getValue("android").take(ownImu.size))
+        println("sensor logger android and ios (raw CoreMotion signs) → euroc: ${exported.getValue("ios").size} lines, identical, and equal to the session's own IMU rows")
+    }
+
+    @Test
     fun `refused outputs create nothing`() {
         val out = dir.resolve("inside")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", session.resolve("x").toString())
@@ -210,7 +424,7 @@ class ExportReadersTest {
         val python = System.getenv("FUSION_PYTHON") ?: "python3"
         val probe = runCatching { run(listOf(python, "-c", "import $module"), dir, 120) }.getOrNull()
         assumeTrue(probe != null && probe.first == 0) {
-            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags; .ci/run installs them where pip reaches PyPI)"
+            "skipped: $python cannot import $module (pip install evo pyyaml mcap mcap-ros2-support rosbags opencv-python-headless; .ci/run installs them where pip reaches PyPI)"
         }
         val script = dir.resolve("read_export.py")
         javaClass.getResourceAsStream("export/read_export.py")!!.use { Files.copy(it, script, java.nio.file.StandardCopyOption.REPLACE_EXISTING) }

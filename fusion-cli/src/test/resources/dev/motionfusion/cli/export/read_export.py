@@ -7,6 +7,9 @@
                                      float values), imu.yaml with PyYAML as kalibr loads it
   read_export.py ros2 FILE.mcap      the MCAP file with the mcap package and mcap-ros2-support's
                                      CDR decoder, and again with rosbags (AnyReader)
+  read_export.py configs FOLDER      fusion allan's noise configurations with OpenCV's FileStorage
+                                     (cv2), the reader OpenVINS, VINS and ORB-SLAM3 load them with,
+                                     and imu.yaml with PyYAML as kalibr loads it
 
 Output lines: "<table> <field> ..." with every number as Python's repr (the shortest decimal
 that reads back to the same double), so the caller can compare them to the last digit.
@@ -77,5 +80,36 @@ def ros2_row(reader, topic, log_time, m):
           *(repr(float(v)) for v in values + first + [rest]))
 
 
+def configs(folder):
+    import cv2
+    import yaml
+    with open(os.path.join(folder, "imu.yaml")) as f:
+        for k, v in sorted(yaml.safe_load(f).items()):
+            print("kalibr", k, repr(v))
+    for name, keys in (("kalibr_imu_chain.yaml", None),
+                       ("vins_imu.yaml", ["acc_n", "gyr_n", "acc_w", "gyr_w"]),
+                       ("orbslam3_imu.yaml", ["IMU.NoiseGyro", "IMU.NoiseAcc", "IMU.GyroWalk", "IMU.AccWalk", "IMU.Frequency"])):
+        fs = cv2.FileStorage(os.path.join(folder, name), cv2.FILE_STORAGE_READ)
+        if not fs.isOpened():
+            raise SystemExit("cv2.FileStorage cannot open " + name)
+        if keys is None:
+            node = fs.getNode("imu0")
+            for k in node.keys():
+                n = node.getNode(k)
+                if n.isString():
+                    print(name, k, n.string())
+                elif n.isSeq():
+                    print(name, k, *(repr(float(n.at(i).at(j).real())) for i in range(n.size()) for j in range(n.at(i).size())))
+                else:
+                    print(name, k, repr(float(n.real())))
+        else:
+            for k in keys:
+                n = fs.getNode(k)
+                if n.empty():
+                    raise SystemExit(name + ": no " + k)
+                print(name, k, repr(float(n.real())))
+        fs.release()
+
+
 if __name__ == "__main__":
-    {"euroc": euroc, "kalibr": kalibr, "ros2": ros2}[sys.argv[1]](sys.argv[2])
+    {"euroc": euroc, "kalibr": kalibr, "ros2": ros2, "configs": configs}[sys.argv[1]](sys.argv[2])

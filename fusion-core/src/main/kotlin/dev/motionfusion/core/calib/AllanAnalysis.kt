@@ -26,16 +26,22 @@ public class AllanResult(
      * its upper bound, and the comment says so.
      */
     public fun kalibrYaml(source: String): String = buildString {
-        appendLine("# IMU noise model from the Allan deviation of a still recording (overlapping ADEV).")
-        appendLine("# Made by $source. Noise densities in unit/sqrt(Hz), random walks in unit/s/sqrt(Hz).")
-        section("Accelerometers", "accelerometer", accelerometer, accelerometerTerms, "m/s^2")
-        section("Gyroscopes", "gyroscope", gyroscope, gyroscopeTerms, "rad/s")
         val rate = gyroscope?.rateHz ?: accelerometer?.rateHz ?: Double.NaN
+        appendLine("# IMU noise model from the Allan deviation of a still recording (overlapping ADEV).")
+        appendLine("# Made by $source.")
+        appendLine("# The four keys are CONTINUOUS-TIME figures, as kalibr defines them: noise densities in")
+        appendLine("# unit/sqrt(Hz), random walks in unit/s/sqrt(Hz); they do not depend on the sample rate.")
+        appendLine("# The discrete-time figures in the comments are per sample at update_rate f = ${num(rate)} Hz")
+        appendLine("# (dt = 1/f = ${num(1.0 / rate)} s): white noise sigma_d = noise_density * sqrt(f), the standard")
+        appendLine("# deviation of one sample's noise; bias random walk sigma_bd = random_walk / sqrt(f), the standard")
+        appendLine("# deviation of the bias change from one sample to the next (kalibr's IMU noise model).")
+        section("Accelerometers", "accelerometer", accelerometer, accelerometerTerms, "m/s^2", rate)
+        section("Gyroscopes", "gyroscope", gyroscope, gyroscopeTerms, "rad/s", rate)
         appendLine("rostopic: /imu0")
         appendLine("update_rate: ${num(rate)}  # Hz, mean sample rate of the ${if (gyroscope != null) "gyroscope" else "accelerometer"}")
     }
 
-    private fun StringBuilder.section(title: String, key: String, curve: AllanCurve?, terms: List<NoiseTerms>?, unit: String) {
+    private fun StringBuilder.section(title: String, key: String, curve: AllanCurve?, terms: List<NoiseTerms>?, unit: String, rate: Double) {
         appendLine("#$title")
         if (curve == null || terms == null) {
             appendLine("# no $key stream in the recording")
@@ -47,6 +53,8 @@ public class AllanResult(
         appendLine("${key}_noise_density: ${num(n)}  # $unit/sqrt(Hz); x y z: ${terms.joinToString(" ") { num(it.whiteNoise) }}")
         appendLine("${key}_random_walk: ${num(largest(walks))}  # $unit/s/sqrt(Hz); x y z: ${walks.joinToString(" ") { num(it) }}" +
             if (bounded) " (upper bound: the recording is too short to show the random walk on every axis)" else "")
+        appendLine("# ${key} discrete at ${num(rate)} Hz: white noise sigma_d ${num(DiscreteNoise.white(n, rate))} $unit, " +
+            "bias random walk sigma_bd ${num(DiscreteNoise.randomWalk(largest(walks), rate))} $unit per sample")
         appendLine("# ${key} bias instability ($unit): ${terms.joinToString(" ") { num(it.biasInstability) }} at tau ${terms.joinToString(" ") { num(it.biasInstabilityTau) }} s")
         appendLine("# ${curve.samples} samples at ${num(curve.rateHz)} Hz, ${curve.gaps} gaps")
     }
@@ -82,4 +90,18 @@ public class AllanResult(
             return AllanResult(gyro?.takeIf { it.samples > 0 }?.curve(), gyroStream, acc?.takeIf { it.samples > 0 }?.curve())
         }
     }
+}
+
+/**
+ * The continuous-time IMU noise figures of kalibr's model turned into discrete-time ones at a
+ * sample rate f (Δt = 1/f), as kalibr's IMU noise model defines them.
+ */
+public object DiscreteNoise {
+    /** White noise: σd = σc / √Δt = σc·√f, the standard deviation of one sample's noise (unit), from the density σc (unit/√Hz). */
+    @JvmStatic
+    public fun white(density: Double, rateHz: Double): Double = density * kotlin.math.sqrt(rateHz)
+
+    /** Bias random walk: σbd = σb·√Δt = σb / √f, the standard deviation of the bias change between two samples (unit), from σb (unit/s/√Hz). */
+    @JvmStatic
+    public fun randomWalk(walk: Double, rateHz: Double): Double = walk / kotlin.math.sqrt(rateHz)
 }

@@ -107,7 +107,7 @@ internal object Plausibility {
     /** The unit the format's times are in, as its documentation states. */
     private fun timeUnit(format: RecordingFormat) = when (format) {
         RecordingFormat.IMU_TABLE, RecordingFormat.PHYPHOX -> "s"
-        RecordingFormat.SESSION, RecordingFormat.SENSOR_LOGGER -> "ns"
+        RecordingFormat.SESSION, RecordingFormat.SENSOR_LOGGER, RecordingFormat.EUROC, RecordingFormat.KALIBR -> "ns"
     }
 
     private fun unitSeconds(unit: String) = if (unit == "s") 1.0 else 1e-9

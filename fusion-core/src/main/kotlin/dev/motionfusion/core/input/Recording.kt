@@ -1,8 +1,9 @@
 /*
  * Any input `fusion` replays, opened by path and recognised by content: a session (folder or
  * zip), a plain IMU table (.csv or .csv.gz, or a trial folder holding input.csv[.gz]), a
- * phyphox export (zip, folder or single CSV), a Sensor Logger export (zip or folder). One input
- * is one recording: a folder holding several is an error that lists them.
+ * phyphox export (zip, folder or single CSV), a Sensor Logger export (zip or folder), the IMU of
+ * an EuRoC (ASL) folder or a Kalibr imu0.csv. One input is one recording: a folder holding
+ * several is an error that lists them.
  */
 package dev.motionfusion.core.input
 
@@ -27,6 +28,8 @@ public enum class RecordingFormat(public val description: String) {
     IMU_TABLE("plain IMU table"),
     PHYPHOX("phyphox export"),
     SENSOR_LOGGER("Sensor Logger export"),
+    EUROC("EuRoC (ASL) IMU data"),
+    KALIBR("Kalibr imu0.csv"),
 }
 
 /**
@@ -99,7 +102,11 @@ public class Recording private constructor(
 
         private fun open(files: FileSet, path: Path, options: ImportOptions): Recording {
             val (dir, kind) = locate(files)
-            val name = if (dir.isEmpty()) (if (Inputs.isStandardInput(path)) files.name else (path.fileName ?: path).toString()) else dir.removeSuffix("/").substringAfterLast('/')
+            val own = if (Inputs.isStandardInput(path)) files.name else (path.fileName ?: path).toString()
+            val folders = dir.removeSuffix("/").split('/').filter { it.isNotEmpty() }
+            // An EuRoC recording is named after the folder that holds its mav0/.
+            val named = if (kind == RecordingFormat.EUROC && folders.lastOrNull().equals("mav0", ignoreCase = true)) folders.dropLast(1) else folders
+            val name = named.lastOrNull() ?: own
             return when (kind) {
                 RecordingFormat.SESSION -> {
                     val r = SessionReader.open(files, dir)
@@ -115,6 +122,11 @@ public class Recording private constructor(
                     val plan = if (kind == RecordingFormat.PHYPHOX) PhyphoxImport.plan(files, dir) else SensorLoggerImport.plan(files, dir, options.platform)
                     val origin = if (kind == RecordingFormat.PHYPHOX) 0L else null
                     Recording(name, kind, null, origin, plan.streams, plan.notes, files, { openAll(files, plan) }, files)
+                }
+                RecordingFormat.EUROC, RecordingFormat.KALIBR -> {
+                    // Times of their own clock (EuRoC's are ns since the epoch): t = 0 s is the first event.
+                    val plan = VioDatasetImport.plan(files, dir, kind)
+                    Recording(name, kind, null, null, plan.streams, plan.notes, files, { openAll(files, plan) }, files)
                 }
             }
         }
@@ -143,9 +155,19 @@ public class Recording private constructor(
             val found = LinkedHashMap<String, RecordingFormat>()
             val zips = ArrayList<String>()
             fun dirOf(p: String) = p.substring(0, p.lastIndexOf('/') + 1)
+            // An EuRoC folder (…/imu0/data.csv with EuRoC's header): its subfolders belong to it.
+            val euroc = ArrayList<String>()
+            for (p in files.paths) {
+                if (!p.endsWith("imu0/data.csv", true) || !(p.length == 13 || p[p.length - 14] == '/')) continue
+                if (files.firstLine(p)?.let(VioDatasetImport::recognisesEuroc) != true) continue
+                val root = dirOf(dirOf(p).removeSuffix("/"))
+                found[root] = RecordingFormat.EUROC
+                euroc += root
+            }
             // Files that name their folder's format (a trial's input table wins over its meta.json) ...
             for (p in files.paths) {
                 val base = p.substring(p.lastIndexOf('/') + 1)
+                if (euroc.any { p.startsWith(it) }) continue
                 when {
                     base.equals("input.csv", true) || base.equals("input.csv.gz", true) -> found[dirOf(p)] = RecordingFormat.IMU_TABLE
                     base.equals(SessionMetadata.FILE_NAME, true) -> found.putIfAbsent(dirOf(p), RecordingFormat.SESSION)
@@ -156,10 +178,12 @@ public class Recording private constructor(
             val named = found.keys.toSet()
             for (p in files.paths) {
                 val dir = dirOf(p)
-                if (dir in named || !isText(p)) continue
+                if (dir in named || !isText(p) || euroc.any { p.startsWith(it) }) continue
                 val header = files.firstLine(p) ?: continue
                 val known = found[dir]
                 when {
+                    VioDatasetImport.recognisesEuroc(header) -> found[dir] = RecordingFormat.EUROC
+                    VioDatasetImport.recognisesKalibr(header) -> found[dir] = RecordingFormat.KALIBR
                     SensorLoggerImport.recognises(header) -> found[dir] = RecordingFormat.SENSOR_LOGGER
                     known == RecordingFormat.SENSOR_LOGGER -> Unit
                     PhyphoxImport.recognises(header, p) -> found[dir] = RecordingFormat.PHYPHOX
@@ -178,7 +202,7 @@ public class Recording private constructor(
             val detail = if (files.paths.size == 1 && first != null) " (first line '${ByteCsvReader.escapedExcerpt(first)}')" else ""
             throw DataFormatException(files.name, if (detail.isEmpty()) 0 else 1, 0,
                 "not a recognised input$detail: expected a session (folder or zip with meta.json), an IMU table (t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]), " +
-                    "a phyphox export or a Sensor Logger export")
+                    "a phyphox export, a Sensor Logger export, an EuRoC (ASL) folder or a Kalibr imu0.csv")
         }
     }
 }

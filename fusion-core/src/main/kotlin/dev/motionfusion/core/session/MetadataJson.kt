@@ -86,6 +86,7 @@ internal object MetadataJson {
         "streams" to m.streams.entries.sortedBy { it.key.ordinal }.associateTo(LinkedHashMap<String, Any?>()) { (k, v) -> k.key to stats(k.fileName, v) }
             .also { map -> m.markers?.let { map[SessionMarkers.KEY] = stats(SessionMarkers.FILE_NAME, it) } },
         "filter_settings" to m.filterSettings?.let(::settings),
+        "frames" to FRAMES,
     ).also { map ->
         // Written only when set: sessions without them stay as they were.
         if (m.stillRecording) map["still_recording"] = true
@@ -98,6 +99,20 @@ internal object MetadataJson {
         }
         m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
     }
+
+    /**
+     * The frames of every file of a session, named in its meta.json for readers that do not know
+     * this format (docs/SESSION_FORMAT.md, "Frames"; docs/CONVENTIONS.md). The same for every
+     * session: readers take the frames from the format, this member only states them.
+     */
+    private val FRAMES: Map<String, String> = linkedMapOf(
+        // Short: meta.json is rewritten at every anchor and pause while recording.
+        "device" to "android_sensor: x right, y up, z out of screen",
+        "world" to "ENU: x east, y magnetic north, z up",
+        "quaternion" to "qw,qx,qy,qz Hamilton, device to world",
+        "rotation_vector" to "Android values qx,qy,qz,qw, device to world",
+        "time" to "SensorEvent.timestamp ns",
+    )
 
     /** The member of `calibration` that says whether the live filter used it. */
     private const val APPLIED_IN_LIVE_FILTER = "applied_in_live_filter"

@@ -1,0 +1,151 @@
+package dev.motionfusion.cli
+
+import dev.motionfusion.core.calib.DiscreteNoise
+import dev.motionfusion.core.io.DataFormatException
+import java.nio.charset.StandardCharsets
+import java.nio.file.Files
+import java.nio.file.Path
+import java.util.Locale
+
+/**
+ * The four continuous-time noise figures of kalibr's imu.yaml (as `fusion allan` writes it), the
+ * rate it names (update_rate, Hz; null when it names none), and the file itself.
+ */
+internal class NoiseModel(val text: String, val figures: Map<String, Double>, val rateHz: Double?) {
+    val gyroscopeNoiseDensity get() = figures.getValue("gyroscope_noise_density")
+    val gyroscopeRandomWalk get() = figures.getValue("gyroscope_random_walk")
+    val accelerometerNoiseDensity get() = figures.getValue("accelerometer_noise_density")
+    val accelerometerRandomWalk get() = figures.getValue("accelerometer_random_walk")
+
+    companion object {
+        val KEYS = listOf("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk")
+
+        fun read(path: Path): NoiseModel = parse(String(Files.readAllBytes(path), StandardCharsets.UTF_8), path.toString())
+
+        /** The figures of [text] (kalibr's imu.yaml); [source] names it in errors. */
+        fun parse(text: String, source: String): NoiseModel {
+            val figures = LinkedHashMap<String, Double>()
+            var rate: Double? = null
+            text.lines().forEachIndexed { i, raw ->
+                val line = raw.substringBefore('#').trim()
+                val key = line.substringBefore(':').trim()
+                val v = line.substringAfter(':').trim()
+                if (key in KEYS) {
+                    val d = v.toDoubleOrNull()
+                    if (d == null || !d.isFinite() || d < 0) {
+                        throw DataFormatException(source, (i + 1).toLong(), raw.indexOf(v).coerceAtLeast(0) + 1, "$key: '$v' is not a noise figure (a finite number ≥ 0)")
+                    }
+                    figures[key] = d
+                } else if (key == "update_rate") {
+                    rate = v.toDoubleOrNull()?.takeIf { it.isFinite() && it > 0 }
+                }
+            }
+            val missing = KEYS.filter { it !in figures }
+            if (missing.isNotEmpty()) throw DataFormatException(source, 0, 0, "not a noise model: ${missing.joinToString(", ")} missing (kalibr's imu.yaml, as fusion allan writes it)")
+            return NoiseModel(text, figures, rate)
+        }
+
+        /** Six significant digits without trailing zeros. */
+        fun num(v: Double): String {
+            if (!v.isFinite()) return ".nan"
+            val s = String.format(Locale.ROOT, "%.6g", v)
+            val e = s.indexOfAny(charArrayOf('e', 'E'))
+            val mantissa = if (e < 0) s else s.substring(0, e)
+            val trimmed = if ('.' in mantissa) mantissa.trimEnd('0').trimEnd('.') else mantissa
+            return if (e < 0) trimmed else trimmed + s.substring(e)
+        }
+    }
+}
+
+/**
+ * The noise model in the configuration files of the VIO/SLAM stacks, each with the conversion it
+ * needs (docs/EXPORT.md, "Noise models"): kalibr and OpenVINS take the continuous-time figures
+ * and discretise them themselves, as does ORB-SLAM3 (with IMU.Frequency); VINS-Mono/Fusion take
+ * per-sample figures at the IMU rate.
+ */
+internal object NoiseConfigs {
+    /** File name → content of every configuration, from [m] at [rateHz]; [source] says where it came from. */
+    fun all(m: NoiseModel, rateHz: Double, source: String): Map<String, String> = linkedMapOf(
+        "imu.yaml" to m.text,
+        "kalibr_imu_chain.yaml" to openVins(m, rateHz, source),
+        "vins_imu.yaml" to vins(m, rateHz, source),
+        "orbslam3_imu.yaml" to orbSlam3(m, rateHz, source),
+    )
+
+    private fun num(v: Double) = NoiseModel.num(v)
+
+    private fun StringBuilder.continuous(m: NoiseModel, indent: String = "") {
+        appendLine("${indent}accelerometer_noise_density: ${num(m.accelerometerNoiseDensity)}  # m/s^2/sqrt(Hz), continuous time")
+        appendLine("${indent}accelerometer_random_walk: ${num(m.accelerometerRandomWalk)}  # m/s^3/sqrt(Hz), continuous time")
+        appendLine("${indent}gyroscope_noise_density: ${num(m.gyroscopeNoiseDensity)}  # rad/s/sqrt(Hz), continuous time")
+        appendLine("${indent}gyroscope_random_walk: ${num(m.gyroscopeRandomWalk)}  # rad/s^2/sqrt(Hz), continuous time")
+    }
+
+    /** The discrete figures of kalibr's model at [rateHz], as comment lines. */
+    fun discreteComment(m: NoiseModel, rateHz: Double): String = buildString {
+        appendLine("# Discrete time, per sample at f = ${num(rateHz)} Hz (dt = ${num(1.0 / rateHz)} s): white noise sigma_d = density * sqrt(f),")
+        appendLine("# bias random walk sigma_bd = random_walk / sqrt(f) (kalibr's IMU noise model):")
+        appendLine("#   accelerometer sigma_d ${num(DiscreteNoise.white(m.accelerometerNoiseDensity, rateHz))} m/s^2, sigma_bd ${num(DiscreteNoise.randomWalk(m.accelerometerRandomWalk, rateHz))} m/s^2")
+        appendLine("#   gyroscope sigma_d ${num(DiscreteNoise.white(m.gyroscopeNoiseDensity, rateHz))} rad/s, sigma_bd ${num(DiscreteNoise.randomWalk(m.gyroscopeRandomWalk, rateHz))} rad/s")
+    }
+
+    /** OpenVINS's kalibr_imu_chain.yaml (its EuRoC example's keys). */
+    fun openVins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+        appendLine("%YAML:1.0")
+        appendLine("# $source")
+        appendLine("# OpenVINS IMU configuration (kalibr_imu_chain.yaml). OpenVINS reads kalibr's CONTINUOUS-TIME figures")
+        appendLine("# and discretises them at each step itself (white noise sigma^2 / dt, bias random walk sigma^2 * dt).")
+        appendLine("# T_i_b identity: the IMU is the body (the phone's device axes: ${About.AXES}).")
+        appendLine("# No intrinsic calibration: Tw, Ta, R_IMUtoGYRO, R_IMUtoACC identity, Tg zero.")
+        append(discreteComment(m, rateHz))
+        appendLine("imu0:")
+        appendLine("  T_i_b:")
+        for (r in 0 until 4) appendLine("    - [${(0 until 4).joinToString(", ") { if (it == r) "1.0" else "0.0" }}]")
+        continuous(m, "  ")
+        appendLine("  rostopic: /imu0")
+        appendLine("  time_offset: 0.0")
+        appendLine("  update_rate: ${num(rateHz)}  # Hz")
+        appendLine("  model: \"kalibr\"")
+        for (name in listOf("Tw", "R_IMUtoGYRO", "Ta", "R_IMUtoACC", "Tg")) {
+            appendLine("  $name:")
+            for (r in 0 until 3) appendLine("    - [ ${(0 until 3).joinToString(", ") { if (it == r && name != "Tg") "1.0" else "0.0" }} ]")
+        }
+    }
+
+    /** The imu parameters of a VINS-Mono / VINS-Fusion configuration. */
+    fun vins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+        val sf = kotlin.math.sqrt(rateHz)
+        appendLine("%YAML:1.0")
+        appendLine("# $source")
+        appendLine("# IMU noise for VINS-Mono / VINS-Fusion: the imu parameters of the estimator's configuration")
+        appendLine("# (keep its g_norm). VINS takes DISCRETE figures at the IMU rate f = ${num(rateHz)} Hz (its")
+        appendLine("# integration_base.h: acc_n^2 is the variance of one sample's white noise, and the bias changes by")
+        appendLine("# acc_w * dt per sample), so from kalibr's continuous figures:")
+        appendLine("#   acc_n = accelerometer_noise_density * sqrt(f)    gyr_n = gyroscope_noise_density * sqrt(f)")
+        appendLine("#   acc_w = accelerometer_random_walk * sqrt(f)      gyr_w = gyroscope_random_walk * sqrt(f)")
+        appendLine("# (acc_w * dt = random_walk * sqrt(dt): kalibr's per-sample bias random walk).")
+        appendLine("# Continuous figures: accelerometer ${num(m.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), ${num(m.accelerometerRandomWalk)} m/s^3/sqrt(Hz);")
+        appendLine("# gyroscope ${num(m.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), ${num(m.gyroscopeRandomWalk)} rad/s^2/sqrt(Hz).")
+        appendLine("# VINS's own example configurations use values one to two orders above a sensor's Allan figures")
+        appendLine("# (unmodelled motion and temperature effects): raise these if the estimate diverges.")
+        appendLine("acc_n: ${num(m.accelerometerNoiseDensity * sf)}  # m/s^2")
+        appendLine("gyr_n: ${num(m.gyroscopeNoiseDensity * sf)}  # rad/s")
+        appendLine("acc_w: ${num(m.accelerometerRandomWalk * sf)}  # m/s^3")
+        appendLine("gyr_w: ${num(m.gyroscopeRandomWalk * sf)}  # rad/s^2")
+    }
+
+    /** The IMU entries of an ORB-SLAM3 settings file. */
+    fun orbSlam3(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+        appendLine("%YAML:1.0")
+        appendLine("# $source")
+        appendLine("# IMU noise for ORB-SLAM3: the IMU entries of its settings file (add IMU.T_b_c1, the camera-to-IMU")
+        appendLine("# transform of a camera-IMU calibration). ORB-SLAM3 reads CONTINUOUS-TIME figures and IMU.Frequency")
+        appendLine("# and discretises them itself (noise * sqrt(IMU.Frequency), walk / sqrt(IMU.Frequency)).")
+        append(discreteComment(m, rateHz))
+        appendLine("IMU.NoiseGyro: ${num(m.gyroscopeNoiseDensity)}  # rad/s/sqrt(Hz)")
+        appendLine("IMU.NoiseAcc: ${num(m.accelerometerNoiseDensity)}  # m/s^2/sqrt(Hz)")
+        appendLine("IMU.GyroWalk: ${num(m.gyroscopeRandomWalk)}  # rad/s^2/sqrt(Hz)")
+        appendLine("IMU.AccWalk: ${num(m.accelerometerRandomWalk)}  # m/s^3/sqrt(Hz)")
+        appendLine("IMU.Frequency: ${num(rateHz)}  # Hz")
+    }
+}
