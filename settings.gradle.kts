@@ -15,6 +15,18 @@ pluginManagement {
         mavenCentral()
         gradlePluginPortal()
     }
+    // The release build's R8: Kotlin 2.4's metadata needs a newer R8 than the one AGP 8.7 bundles
+    // (gradle/compatibility.tsv), so the R8 of the Maven build (root pom.xml, r8.version) goes here,
+    // where R8's documentation puts a replacement for AGP's own: on the class path of the settings'
+    // plugin resolution, ahead of the plugins it loads. Catalogs are not read in this block.
+    buildscript {
+        repositories {
+            mavenCentral()
+        }
+        dependencies {
+            classpath("com.android.tools:r8:9.5.28")
+        }
+    }
 }
 
 plugins {
@@ -27,6 +39,22 @@ dependencyResolutionManagement {
     repositories {
         google()
         mavenCentral()
+        // gummy-bears-api-26 (the API-level guard's signature) is published without a POM; Gradle takes a
+        // module without metadata only from a repository that says to look for the artifact itself.
+        exclusiveContent {
+            forRepository {
+                maven {
+                    name = "MavenCentralArtifactsOnly"
+                    url = uri("https://repo.maven.apache.org/maven2/")
+                    metadataSources {
+                        artifact()
+                    }
+                }
+            }
+            filter {
+                includeModule("com.toasttab.android", "gummy-bears-api-26")
+            }
+        }
     }
 }
 

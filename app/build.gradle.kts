@@ -39,6 +39,13 @@ android {
             storePassword = "android"
             keyAlias = "androiddebugkey"
             keyPassword = "android"
+            // The schemes tools/android-build.sh signs with (apksigner), written out rather than left to
+            // either tool's defaults, which differ: APK Signature Scheme v2 and v3, no JAR signing
+            // (minSdk 26 never needs it), no v4 file.
+            enableV1Signing = false
+            enableV2Signing = true
+            enableV3Signing = true
+            enableV4Signing = false
         }
     }
 
@@ -96,6 +103,7 @@ dependencies {
     testImplementation(libs.androidx.test.core)
     testImplementation(libs.androidx.test.ext.junit)
     testImplementation(libs.animal.sniffer)
+    testImplementation(libs.android.manifest.merger)
     testImplementation(libs.robolectric)
     testImplementation(libs.junit4)
     testImplementation(platform(libs.junit.bom))
@@ -123,10 +131,46 @@ val robolectricDeps = tasks.register<Sync>("robolectricDeps") {
     into(layout.buildDirectory.dir("robolectric-deps"))
 }
 
-/** A system property naming a file another task or a configuration makes; the test task depends on it. */
-fun Test.systemPropertyFile(name: String, files: FileCollection) {
-    inputs.files(files).withPropertyName(name).withPathSensitivity(PathSensitivity.RELATIVE)
-    jvmArgumentProviders.add(CommandLineArgumentProvider { listOf("-D$name=${files.singleFile.absolutePath}") })
+/**
+ * A test JVM's system property naming a file that a task or a configuration makes. The file is an
+ * input of the test task by its content (not its absolute path, which only the argument holds), and
+ * its producer runs first, so test results stay cacheable and relocatable.
+ */
+abstract class SystemPropertyFile : CommandLineArgumentProvider {
+    @get:Input
+    abstract val propertyName: Property<String>
+
+    @get:InputFile
+    @get:PathSensitive(PathSensitivity.NONE)
+    abstract val file: RegularFileProperty
+
+    override fun asArguments(): Iterable<String> = listOf("-D" + propertyName.get() + "=" + file.get().asFile.absolutePath)
+}
+
+/** As [SystemPropertyFile], for a folder: its files, by their paths inside it and their content. */
+abstract class SystemPropertyDirectory : CommandLineArgumentProvider {
+    @get:Input
+    abstract val propertyName: Property<String>
+
+    @get:InputDirectory
+    @get:PathSensitive(PathSensitivity.RELATIVE)
+    abstract val directory: DirectoryProperty
+
+    override fun asArguments(): Iterable<String> = listOf("-D" + propertyName.get() + "=" + directory.get().asFile.absolutePath)
+}
+
+fun Test.systemPropertyFile(name: String, file: Provider<RegularFile>) {
+    jvmArgumentProviders.add(objects.newInstance<SystemPropertyFile>().apply {
+        propertyName.set(name)
+        this.file.set(file)
+    })
+}
+
+fun Test.systemPropertyDirectory(name: String, directory: Provider<Directory>) {
+    jvmArgumentProviders.add(objects.newInstance<SystemPropertyDirectory>().apply {
+        propertyName.set(name)
+        this.directory.set(directory)
+    })
 }
 
 // As Surefire in app/pom.xml: the same system properties, heap and JVM flags.
@@ -136,26 +180,29 @@ tasks.withType<Test>().configureEach {
     // java.io opened for Robolectric's ParcelFileDescriptor (ContentProvider.openFile, ContentResolver streams).
     jvmArgs("--add-opens", "java.base/java.io=ALL-UNNAMED")
     systemProperty("robolectric.offline", "true")
-    systemPropertyFile("robolectric.dependency.dir", files(robolectricDeps))
+    systemPropertyDirectory("robolectric.dependency.dir", layout.dir(robolectricDeps.map { it.destinationDir }))
     systemProperty("robolectric.logging.enabled", "false")
     systemProperty("screenshots.dir", layout.buildDirectory.dir("screenshots").get().asFile.path)
     systemProperty("project.root", rootDir.path)
-    systemPropertyFile("android.api.signature", apiSignature)
+    systemPropertyFile("android.api.signature", layout.file(apiSignature.elements.map { it.single().asFile }))
     filter {
         // Tests of the Maven build's own machinery: the AndroidX lists of android-libs read from the local
-        // Maven repository, the AARs android-libs unpacks, this mirror against the poms, and
-        // tools/android-build.sh (which needs Debian's zipalign and apksigner).
+        // Maven repository, the AARs android-libs unpacks, this mirror against the poms,
+        // tools/android-build.sh (which needs Debian's zipalign and apksigner), AGP's merger run on
+        // those AARs' manifests against the Maven build's manifest, and the Maven build's APKs.
         excludeTestsMatching("dev.motionfusion.app.build.LibraryTreeTest")
         excludeTestsMatching("dev.motionfusion.app.build.LibraryManifestsTest")
         excludeTestsMatching("dev.motionfusion.app.build.AndroidStudioProjectTest")
         excludeTestsMatching("dev.motionfusion.app.build.ReleaseSigningTest")
+        excludeTestsMatching("dev.motionfusion.app.build.ManifestMergerTest")
+        excludeTestsMatching("dev.motionfusion.app.build.MavenApkTest")
     }
 }
 
 // The merged manifest of each variant for its unit tests (Maven: the filtered manifest in target/manifest).
 androidComponents {
     onVariants { variant ->
-        val manifest = files(variant.artifacts.get(SingleArtifact.MERGED_MANIFEST))
+        val manifest = variant.artifacts.get(SingleArtifact.MERGED_MANIFEST)
         val testTask = "test" + variant.name.replaceFirstChar { it.uppercase() } + "UnitTest"
         tasks.withType<Test>().matching { it.name == testTask }.configureEach {
             systemPropertyFile("android.manifest", manifest)

@@ -19,6 +19,11 @@ dependencies {
     implementation(project(":fusion-core"))
     implementation(libs.kotlin.stdlib)
     implementation(libs.java.websocket)
+    // As the root pom's dependencyManagement: Java-WebSocket asks for an older slf4j-api, the build takes
+    // the version of the slf4j provider (the app's APK and fusion listen carry the same one as Maven's).
+    constraints {
+        implementation(libs.slf4j.api)
+    }
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.slf4j.nop)

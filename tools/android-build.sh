@@ -12,10 +12,13 @@
 #       "libraries"): OUT_DIR/resources.ap_, OUT_DIR/aapt-rules.pro, OUT_DIR/R.txt; in GEN_DIR the app's
 #       R.java and one R.java per library package holding that library's symbols with the app's ids
 #   apk VARIANT ANDROID_JAR R8_JAR TARGET_DIR LIBRARY_RULES KEYSTORE PASSWORD ALIAS
-#       VARIANT debug: D8 with dependency jars pre-dexed once (cached by content hash);
-#       VARIANT release: R8 shrinking with aapt2's keep rules, app/proguard-rules.pro and the libraries'
-#       consumer rules (LIBRARY_RULES); it refuses to sign with the debug key or without a key.
-#       Then package, zipalign, apksigner sign and verify: TARGET_DIR/motion-fusion-VARIANT.apk
+#       VARIANT debug: D8 with dependency jars pre-dexed once (cached by content hash), the resources
+#       linked with android:debuggable="true" (as the Android Gradle Plugin's debug build type);
+#       VARIANT release: R8 shrinking with aapt2's keep rules, app/proguard-rules.pro, the libraries'
+#       consumer rules (LIBRARY_RULES) and the rules jars embed for R8 (META-INF/com.android.tools);
+#       it refuses to sign with the debug key or without a key.
+#       Then package (with the jars' Java resources, as AGP packages them), zipalign, apksigner sign
+#       (v2 and v3, as app/build.gradle.kts declares) and verify: TARGET_DIR/motion-fusion-VARIANT.apk
 set -euo pipefail
 
 die() { echo "android-build: $*" >&2; exit 1; }
@@ -122,15 +125,148 @@ resources() {
   # Debian's aapt2 predates the manifest's <property> element (API 31; the specialUse service's
   # subtype): --warn-manifest-validation makes its "unexpected element" a warning, and the element
   # is kept in the APK as written.
+  local quiet=(-e "Unknown chunk type '200'" -e "unexpected element <property> found in <manifest><application><service>")
+  rm -f "$out/resources-debug.ap_"
   aapt2 link -o "$out/resources.ap_" -I "$android_jar" --manifest "$manifest" --warn-manifest-validation \
-    --java "$gen" --proguard "$out/aapt-rules.pro" --output-text-symbols "$out/R.txt" \
+    --java "$gen" --proguard "$out/aapt-rules.pro" --output-text-symbols "$out/R.txt" --emit-ids "$out/ids.txt" \
     --auto-add-overlay "${overlays[@]}" -R "$out/compiled.zip" 2>&1 \
-    | { grep -v -e "Unknown chunk type '200'" -e "unexpected element <property> found in <manifest><application><service>" || true; } >&2
+    | { grep -v "${quiet[@]}" || true; } >&2
   [ -f "$out/resources.ap_" ] || die "aapt2 link failed"
+  # The debug APK's: the same resources with the same ids, android:debuggable="true" added to
+  # <application> as the Android Gradle Plugin's debug build type does (the release APK and
+  # Robolectric keep the manifest as written).
+  aapt2 link -o "$out/resources-debug.ap_" -I "$android_jar" --manifest "$manifest" --warn-manifest-validation \
+    --debug-mode --stable-ids "$out/ids.txt" \
+    --auto-add-overlay "${overlays[@]}" -R "$out/compiled.zip" 2>&1 \
+    | { grep -v "${quiet[@]}" || true; } >&2
+  [ -f "$out/resources-debug.ap_" ] || die "aapt2 link (debug) failed"
   app_pkg=$(grep -o 'package="[^"]*"' "$manifest" | head -1 | cut -d'"' -f2)
   while read -r dir pkg; do
     if [ -s "$dir/R.txt" ] && [ "$pkg" != "$app_pkg" ]; then library_r "$out/R.txt" "$dir/R.txt" "$pkg" "$gen"; fi
   done < "$libraries"
+}
+
+# The Android Gradle Plugin 8.7's default packaging excludes (PackagingOptionsUtils' defaultExcludes in
+# com.android.tools.build:gradle:8.7.3; MavenApkTest reads them from that jar and checks the APK):
+# globs over the archive path with a leading /, ** any folders, * within one.
+AGP_EXCLUDES='/META-INF/LICENSE
+/META-INF/LICENSE.txt
+/META-INF/MANIFEST.MF
+/META-INF/NOTICE
+/META-INF/NOTICE.txt
+/META-INF/*.DSA
+/META-INF/*.EC
+/META-INF/*.SF
+/META-INF/*.RSA
+/META-INF/maven/**
+/META-INF/proguard/*
+/META-INF/com.android.tools/**
+/NOTICE
+/NOTICE.txt
+/LICENSE.txt
+/LICENSE
+**/.svn/**
+**/CVS/**
+**/SCCS/**
+**/.*/**
+**/.*
+**/*~
+**/thumbs.db
+**/picasa.ini
+**/about.html
+**/package.html
+**/overview.html
+**/protobuf.meta
+**/_*
+**/_*/**
+**/*.kotlin_metadata'
+
+# The Java resources of the given jars into OUT, as AGP merges them: every file that is not a class,
+# less AGP_EXCLUDES; META-INF/services/* of several jars concatenated; any other path found in two
+# jars with different content stops the build, as it stops AGP's. A Kotlin Multiplatform library's
+# root artifact (its common metadata, no classes: META-INF/kotlin-project-structure-metadata.json) is
+# skipped: Maven puts it on the class path beside the -jvm jar, Gradle resolves only the latter.
+java_resources() {
+  local out=$1; shift
+  local tmp="$out.jars" i=0 jar
+  rm -rf "$out" "$tmp"; mkdir -p "$out" "$tmp"
+  for jar in "$@"; do
+    i=$((i + 1))
+    if unzip -l "$jar" META-INF/kotlin-project-structure-metadata.json >/dev/null 2>&1; then continue; fi
+    mkdir -p "$tmp/$i"
+    unzip -qqo "$jar" -d "$tmp/$i" -x '*.class' 2>/dev/null || [ $? -eq 11 ] || die "cannot read $jar"
+    echo "$i $jar"
+  done > "$tmp/jars.txt"
+  (cd "$tmp" && find . -mindepth 2 -type f | sort -t/ -k2,2n -k3) \
+    | EXCLUDES="$AGP_EXCLUDES" perl -e '
+      my ($out, $tmp) = @ARGV;
+      my %jar;
+      open my $list, "<", "$tmp/jars.txt" or die; while (<$list>) { chomp; my ($k, $v) = split / /, $_, 2; $jar{$k} = $v } close $list;
+      my @ex;
+      for my $g (grep { length } split /\n/, $ENV{EXCLUDES}) {
+        $g = "/$g" unless $g =~ m{^[/*]};
+        my $r = join "", map { $_ eq "**" ? ".*" : $_ eq "*" ? "[^/]*" : $_ eq "?" ? "[^/]" : quotemeta $_ } split /(\*\*|\*|\?)/, $g;
+        push @ex, qr/^$r$/;
+      }
+      sub slurp { my $f = shift; open my $in, "<:raw", $f or die "$f: $!"; local $/; my $d = <$in>; close $in; defined $d ? $d : "" }
+      my %from;
+      while (my $line = <STDIN>) {
+        chomp $line;
+        my ($n, $path) = $line =~ m{^\./(\d+)/(.*)$} or next;
+        next if grep { "/$path" =~ $_ } @ex;
+        my $data = slurp("$tmp/$n/$path");
+        my $dest = "$out/$path";
+        (my $dir = $dest) =~ s{/[^/]*$}{};
+        system("mkdir", "-p", $dir) == 0 or die;
+        if (exists $from{$path}) {
+          my $have = slurp($dest);
+          if ($path =~ m{^META-INF/services/}) {
+            open my $o, ">>:raw", $dest or die;
+            print $o "\n" if length $have && $have !~ /\n\z/;
+            print $o $data;
+            close $o;
+            next;
+          }
+          next if $have eq $data;
+          die "android-build: 2 files found with path $path ($jar{$from{$path}} and $jar{$n}); AGP stops on it too: exclude or pick one in both builds\n";
+        }
+        open my $o, ">:raw", $dest or die; print $o $data; close $o;
+        $from{$path} = $n;
+      }' "$out" "$tmp"
+  rm -rf "$tmp"
+}
+
+# The keep rules the jars embed, as AGP picks them for R8 VERSION: a jar with META-INF/com.android.tools/
+# gives the files of its r8, r8-from-V, r8-upto-V and r8-from-V-upto-V folders whose range holds
+# VERSION (from inclusive, upto exclusive); a jar without gives META-INF/proguard/*. One file per rule
+# set in OUT.
+version_ge() { [ "$(printf '%s\n%s\n' "$2" "$1" | sort -V | head -1)" = "$2" ]; }
+jar_rules() {
+  local version=$1 out=$2; shift 2
+  local jar entry dir from upto i=0
+  rm -rf "$out"; mkdir -p "$out"
+  for jar in "$@"; do
+    i=$((i + 1))
+    local -a entries=()
+    mapfile -t entries < <(unzip -Z1 "$jar" 2>/dev/null | grep -E '^META-INF/(com\.android\.tools|proguard)/.*[^/]$' || true)
+    [ ${#entries[@]} -gt 0 ] || continue
+    if grep -q '^META-INF/com\.android\.tools/' <<< "$(printf '%s\n' "${entries[@]}")"; then
+      for entry in "${entries[@]}"; do
+        [[ $entry =~ ^META-INF/com\.android\.tools/(r8[^/]*)/[^/]+$ ]] || continue
+        dir=${BASH_REMATCH[1]}
+        [[ $dir =~ ^r8(-from-([0-9.]+))?(-upto-([0-9.]+))?$ ]] || continue
+        from=${BASH_REMATCH[2]}; upto=${BASH_REMATCH[4]}
+        if [ -n "$from" ] && ! version_ge "$version" "$from"; then continue; fi
+        if [ -n "$upto" ] && version_ge "$version" "$upto"; then continue; fi
+        unzip -p "$jar" "$entry" > "$out/$i-$(basename "$jar" .jar)-$dir-$(basename "$entry")"
+      done
+    else
+      for entry in "${entries[@]}"; do
+        [[ $entry =~ ^META-INF/proguard/[^/]+$ ]] || continue
+        unzip -p "$jar" "$entry" > "$out/$i-$(basename "$jar" .jar)-proguard-$(basename "$entry")"
+      done
+    fi
+  done
 }
 
 apk() {
@@ -147,8 +283,8 @@ apk() {
   jdk=$(java_home)
   rm -rf "$work"; mkdir -p "$work/dex" "$work/meta"
 
-  # The app's own classes (Kotlin, R) as one jar.
-  (cd "$target/classes" && zip -qr "$work/app-classes.jar" . -x 'META-INF/*.kotlin_module')
+  # The app's own classes (Kotlin, R) and Java resources as one jar.
+  (cd "$target/classes" && zip -qr "$work/app-classes.jar" .)
   local -a deps=()
   IFS=: read -r -a deps < "$target/runtime-classpath.txt" || true  # no newline at the end
 
@@ -174,25 +310,32 @@ apk() {
     $d8 com.android.tools.r8.D8 --debug --min-api 26 --output "$work/dex" \
       "$work/app-classes.dex.zip" "${dexed[@]}"
   else
+    local r8_version
+    r8_version=$(java -cp "$r8" com.android.tools.r8.R8 --version | awk 'NR == 1 { print $2 }')
+    jar_rules "$r8_version" "$work/jar-rules" "${deps[@]}"
+    local -a jar_confs=()
+    for f in "$work/jar-rules"/*; do [ -f "$f" ] && jar_confs+=(--pg-conf "$f"); done
     java -Xmx3g -cp "$r8" com.android.tools.r8.R8 --release --min-api 26 \
       --lib "$android_jar" --lib "$jdk" \
       --pg-conf "$target/aapt/aapt-rules.pro" --pg-conf "$target/../proguard-rules.pro" \
-      --pg-conf "$library_rules" \
+      --pg-conf "$library_rules" "${jar_confs[@]}" \
       --pg-map-output "$work/mapping.txt" --output "$work/dex" \
       "$work/app-classes.jar" "${deps[@]}"
   fi
 
-  # ServiceLoader entries (kotlinx-coroutines finds Dispatchers.Main through them).
-  for jar in "${deps[@]}"; do
-    unzip -qo "$jar" 'META-INF/services/*' -d "$work/meta" 2>/dev/null || true
-  done
+  # The jars' Java resources: ServiceLoader entries (kotlinx-coroutines finds Dispatchers.Main through
+  # them), Kotlin's module and builtins files, version files, coroutines' DebugProbesKt.bin.
+  java_resources "$work/meta" "$work/app-classes.jar" "${deps[@]}"
 
   local unaligned="$work/unaligned.apk" apk="$target/motion-fusion-$variant.apk"
-  cp "$target/aapt/resources.ap_" "$unaligned"
+  local resources="$target/aapt/resources.ap_"
+  if [ "$variant" = debug ]; then resources="$target/aapt/resources-debug.ap_"; fi
+  [ -f "$resources" ] || die "$resources missing: run the resources step first"
+  cp "$resources" "$unaligned"
   (cd "$work/dex" && zip -q "$unaligned" classes*.dex)
-  if [ -d "$work/meta/META-INF" ]; then (cd "$work/meta" && zip -qr "$unaligned" META-INF); fi
+  if [ -n "$(ls -A "$work/meta")" ]; then (cd "$work/meta" && zip -qr "$unaligned" .); fi
   zipalign -p -f 4 "$unaligned" "$work/aligned.apk"
-  apksigner sign --v1-signing-enabled false --v4-signing-enabled false \
+  apksigner sign --v1-signing-enabled false --v2-signing-enabled true --v3-signing-enabled true --v4-signing-enabled false \
     --ks "$keystore" --ks-pass "pass:$pass" --ks-key-alias "$alias" \
     --out "$apk" "$work/aligned.apk"
   apksigner verify "$apk"

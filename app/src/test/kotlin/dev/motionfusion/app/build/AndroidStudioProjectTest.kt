@@ -123,11 +123,96 @@ class AndroidStudioProjectTest {
 
     @Test
     fun `Kotlin 2_4 with the R8 bundled with AGP 8_7`() = reports("Kotlin 2.4.21 needs R8 9.1.29 or newer") {
-        edit("build.gradle.kts", "        classpath(\"com.android.tools:r8:9.5.28\")\n", "")
+        edit("settings.gradle.kts", "            classpath(\"com.android.tools:r8:9.5.28\")\n", "")
     }
 
     @Test
-    fun `an R8 other than Maven's`() = reports("pins R8 9.1.30, Maven runs 9.5.28") { edit("build.gradle.kts", "r8:9.5.28", "r8:9.1.30") }
+    fun `an R8 other than Maven's`() = reports("pins R8 9.1.30, Maven runs 9.5.28") { edit("settings.gradle.kts", "r8:9.5.28", "r8:9.1.30") }
+
+    @Test
+    fun `the R8 pin back in the root buildscript`() = reports("build.gradle.kts pins com.android.tools:r8 in its buildscript") {
+        edit("settings.gradle.kts", "            classpath(\"com.android.tools:r8:9.5.28\")\n", "")
+        edit("build.gradle.kts", "plugins {", "buildscript {\n    dependencies {\n        classpath(\"com.android.tools:r8:9.5.28\")\n    }\n}\n\nplugins {")
+    }
+
+    // --- the six regressions of issue 37, each invisible to the checker before it read what the files mean ---
+
+    @Test
+    fun `a release build without minification or ProGuard files`() {
+        copyRepository()
+        edit("app/build.gradle.kts", "            isMinifyEnabled = true\n            proguardFiles(\"proguard-rules.pro\")\n", "            isMinifyEnabled = false\n")
+        val found = problems()
+        assertTrue(found.any { "isMinifyEnabled = false" in it }, found.joinToString("\n"))
+        assertTrue(found.any { "proguardFiles do not name proguard-rules.pro" in it }, found.joinToString("\n"))
+    }
+
+    @Test
+    fun `the wrapper raised to 8_12 with the old checksum`() = reports("is not the SHA-256 Gradle publishes for gradle-8.12-bin.zip") {
+        edit("gradle/wrapper/gradle-wrapper.properties", "gradle-8.11.1-bin.zip", "gradle-8.12-bin.zip")
+    }
+
+    @Test
+    fun `a well-formed wrong checksum`() = reports("distributionSha256Sum 0000000000000000000000000000000000000000000000000000000000000000 is not the SHA-256") {
+        edit("gradle/wrapper/gradle-wrapper.properties", "f397b287023acdba1e9f6fc5ea72d22dd63669d59ed4a289a29b1a76eee151c6", "0".repeat(64))
+    }
+
+    @Test
+    fun `a packaging exclude that drops the ServiceLoader files`() = reports("packaging excludes \"META-INF/services/**\", which drops") {
+        edit("app/build.gradle.kts", "    compileOptions {", "    packaging {\n        resources {\n            excludes += \"META-INF/services/**\"\n        }\n    }\n\n    compileOptions {")
+    }
+
+    @Test
+    fun `a debug build type without a signing config`() = reports("the debug build type's signingConfig is null") {
+        edit("app/build.gradle.kts", "            signingConfig = signingConfigs.getByName(\"debug\")", "            signingConfig = null")
+    }
+
+    @Test
+    fun `a toolchain resolver version that does not exist`() = reports("plugin org.gradle.toolchains.foojay-resolver-convention 0.99.0 is not a published version") {
+        edit("settings.gradle.kts", "foojay-resolver-convention\") version \"0.9.0\"", "foojay-resolver-convention\") version \"0.99.0\"")
+    }
+
+    // --- the rest of what the checker reads ---
+
+    @Test
+    fun `a Gradle release missing from the table`() = reports("Gradle 8.99 (bin) is not in gradle/gradle-releases.tsv") {
+        edit("gradle/wrapper/gradle-wrapper.properties", "gradle-8.11.1-bin.zip", "gradle-8.99-bin.zip")
+    }
+
+    @Test
+    fun `a module without a POM from a repository that wants one`() = reports("gummy-bears-api-26:0.12.0 is published without a POM") {
+        edit("settings.gradle.kts", "                    metadataSources {\n                        artifact()\n                    }\n", "")
+    }
+
+    @Test
+    fun `a lambda argument provider`() = reports("a lambda CommandLineArgumentProvider") {
+        edit("app/build.gradle.kts", "    jvmArgumentProviders.add(objects.newInstance<SystemPropertyFile>().apply {\n        propertyName.set(name)\n        this.file.set(file)\n    })",
+            "    inputs.file(file)\n    jvmArgumentProviders.add(CommandLineArgumentProvider { listOf(\"-D\$name=\${file.get().asFile.absolutePath}\") })")
+    }
+
+    @Test
+    fun `a file input without path sensitivity`() = reports("SystemPropertyFile.file has no @get:PathSensitive") {
+        edit("app/build.gradle.kts", "    @get:InputFile\n    @get:PathSensitive(PathSensitivity.NONE)\n", "    @get:InputFile\n")
+    }
+
+    @Test
+    fun `slf4j-api left at Java-WebSocket's version`() = reports("Maven's dependencyManagement sets org.slf4j:slf4j-api to 2.0.16") {
+        edit("fusion-stream/build.gradle.kts", "    constraints {\n        implementation(libs.slf4j.api)\n    }\n", "")
+    }
+
+    @Test
+    fun `signing schemes that differ from apksigner's`() = reports("enableV3Signing = false; the Maven build signs with --v3-signing-enabled true") {
+        edit("app/build.gradle.kts", "enableV3Signing = true", "enableV3Signing = false")
+    }
+
+    @Test
+    fun `a signing scheme left to the defaults`() = reports("the debug signingConfig does not set enableV4Signing") {
+        edit("app/build.gradle.kts", "            enableV4Signing = false\n", "")
+    }
+
+    @Test
+    fun `the merger's tools libraries of another AGP`() = reports("android-tools is 31.7.2; AGP 8.7.3's tools libraries are 31.7.3") {
+        edit("gradle/libs.versions.toml", "android-tools = \"31.7.3\"", "android-tools = \"31.7.2\"")
+    }
 
     @Test
     fun `a Kotlin version without a compatibility row`() = reports("no row for Kotlin 2.4") {

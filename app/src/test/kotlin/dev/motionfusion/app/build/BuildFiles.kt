@@ -21,6 +21,11 @@ internal object BuildFiles {
 
     val repositoryRoot: File get() = path("project.root")
 
+    /** Whether this run has the unpacked AARs (the Maven build's tests do; Gradle's merge libraries themselves). */
+    val hasLibraries: Boolean get() = !System.getProperty(LIBRARIES).isNullOrEmpty()
+
+    private const val LIBRARIES = "android.libraries"
+
     val localRepository: File get() = path("maven.repo.local")
 
     val apiSignature: File get() = path("android.api.signature")
@@ -54,6 +59,23 @@ internal object BuildFiles {
     fun Element.text(tag: String): String? = child(tag)?.textContent?.trim()
 
     fun Element.androidName(): String = getAttributeNS(ANDROID, "name")
+
+    /**
+     * A component's class as Android reads it: `.record.RecordingService` and `RecordingService` (no dot)
+     * are relative to [pkg]. The Maven build's manifest keeps the names as written; the Android Gradle
+     * Plugin's merger writes them out in full, so tests compare names through this.
+     */
+    fun qualifiedName(name: String, pkg: String): String = when {
+        name.startsWith(".") -> pkg + name
+        !name.contains('.') -> "$pkg.$name"
+        else -> name
+    }
+
+    /** The manifest's package (Maven's manifest and AGP's merged one both carry it). */
+    fun Element.manifestPackage(): String = getAttribute("package").also { check(it.isNotEmpty()) { "the manifest has no package attribute" } }
+
+    /** This component's class name, qualified with the package of the manifest it sits in. */
+    fun Element.componentClass(): String = qualifiedName(androidName(), ownerDocument.documentElement.manifestPackage())
 
     /** android:* attributes, values as written. */
     fun Element.androidAttributes(): Map<String, String> {

@@ -4,20 +4,27 @@ import android.content.pm.ServiceInfo
 import dev.motionfusion.app.build.BuildFiles.androidName
 import dev.motionfusion.app.build.BuildFiles.child
 import dev.motionfusion.app.build.BuildFiles.children
+import dev.motionfusion.app.build.BuildFiles.componentClass
+import dev.motionfusion.app.build.BuildFiles.manifestPackage
 import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.stream.StreamService
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import org.w3c.dom.Element
 
 /**
  * Each foreground service's type (the recording's and the live stream's), the permission Android 14+
  * requires for that type, and the type the service passes to startForeground belong together: this
  * test fails when one of them changes without the others.
+ *
+ * It reads the manifest the test run is given (Maven's, with names as written, or the Android
+ * Gradle Plugin's merged one, with names in full) and compares class names qualified. Under Maven it
+ * also reads the manifest AGP's own merger makes of the same sources (ManifestMergerTest), so the
+ * Gradle form is checked here too.
  */
 class ForegroundServiceTest {
     private val manifest = BuildFiles.parse(BuildFiles.manifest)
-    private val permissions = manifest.children("uses-permission").map { it.androidName() }.toSet()
 
     /** Manifest type name → the ServiceInfo constant and the permission it needs (Android 14 ServiceInfo docs). */
     private val types = mapOf(
@@ -28,34 +35,47 @@ class ForegroundServiceTest {
         "connectedDevice" to (ServiceInfo.FOREGROUND_SERVICE_TYPE_CONNECTED_DEVICE to "android.permission.FOREGROUND_SERVICE_CONNECTED_DEVICE"),
     )
 
-    /** Each foreground service of the app (its class name's end) and the type it passes to startForeground. */
+    /** Each foreground service of the app and the type it passes to startForeground. */
     private val services = mapOf(
-        ".record.RecordingService" to RecordingService.FOREGROUND_SERVICE_TYPE,
-        ".stream.StreamService" to StreamService.FOREGROUND_SERVICE_TYPE,
+        RecordingService::class.java.name to RecordingService.FOREGROUND_SERVICE_TYPE,
+        StreamService::class.java.name to StreamService.FOREGROUND_SERVICE_TYPE,
     )
 
-    private fun service(name: String) = manifest.child("application")!!.children("service").single { it.androidName().endsWith(name) }
+    /** The manifests read: the one given to this run and, under Maven, AGP's merger's. */
+    private fun manifests(): List<Pair<String, Element>> = listOf("the test run's manifest" to manifest) +
+        (if (AgpManifestMerger.available) listOf("AGP's merged manifest" to AgpManifestMerger.mergeApp(debuggable = true)) else emptyList())
+
+    private fun Element.services() = child("application")!!.children("service")
+
+    private fun Element.service(name: String) = services().single { it.componentClass() == name }
+
+    private fun Element.permissions() = children("uses-permission").map { it.androidName() }.toSet()
 
     @Test
     fun `the manifest's type, its permission and the type passed to startForeground agree`() {
-        for ((name, passed) in services) {
-            val declared = service(name).getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")
-            val (constant, permission) = types[declared] ?: error("$name: foregroundServiceType '$declared' not known to this test")
-            assertEquals(constant, passed, "$name: type passed to startForeground")
-            assertTrue(permission in permissions, "$permission missing for type $declared")
-        }
-        assertTrue("android.permission.FOREGROUND_SERVICE" in permissions)
-        // Every service of the app is one of these (a new one is checked too).
-        val declaredServices = manifest.child("application")!!.children("service").map { it.androidName() }.filter { it.startsWith(".") }
-        assertEquals(services.keys, declaredServices.toSet())
+        for ((which, m) in manifests()) typesAgree(which, m)
     }
 
     @Test
     fun `the type's own requirements are met`() {
-        for (name in services.keys) requirementsMet(service(name))
+        for ((_, m) in manifests()) for (name in services.keys) requirementsMet(m.service(name), m.permissions())
     }
 
-    private fun requirementsMet(service: org.w3c.dom.Element) {
+    private fun typesAgree(which: String, m: Element) {
+        val permissions = m.permissions()
+        for ((name, passed) in services) {
+            val declared = m.service(name).getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")
+            val (constant, permission) = types[declared] ?: error("$which: $name: foregroundServiceType '$declared' not known to this test")
+            assertEquals(constant, passed, "$which: $name: type passed to startForeground")
+            assertTrue(permission in permissions, "$which: $permission missing for type $declared")
+        }
+        assertTrue("android.permission.FOREGROUND_SERVICE" in permissions, which)
+        // Every service of the app's own package is one of these (a new one is checked too); libraries' are not the app's.
+        val declaredServices = m.services().map { it.componentClass() }.filter { it.startsWith(m.manifestPackage() + ".") }
+        assertEquals(services.keys, declaredServices.toSet(), which)
+    }
+
+    private fun requirementsMet(service: Element, permissions: Set<String>) {
         when (val declared = service.getAttributeNS(BuildFiles.ANDROID, "foregroundServiceType")) {
             // Play reviews a specialUse service by the subtype the manifest gives it.
             "specialUse" -> {

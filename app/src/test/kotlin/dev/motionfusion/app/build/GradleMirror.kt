@@ -51,6 +51,7 @@ internal class GradleMirror(
         val MAVEN_ONLY_PROPERTIES = mapOf(
             "android.libraries" to "the AARs android-libs unpacks for the Maven build; the Android Gradle Plugin merges libraries itself",
             "maven.repo.local" to "the local Maven repository whose POMs the tests of the Maven build read",
+            "maven.build.directory" to "the Maven build's output folder, whose APKs MavenApkTest reads after packaging",
         )
         private const val LAUNCHER = "org.junit.platform:junit-platform-launcher"
         private const val FOOJAY = "org.gradle.toolchains.foojay-resolver-convention"
@@ -64,7 +65,8 @@ internal class GradleMirror(
         val checks = listOf(
             ::modules, ::dependencies, ::versionsAndToolchain, ::androidSettings, ::gradleProperties, ::junitLauncher,
             ::testTasks, ::testSourceImports, ::filteredResources, ::kotlinArguments, ::debugKey, ::r8AndKotlin, ::wrapper,
-            ::workflow,
+            ::workflow, ::releaseShrinking, ::wrapperRelease, ::packagingExcludes, ::signingConfigs, ::releasesExist,
+            ::metadataSources, ::managedVersions, ::cacheableTestInputs,
         )
         for (check in checks) {
             try { check() } catch (e: KotlinDsl.SyntaxError) { problem(e.message!!) } catch (e: MissingFile) { problem(e.message!!) }
@@ -235,6 +237,7 @@ internal class GradleMirror(
             ?.let { notation(it.args.first().value, null, where)?.second }
         val out = HashSet<Dep>()
         for (s in statements) {
+            if (s is Call && s.name == "constraints" && s.args.isEmpty() && s.lambda != null) continue // constraints(): managedVersions
             if (s !is Call || s.callee !is Name || s.args.size != 1) { problem("$where:${s.line}: cannot read '${path(s)}' in dependencies"); continue }
             val arg = s.args.single().value
             if (arg is Call && arg.name == "platform") continue
@@ -493,8 +496,8 @@ internal class GradleMirror(
             for (dep in missing) {
                 val packages = jarPackages(dep.coordinates, dep.version)
                 if (packages == null) { if (dep.configuration != "apiSignature") problem("$module: ${dep.coordinates}:${dep.version} is not on Gradle's test class path and its jar is not in the local Maven repository to check imports against"); continue }
+                // Every test source compiles under Gradle, the excluded ones too: excluding a class skips its run only.
                 for (f in testSources(module)) {
-                    if (excludedUnderGradle(module, f)) continue
                     for (imp in Regex("""(?m)^import ([\w.]+)""").findAll(f.readText()).map { it.groupValues[1] }) {
                         if (imp.substringBeforeLast('.') in packages || imp in packages) {
                             problem("${f.relativeTo(root)} imports $imp from ${dep.coordinates}, which only Maven puts on the test class path: under Gradle the test sources do not compile")
@@ -616,13 +619,16 @@ internal class GradleMirror(
         val (minAgp, minR8) = kotlinRow[2] to kotlinRow[3]
         val (bundledR8, minGradle) = agpRow[2] to agpRow[3]
         if (cmp(agp, minAgp) < 0) problem("AGP $agp is older than Kotlin $kotlin needs ($minAgp, gradle/compatibility.tsv)")
-        // The R8 the release build runs: the one on the root buildscript class path, else AGP's own.
-        val classpath = script("build.gradle.kts").filterIsInstance<Call>().filter { it.name == "buildscript" }
-            .flatMap { b -> calls(b.lambda!!.body).filter { it.first.name == "classpath" }.map { it.first } }
-        val pinned = classpath.mapNotNull { notation(it.args.single().value, null, "build.gradle.kts") }.firstOrNull { it.first == "com.android.tools:r8" }?.second
+        // The R8 the release build runs: the one R8's documentation has replace AGP's own, on the class path
+        // of settings.gradle.kts' pluginManagement { buildscript { dependencies { classpath(…) } } }, else AGP's.
+        val pinned = r8Pins("settings.gradle.kts", listOf("pluginManagement", "buildscript")).firstOrNull()
+        // Elsewhere (the root buildscript, a module's) a pin only works, if at all, by class-path order: AGP's builder jar holds R8 too.
+        for (where in listOf("build.gradle.kts") + sharedModules.map { "$it/build.gradle.kts" }) {
+            if (r8Pins(where, listOf("buildscript")).isNotEmpty()) problem("$where pins com.android.tools:r8 in its buildscript: that R8 wins over the one inside AGP only by class-path order; pin it in settings.gradle.kts pluginManagement { buildscript { … } }, where R8's documentation puts it")
+        }
         val r8 = pinned ?: bundledR8
-        if (cmp(r8, minR8) < 0) problem("the release build's R8 is $r8 (${if (pinned == null) "bundled with AGP $agp" else "pinned in build.gradle.kts"}), Kotlin $kotlin needs R8 $minR8 or newer (gradle/compatibility.tsv): pin com.android.tools:r8 on the root buildscript class path")
-        if (pinned != null && pinned != rootProperties["r8.version"]) problem("build.gradle.kts pins R8 $pinned, Maven runs ${rootProperties["r8.version"]}")
+        if (cmp(r8, minR8) < 0) problem("the release build's R8 is $r8 (${if (pinned == null) "bundled with AGP $agp" else "pinned in settings.gradle.kts"}), Kotlin $kotlin needs R8 $minR8 or newer (gradle/compatibility.tsv): pin com.android.tools:r8 in settings.gradle.kts pluginManagement { buildscript { dependencies { classpath(…) } } }")
+        if (pinned != null && pinned != rootProperties["r8.version"]) problem("settings.gradle.kts pins R8 $pinned, Maven runs ${rootProperties["r8.version"]}")
         val gradle = Regex("""gradle-([\d.]+)-(bin|all)\.zip""").find(file("gradle/wrapper/gradle-wrapper.properties").readText())?.groupValues?.get(1)
         if (gradle == null || cmp(gradle, minGradle) < 0) problem("the wrapper's Gradle $gradle is older than AGP $agp needs ($minGradle)")
     }
@@ -652,4 +658,249 @@ internal class GradleMirror(
         }
     }
 
+
+    // --- what the Gradle files mean (issue 37): shrinking, the wrapper's release, packaging, signing,
+    // versions that exist, metadata sources, managed versions, cacheable test inputs ---
+
+    private fun r8Pins(path: String, blocks: List<String>): List<String> {
+        if (!File(root, path).isFile) return emptyList()
+        return calls(script(path)).filter { (c, outer) -> c.name == "classpath" && outer.map { it.name } == blocks + "dependencies" }
+            .mapNotNull { (c, _) -> c.args.singleOrNull()?.value?.let { notation(it, null, path) } }
+            .filter { it.first == "com.android.tools:r8" }.map { it.second }
+    }
+
+    /** The statements of the app's build type [name] (`getByName("release") { … }`, `release { … }` inside `buildTypes`). */
+    private fun buildType(name: String): List<Node>? = calls(moduleScript("app")).firstOrNull { (c, outer) ->
+        outer.any { it.name == "buildTypes" } && c.lambda != null &&
+            ((c.name in setOf("getByName", "create", "named", "maybeCreate") && literal(c.args.firstOrNull()?.value) == name) || (c.name == name && c.args.isEmpty()))
+    }?.first?.lambda?.body
+
+    private fun assignedIn(nodes: List<Node>, name: String): Node? = assigns(nodes).firstOrNull { path(it.first.target) == name }?.first?.value
+
+    private fun releaseShrinking() {
+        val where = "app/build.gradle.kts"
+        val release = buildType("release") ?: return problem("$where: no release build type")
+        val minify = value(assignedIn(release, "isMinifyEnabled"))
+        if (minify != "true") problem("$where: the release build type has isMinifyEnabled = ${minify ?: "(not set: false)"}; the Maven release build shrinks with R8 (tools/android-build.sh), so Gradle's release APK would carry every unused class and never run the pinned R8")
+        val given = calls(release).filter { it.first.name == "proguardFiles" || it.first.name == "proguardFile" }.flatMap { it.first.args }
+        val files = given.mapNotNull { literal(it.value) }
+        // What the Maven release build gives R8 from the app's folder (besides aapt2's and the libraries' rules, which AGP adds itself).
+        val maven = Regex("""--pg-conf "\${'$'}target/\.\./([^"]+)"""").findAll(file("tools/android-build.sh").readText()).map { it.groupValues[1] }.toSet()
+        for (r in maven - files.toSet()) problem("$where: the release build type's proguardFiles do not name $r, which the Maven release build gives R8: its keep rules are lost under Gradle")
+        for (f in files) if (!File(root, "app/$f").isFile) problem("$where: proguardFiles names app/$f, which does not exist")
+    }
+
+    private fun wrapperRelease() {
+        val p = Properties().apply { file("gradle/wrapper/gradle-wrapper.properties").reader().use { load(it) } }
+        val url = p.getProperty("distributionUrl") ?: return problem("gradle/wrapper/gradle-wrapper.properties: no distributionUrl")
+        val m = Regex("""https://services\.gradle\.org/distributions/gradle-(\d[\w.\-]*)-(bin|all)\.zip""").matchEntire(url)
+            ?: return problem("gradle/wrapper/gradle-wrapper.properties: distributionUrl $url is not a Gradle release on services.gradle.org")
+        val (version, type) = m.destructured
+        val releases = file("gradle/gradle-releases.tsv").readLines().map { it.substringBefore('#').trim() }.filter { it.isNotEmpty() }.map { it.split(Regex("\\s+")) }
+        for (r in releases) if (r.size != 3 || !r[2].matches(Regex("[0-9a-f]{64}"))) problem("gradle/gradle-releases.tsv: '${r.joinToString(" ")}' is not VERSION TYPE SHA256")
+        val row = releases.firstOrNull { it.size == 3 && it[0] == version && it[1] == type }
+            ?: return problem("gradle/wrapper/gradle-wrapper.properties: Gradle $version ($type) is not in gradle/gradle-releases.tsv: add it with the SHA-256 Gradle publishes (https://services.gradle.org/distributions/gradle-$version-$type.zip.sha256)")
+        val sum = p.getProperty("distributionSha256Sum") ?: return
+        if (sum != row[2]) problem("gradle/wrapper/gradle-wrapper.properties: distributionSha256Sum $sum is not the SHA-256 Gradle publishes for gradle-$version-$type.zip (${row[2]}, gradle/gradle-releases.tsv): every download would be refused")
+    }
+
+    /** The app's Java resources a packaging exclude must not drop: the ServiceLoader files of its runtime jars. */
+    private fun serviceFiles(): Set<String> {
+        val found = HashSet<String>()
+        for (d in mavenDependencies("app").filter { it.configuration == "implementation" }) {
+            val repo = localRepository ?: break
+            val (g, a) = d.coordinates.split(':')
+            val jar = File(repo, "${g.replace('.', '/')}/$a/${d.version}/$a-${d.version}.jar")
+            if (jar.isFile) ZipFile(jar).use { z -> z.entries().asSequence().map { it.name }.filter { it.startsWith("META-INF/services/") && !it.endsWith("/") }.forEach { found += it } }
+        }
+        // kotlinx-coroutines-android's, which Dispatchers.Main is found through, whether or not the jar is at hand.
+        return found + "META-INF/services/kotlinx.coroutines.internal.MainDispatcherFactory"
+    }
+
+    /** AGP's glob (ParsedPackagingOptions): a pattern not starting with / or * is anchored at the archive's root. */
+    internal fun packagingMatches(pattern: String, entry: String): Boolean {
+        val glob = if (pattern.startsWith("/") || pattern.startsWith("*")) pattern else "/$pattern"
+        return java.nio.file.FileSystems.getDefault().getPathMatcher("glob:$glob").matches(java.nio.file.Paths.get("/$entry"))
+    }
+
+    /** The `excludes` the app's `packaging { }` (or `packagingOptions { }`) adds, at any depth (`resources { }`, `jniLibs { }`). */
+    internal fun packagingExcludesDeclared(): List<Pair<String, Int>> {
+        val inPackaging = { outer: List<Call> -> outer.any { it.name == "packaging" || it.name == "packagingOptions" } }
+        val out = ArrayList<Pair<String, Int>>()
+        for ((a, outer) in assigns(moduleScript("app"))) if (inPackaging(outer) && path(a.target).endsWith("excludes")) strings(a.value).forEach { out += it to a.line }
+        for ((c, outer) in calls(moduleScript("app"))) if (inPackaging(outer)) {
+            val callee = path(c.callee)
+            if (callee.endsWith("excludes.add") || callee.endsWith("excludes.addAll") || callee == "exclude") c.args.forEach { a -> strings(a.value).forEach { out += it to c.line } }
+        }
+        return out
+    }
+
+    private fun packagingExcludes() {
+        val services = serviceFiles()
+        for ((pattern, line) in packagingExcludesDeclared()) {
+            val dropped = services.filter { packagingMatches(pattern, it) }
+            if (dropped.isNotEmpty()) problem("app/build.gradle.kts:$line: packaging excludes \"$pattern\", which drops ${dropped.sorted().joinToString()}: ServiceLoader then finds nothing on the phone (Dispatchers.Main fails without kotlinx-coroutines-android's MainDispatcherFactory); the Maven build packages them")
+        }
+    }
+
+    /** `signingConfigs.getByName("debug")`, `signingConfigs["debug"]`, `null` → "debug", "null". */
+    private fun signingConfigName(n: Node?): String? = when {
+        n == null -> null
+        n is Name -> n.name
+        n is Call && n.name in setOf("getByName", "get", "named") -> literal(n.args.firstOrNull()?.value)
+        else -> path(n)
+    }
+
+    /** apksigner's scheme flags in tools/android-build.sh: 1..4 → enabled. */
+    private fun apksignerSchemes(): Map<Int, Boolean?> {
+        val text = file("tools/android-build.sh").readText()
+        return (1..4).associateWith { n -> Regex("""--v$n-signing-enabled (true|false)""").find(text)?.groupValues?.get(1)?.toBoolean() }
+    }
+
+    private fun signingConfigs() {
+        val where = "app/build.gradle.kts"
+        val debug = buildType("debug")
+        val debugConfig = debug?.let { signingConfigName(assignedIn(it, "signingConfig")) }
+        // Unset, AGP signs the debug build type with the debug signingConfig; anything else is another key or none.
+        if (debug != null && assignedIn(debug, "signingConfig") != null && debugConfig != "debug") problem("$where: the debug build type's signingConfig is $debugConfig: the debug APK is then ${if (debugConfig == "null") "not signed and does not install" else "signed with another key"}; the Maven build signs it with app/debug.keystore")
+        val release = buildType("release")
+        if (release != null && signingConfigName(assignedIn(release, "signingConfig")) == "debug") problem("$where: the release build type is signed with the debug key; the Maven release build refuses it")
+        // The schemes: written out on both sides, and equal.
+        val schemes = declaredSigningSchemes()
+        val apksigner = apksignerSchemes()
+        for (n in 1..4) {
+            val declared = schemes.getValue(n)
+            val maven = apksigner.getValue(n)
+            when {
+                maven == null -> problem("tools/android-build.sh: apksigner is not given --v$n-signing-enabled: its default and AGP's differ")
+                declared == null -> problem("$where: the debug signingConfig does not set enableV${n}Signing: AGP's default and apksigner's (tools/android-build.sh: $maven) differ")
+                declared != maven -> problem("$where: the debug signingConfig has enableV${n}Signing = $declared; the Maven build signs with --v$n-signing-enabled $maven")
+            }
+        }
+    }
+
+    /** The debug signingConfig's enableV1Signing … enableV4Signing (null: not written, AGP's default). */
+    internal fun declaredSigningSchemes(): Map<Int, Boolean?> {
+        val inDebugConfig = assigns(moduleScript("app")).filter { (_, outer) -> outer.any { it.name == "signingConfigs" } && outer.any { (it.name == "getByName" || it.name == "named") && literal(it.args.firstOrNull()?.value) == "debug" } }
+        return (1..4).associateWith { n -> inDebugConfig.firstOrNull { path(it.first.target) == "enableV${n}Signing" }?.first?.let { value(it.value) }?.toBooleanStrictOrNull() }
+    }
+
+    /** gradle/plugin-releases.tsv: plugin id → its versions known to be published. */
+    private fun pluginReleases(): Map<String, Set<String>> = file("gradle/plugin-releases.tsv").readLines().map { it.substringBefore('#').trim() }
+        .filter { it.isNotEmpty() }.map { it.split(Regex("\\s+")) }.groupBy({ it[0] }, { it[1] }).mapValues { it.value.toSet() }
+
+    private fun releasesExist() {
+        val known = pluginReleases()
+        val used = ArrayList<Triple<String, String, String>>()
+        for (n in script("settings.gradle.kts").filterIsInstance<Call>().filter { it.name == "plugins" }.flatMap { it.lambda!!.body }) {
+            if (n is Binary && n.op == "version") used += Triple(idOf(n) ?: "?", literal(n.right) ?: "?", "settings.gradle.kts")
+        }
+        for (accessor in toml["plugins"].orEmpty().keys) {
+            val (id, v) = pluginId(accessor.replace('-', '.'))
+            if (v != null) used += Triple(id, v, "gradle/libs.versions.toml")
+        }
+        for ((id, v, where) in used) {
+            val versions = known[id]
+            if (versions == null) problem("$where: plugin $id has no row in gradle/plugin-releases.tsv (the versions known to be published)")
+            else if (v !in versions) problem("$where: plugin $id $v is not a published version (gradle/plugin-releases.tsv: ${versions.sortedWith(::cmp).joinToString()}): the build fails to resolve it")
+        }
+        // The Android tools libraries (manifest merger) of the same AGP: 8.x.y ↔ 31.x.y.
+        val agp = pluginId("android.application").second ?: return
+        val tools = toml["versions"]?.get("android-tools")?.trim('"')
+        val expected = "${agp.substringBefore('.').toInt() + 23}.${agp.substringAfter('.')}"
+        if (tools != expected) problem("gradle/libs.versions.toml: android-tools is $tools; AGP $agp's tools libraries are $expected")
+        if (rootProperties["android.tools.version"] != expected) problem("pom.xml: android.tools.version is ${rootProperties["android.tools.version"]}; AGP $agp's tools libraries are $expected")
+        if (rootProperties["agp.version"] != agp) problem("pom.xml: agp.version is ${rootProperties["agp.version"]}, gradle/libs.versions.toml has AGP $agp")
+    }
+
+    /** Whether the local Maven repository shows [d] published without a POM (its folder holds no .pom). */
+    private fun withoutPom(d: Dep): Boolean {
+        val repo = localRepository ?: return false
+        val (g, a) = d.coordinates.split(':')
+        val dir = File(repo, "${g.replace('.', '/')}/$a/${d.version}")
+        return dir.isDirectory && !File(dir, "$a-${d.version}.pom").isFile && dir.list()!!.any { it.startsWith("$a-${d.version}.") }
+    }
+
+    private fun metadataSources() {
+        val settings = script("settings.gradle.kts")
+        val repos = calls(settings).filter { (c, outer) -> c.name == "repositories" && outer.map { it.name } == listOf("dependencyResolutionManagement") }.flatMap { it.first.lambda!!.body }
+        val noPom = sharedModules.flatMap { gradleDependencies(it) }.filter(::withoutPom).distinctBy { it.coordinates }
+        for (d in noPom) {
+            val (g, a) = d.coordinates.split(':')
+            val exclusive = repos.filterIsInstance<Call>().firstOrNull { r ->
+                r.name == "exclusiveContent" && calls(listOf(r)).any { (c, outer) -> outer.any { it.name == "filter" } && ((c.name == "includeModule" && c.args.mapNotNull { literal(it.value) } == listOf(g, a)) || (c.name == "includeGroup" && literal(c.args.firstOrNull()?.value) == g)) }
+            }
+            val artifact = exclusive != null && calls(listOf(exclusive)).any { (c, outer) -> c.name == "artifact" && outer.any { it.name == "metadataSources" } && outer.any { it.name == "forRepository" } }
+            if (!artifact) problem("settings.gradle.kts: ${d.coordinates}:${d.version} is published without a POM (none beside it in the local Maven repository); Gradle refuses a module without metadata unless its repository declares metadataSources { artifact() } (an exclusiveContent { forRepository { maven { … } } filter { includeModule(\"$g\", \"$a\") } })")
+        }
+    }
+
+    /** The dependencies a POM in the local repository declares for consumers (compile and runtime scope), versions resolved in that POM. */
+    private fun pomDependencies(ga: String, version: String): List<Pair<String, String>> {
+        val repo = localRepository ?: return emptyList()
+        val (g, a) = ga.split(':')
+        val f = File(repo, "${g.replace('.', '/')}/$a/$version/$a-$version.pom")
+        if (!f.isFile) return emptyList()
+        val pom = BuildFiles.parse(f)
+        val props = pom.properties() + mapOf("project.version" to version)
+        val managedHere = pom.child("dependencyManagement")?.child("dependencies")?.children("dependency").orEmpty()
+            .associate { "${it.text("groupId")}:${it.text("artifactId")}" to it.text("version") }
+        return pom.child("dependencies")?.children("dependency").orEmpty()
+            .filter { (it.text("scope") ?: "compile") in setOf("compile", "runtime") && it.text("optional") != "true" }
+            .mapNotNull { d ->
+                val dga = "${d.text("groupId")}:${d.text("artifactId")}"
+                val v = d.text("version") ?: managedHere[dga] ?: return@mapNotNull null
+                dga to interpolate(v, props)
+            }
+    }
+
+    private fun gradleConstraints(module: String): List<Pair<String, String>> =
+        calls(moduleScript(module)).filter { (_, outer) -> outer.map { it.name } == listOf("dependencies", "constraints") }
+            .mapNotNull { (c, _) -> c.args.singleOrNull()?.value?.let { notation(it, null, "$module/build.gradle.kts") } }
+
+    /** Maven's dependencyManagement fixes the version of a library that arrives transitively; Gradle takes the highest asked for unless a constraint says otherwise. */
+    private fun managedVersions() {
+        val direct = sharedModules.flatMap { m -> mavenDependencies(m).map { m to it } }
+        val directCoordinates = direct.map { it.second.coordinates }.toSet()
+        val constraints = sharedModules.flatMap { gradleConstraints(it) }
+        for ((ga, version) in managed) {
+            if (ga in directCoordinates || ga.startsWith("dev.motionfusion:")) continue
+            val askers = direct.filter { it.second.configuration != "testImplementation" }.flatMap { (m, d) ->
+                pomDependencies(d.coordinates, d.version).filter { it.first == ga && it.second != version }.map { "$m: ${d.coordinates}:${d.version} asks for ${it.second}" }
+            }.distinct()
+            if (askers.isEmpty()) continue
+            val c = constraints.filter { it.first == ga }
+            if (c.isEmpty()) problem("Maven's dependencyManagement sets $ga to $version (${askers.joinToString("; ")}); no build.gradle.kts has constraints { implementation(…) } at $version, so Gradle packages another version")
+            for ((_, v) in c) if (v != version) problem("a Gradle constraint sets $ga to $v, Maven's dependencyManagement to $version")
+        }
+    }
+
+    /** Test task inputs Gradle can fingerprint: typed argument providers, never lambdas. */
+    private fun cacheableTestInputs() {
+        for (module in sharedModules) {
+            val where = "$module/build.gradle.kts"
+            val nodes = moduleScript(module)
+            for ((c, _) in calls(nodes)) if (c.name == "CommandLineArgumentProvider" && c.lambda != null) {
+                problem("$where:${c.line}: a lambda CommandLineArgumentProvider: Gradle cannot tell what it reads, so the test task is never taken from the build cache; give a class with @get:InputFile (or @get:InputDirectory) and @get:PathSensitive properties")
+            }
+            val providers = nodes.filterIsInstance<KotlinDsl.Decl>().filter { it.kind == "class" && "CommandLineArgumentProvider" in it.supertypes }
+            for (cls in providers) {
+                val props = (cls.value as? KotlinDsl.Lambda)?.body.orEmpty().filterIsInstance<KotlinDsl.Decl>().filter { it.kind == "val" || it.kind == "var" }
+                for (p in props) {
+                    val input = p.annotations.firstOrNull { it.startsWith("get:Input") || it == "get:Internal" || it == "get:Nested" }
+                    if (input == null) problem("$where:${p.line}: ${cls.name}.${p.name} has no @get:Input… annotation: Gradle does not track it")
+                    if (input in setOf("get:InputFile", "get:InputFiles", "get:InputDirectory") && "get:PathSensitive" !in p.annotations) {
+                        problem("$where:${p.line}: ${cls.name}.${p.name} has no @get:PathSensitive: the absolute path enters the cache key and no other checkout reuses the test results")
+                    }
+                }
+                if (props.none { it.annotations.any { a -> a in setOf("get:InputFile", "get:InputFiles", "get:InputDirectory") } }) problem("$where: ${cls.name} declares no file input")
+            }
+            val names = providers.map { it.name }.toSet()
+            for ((c, _) in calls(nodes)) if (path(c.callee).endsWith("jvmArgumentProviders.add")) {
+                var typed = false
+                KotlinDsl.walk(c.args.map { it.value }) { n, _ -> if (n is Call && (n.typeArgs.any { it in names } || n.name in names)) typed = true }
+                if (!typed) problem("$where:${c.line}: jvmArgumentProviders.add(…) is not given one of the typed providers declared here (${names.ifEmpty { setOf("none") }.joinToString()})")
+            }
+        }
+    }
 }

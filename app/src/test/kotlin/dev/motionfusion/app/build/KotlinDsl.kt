@@ -34,8 +34,19 @@ internal object KotlinDsl {
     data class Binary(val op: String, val left: Node, val right: Node, override val line: Int) : Node()
     data class Unary(val op: String, val operand: Node, override val line: Int) : Node()
     data class Assign(val target: Node, val op: String, val value: Node, override val line: Int) : Node()
-    /** `val x = …`, `val x by …`, `fun R.f(…) { … }`, `import …`: [value] is the initializer or body. */
-    data class Decl(val kind: String, val name: String, val value: Node?, override val line: Int) : Node()
+    /**
+     * `val x = …`, `val x by …`, `fun R.f(…) { … }`, `import …`, `class C : S { … }`: [value] is the
+     * initializer or body (a class's body as a [Lambda]); [annotations] as written without `@`
+     * (`get:InputFile`, `get:PathSensitive(PathSensitivity.NONE)` is `get:PathSensitive`), [modifiers]
+     * (`abstract`, `override` …), [type] a property's declared type, [supertypes] a class's.
+     */
+    data class Decl(
+        val kind: String, val name: String, val value: Node?, override val line: Int,
+        val annotations: List<String> = emptyList(), val modifiers: List<String> = emptyList(),
+        val type: String? = null, val supertypes: List<String> = emptyList(),
+        /** An annotation's arguments by its name, e.g. `get:PathSensitive` → `PathSensitivity.NONE`. */
+        val annotationArgs: Map<String, List<Node>> = emptyMap(),
+    ) : Node()
 
     fun parse(source: String, file: String): List<Node> = Parser(tokenize(source, file), file).script()
 
@@ -149,20 +160,69 @@ internal object KotlinDsl {
             return out
         }
 
+        private val MODIFIERS = setOf("abstract", "override", "private", "internal", "public", "protected", "open", "lateinit", "inline", "data", "final")
+
+        /** `@name`, `@get:Name`, `@Name(args)` before a declaration. */
+        fun annotation(): Pair<String, List<Node>> {
+            expect("@")
+            val sb = StringBuilder(ident())
+            if (at(":")) { next(); sb.append(':').append(ident()) }
+            while (at(".")) { next(); sb.append('.').append(ident()) }
+            val args = ArrayList<Node>()
+            if (at("(") && !peek.newlineBefore) {
+                next()
+                while (!at(")")) { args += expression(); if (at(",")) next() else if (!at(")")) err("expected ',' or ')'") }
+                next()
+            }
+            return sb.toString() to args
+        }
+
         fun statement(): Node {
+            val annotations = ArrayList<Pair<String, List<Node>>>()
+            val modifiers = ArrayList<String>()
+            while (true) {
+                if (at("@")) { annotations += annotation(); continue }
+                if (peek.type == T.IDENT && peek.text in MODIFIERS && t[p + 1].type == T.IDENT) { modifiers += next().text; continue }
+                break
+            }
+            val decl = declaration()
+            if (decl != null) return decl.copy(annotations = annotations.map { it.first }, modifiers = modifiers, annotationArgs = annotations.toMap())
+            if (annotations.isNotEmpty() || modifiers.isNotEmpty()) err("expected a declaration after its annotations or modifiers")
+            return expressionStatement()
+        }
+
+        fun declaration(): Decl? {
             val tok = peek
+            if (tok.type == T.IDENT && tok.text == "class") {
+                next()
+                val name = ident()
+                if (at("@")) annotation()
+                if (at("constructor", T.IDENT)) next()
+                if (at("(")) { next(); while (!at(")")) { if (at("val", T.IDENT) || at("var", T.IDENT)) next(); ident(); expect(":"); type(); if (at("=")) { next(); expression() }; if (at(",")) next() }; next() }
+                val supertypes = ArrayList<String>()
+                if (at(":")) {
+                    next()
+                    while (true) {
+                        supertypes += type()
+                        if (at("(") && !peek.newlineBefore) { next(); while (!at(")")) { expression(); if (at(",")) next() }; next() }
+                        if (at(",")) next() else break
+                    }
+                }
+                val body = if (at("{") && !peek.newlineBefore) block() else null
+                return Decl("class", name, body, tok.line, supertypes = supertypes)
+            }
             if (tok.type == T.IDENT) when (tok.text) {
                 "import" -> { next(); val sb = StringBuilder(ident()); while (at(".") || at("*")) { sb.append(next().text); if (peek.type == T.IDENT && !peek.newlineBefore) sb.append(next().text) }; if (at("as", T.IDENT)) { next(); ident() }; return Decl("import", sb.toString(), null, tok.line) }
                 "val", "var" -> {
                     next()
                     val name = ident()
-                    if (at(":")) { next(); type() }
+                    val type = if (at(":")) { next(); type() } else null
                     val value = when {
                         at("=") -> { next(); expression() }
                         at("by", T.IDENT) -> { next(); expression() }
                         else -> null
                     }
-                    return Decl(tok.text, name, value, tok.line)
+                    return Decl(tok.text, name, value, tok.line, type = type)
                 }
                 "fun" -> {
                     next()
@@ -180,6 +240,11 @@ internal object KotlinDsl {
                     return Decl("fun", name, body, tok.line)
                 }
             }
+            return null
+        }
+
+        fun expressionStatement(): Node {
+            val tok = peek
             val target = expression()
             if ((at("=") || at("+=") || at("-=")) ) {
                 val op = next().text
