@@ -166,6 +166,8 @@ public class StreamClient @JvmOverloads constructor(
             )
         }
         helloMessage?.let { return it }
+        // Refused: the phone closes right after its error; its close code tells a denial from other refusals ([end]).
+        closedLatch.await(REFUSAL_CLOSE_MS, TimeUnit.MILLISECONDS)
         socket.close()
         helloFailure?.let { throw it }
         throw IOException("$uri: ${failure ?: "no hello"}")
@@ -193,5 +195,8 @@ public class StreamClient @JvmOverloads constructor(
         public const val CONFIRMATION_WAIT_MS: Long = 120_000
 
         private const val CLOSE_MALFORMED = 4002
+
+        /** How long a refused [connect] waits for the phone's close, which says how it ended. */
+        private const val REFUSAL_CLOSE_MS = 2_000L
     }
 }

@@ -118,6 +118,46 @@ class StreamServiceTest {
     }
 
     @Test
+    fun `a laptop that asks to connect is in the notification with Deny and Allow, immutable, and Allow there pairs it`() {
+        val c = startStreaming()
+        val on = controller.state.value as StreamState.On
+        val nm = shadowOf(app.getSystemService(android.app.NotificationManager::class.java))
+        val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code, client = "fusion listen on lab")) {}
+        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+        try {
+            val hello = pool.submit<StreamMessage.Hello> { client.connect() }
+            var shown = nm.getNotification(StreamService.NOTIFICATION_ID)
+            for (k in 0 until 10_000) {
+                shadowOf(Looper.getMainLooper()).idle()
+                shown = nm.getNotification(StreamService.NOTIFICATION_ID)
+                if (shown.actions.size > 1) break
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            assertEquals("“fusion listen on lab” at 127.0.0.1 asks to connect", text(shown))
+            assertEquals(listOf("Deny", "Allow", "Stop"), shown.actions.map { it.title.toString() })
+            for (action in shown.actions) assertTrue(shadowOf(action.actionIntent).isImmutable)
+            // On the lock screen: the title alone, neither the name nor the address.
+            assertFalse("127.0.0.1" in shown.publicVersion.extras.getCharSequence(Notification.EXTRA_TEXT)?.toString().orEmpty())
+            val allow = shadowOf(shown.actions[1].actionIntent).savedIntent
+            assertEquals(StreamService.ACTION_ALLOW, allow.action)
+            c.get().onStartCommand(allow, 0, 2)
+            graph.settle()
+            hello.get(10, TimeUnit.SECONDS)
+            for (k in 0 until 10_000) {
+                shadowOf(Looper.getMainLooper()).idle()
+                if (text(nm.getNotification(StreamService.NOTIFICATION_ID)).startsWith("1 client")) break
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            val paired = nm.getNotification(StreamService.NOTIFICATION_ID)
+            assertEquals("1 client · code ${on.code}", text(paired))
+            assertEquals(listOf("Stop"), paired.actions.map { it.title.toString() })
+        } finally {
+            pool.shutdownNow()
+            client.close()
+        }
+    }
+
+    @Test
     fun `the wake lock is renewed every minute of the injected clock while waiting for a client, when nothing else changes`() {
         val c = startStreaming()
         val lock = ShadowPowerManager.getLatestWakeLock()
