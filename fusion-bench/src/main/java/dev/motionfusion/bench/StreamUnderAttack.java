@@ -10,7 +10,7 @@
  * measured here) and denies every other address. Against a server without that (an older fusion-stream on the class
  * path, whose StreamServer has only the three-argument constructor) it runs the same attacks without it, which is how
  * the "before" figures in docs/STREAMING.md were taken.
- * Run: java -Xmx256m -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.StreamUnderAttack [SECONDS_PER_ATTACK [ATTACK,...]]
+ * Run: java -Xmx256m [-DnoConfirmation=true] -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.StreamUnderAttack [SECONDS_PER_ATTACK [ATTACK,...]]
  * (ATTACK: none, frames, headers, halfopen, places, rotating, preopened, origin, binary; default all).
  */
 package dev.motionfusion.bench;
@@ -86,6 +86,7 @@ public final class StreamUnderAttack {
         InetSocketAddress address = new InetSocketAddress(InetAddress.getLoopbackAddress(), 0);
         StreamServer[] self = new StreamServer[1];
         try {
+            if (Boolean.getBoolean("noConfirmation")) throw new NoSuchMethodError("-DnoConfirmation=true");
             self[0] = new StreamServer(address, CODE, () -> offer, new StreamServerSettings(), System::nanoTime, () -> CODE,
                 c -> { codeChanges.incrementAndGet(); return kotlin.Unit.INSTANCE; }, f -> kotlin.Unit.INSTANCE,
                 request -> {
@@ -269,7 +270,11 @@ public final class StreamUnderAttack {
             for (Socket s : held) {
                 try {
                     s.setSoTimeout(1);
-                    if (s.getInputStream().read() < 0) closed++;
+                    // Whatever the server sent before closing is read first.
+                    byte[] buf = new byte[4096];
+                    int n = 0;
+                    for (int k = 0; k < 1000 && n >= 0; k++) n = s.getInputStream().read(buf);
+                    if (n < 0) closed++;
                 } catch (IOException e) {
                     if (!(e instanceof java.net.SocketTimeoutException)) closed++;
                 }
