@@ -31,7 +31,7 @@ import kotlinx.coroutines.launch
  * layout for its new shape; the capture and its filter carry on). The fusion runs in the
  * application's capture (off the main thread, and surviving configuration changes), reached
  * through [LiveViewModel]; the app bar's actions are res/menu/live.xml. This activity keeps it
- * running while visible (onStart..onStop), collects its state while started (repeatOnLifecycle) and draws the latest
+ * running while visible (onStart..onStop, and through a configuration change's recreation), collects its state while started (repeatOnLifecycle) and draws the latest
  * state at most once per display frame: each new state or display change asks for the next
  * frame, and the frame draws whatever is newest then.
  */
@@ -99,7 +99,10 @@ class MainActivity : AppCompatActivity() {
         getSystemService(DisplayManager::class.java).unregisterDisplayListener(displays)
         Choreographer.getInstance().removeFrameCallback(frame)
         framePending = false
-        model.onHidden()
+        // A rotation, a theme, font-size or window-size change recreates the activity at once: the capture (the
+        // application's, held by the ViewModel, which survives it) stays registered, with no gap in the filter, the
+        // plot or a recording's batching; it is let go only when the screen really goes away.
+        if (!isChangingConfigurations) model.onHidden()
         super.onStop()
     }
 

@@ -9,6 +9,7 @@ import android.view.View
 import android.widget.TextView
 import androidx.appcompat.widget.Toolbar
 import dev.motionfusion.app.calibration.CalibrationActivity
+import dev.motionfusion.app.record.RecordingBanner
 import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.app.sessions.SessionDetailActivity
@@ -101,7 +102,7 @@ class RecordingBannerTest {
             assertEquals(toolbar.parent, banner(a).parent)
             assertEquals(toolbar.width, banner(a).width)
 
-            graph.graph.recordings.set(RecordingState.NotStarted("refused"))
+            graph.graph.recordings.set(RecordingState.NotStarted(dev.motionfusion.app.platform.Foreground.Refusal.BACKGROUND))
             shadowOf(Looper.getMainLooper()).idle()
             assertEquals("$name, not started", View.GONE, banner(a).visibility)
             graph.graph.recordings.set(active(nowMs() - 1_000, streams = 1))
@@ -126,6 +127,16 @@ class RecordingBannerTest {
             assertEquals(name, MainActivity::class.java.name, back.component!!.className)
             assertTrue("$name: the live screen brought back, not stacked", back.flags and Intent.FLAG_ACTIVITY_CLEAR_TOP != 0)
             a.findViewById<View>(R.id.recording_banner_stop).performClick()
+            // Asked first: nothing stopped until the user confirms.
+            assertNull("$name: stopped without asking", shadowOf(app).peekNextStartedService())
+            val ask = a.findViewById<RecordingBanner>(R.id.recording_banner).dialog!!
+            assertEquals(app.getString(R.string.record_stop_confirm_title), ask.findViewById<TextView>(androidx.appcompat.R.id.alertTitle)!!.text.toString())
+            ask.getButton(androidx.appcompat.app.AlertDialog.BUTTON_NEGATIVE).performClick()
+            shadowOf(Looper.getMainLooper()).idle()
+            assertNull("$name: Keep recording stops nothing", shadowOf(app).peekNextStartedService())
+            a.findViewById<View>(R.id.recording_banner_stop).performClick()
+            a.findViewById<RecordingBanner>(R.id.recording_banner).dialog!!.getButton(androidx.appcompat.app.AlertDialog.BUTTON_POSITIVE).performClick()
+            shadowOf(Looper.getMainLooper()).idle()
             val stop = shadowOf(app).nextStartedService
             assertEquals(name, RecordingService::class.java.name, stop.component!!.className)
             assertEquals(name, RecordingService.ACTION_STOP, stop.action)

@@ -11,7 +11,7 @@ import dev.motionfusion.core.filter.MadgwickFilter;
 import dev.motionfusion.core.eval.PhoneComparison;
 import dev.motionfusion.core.eval.TrialReader;
 import dev.motionfusion.core.input.QuaternionTableReader;
-import dev.motionfusion.core.replay.OfflineSettings;
+import dev.motionfusion.core.filter.offline.OfflineSettings;
 
 import java.io.File;
 import java.io.IOException;

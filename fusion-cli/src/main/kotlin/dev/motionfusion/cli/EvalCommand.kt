@@ -16,7 +16,7 @@ import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
-import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.event.SessionStream
 import java.io.File
 import java.io.PrintStream

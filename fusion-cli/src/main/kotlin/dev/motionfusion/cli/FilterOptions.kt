@@ -6,7 +6,7 @@ import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
 import dev.motionfusion.core.filter.SettingKind
 import dev.motionfusion.core.input.Recording
-import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import java.io.PrintStream
 
 /** The filter settings options shared by replay, eval, compare and plot. */

@@ -150,7 +150,7 @@ internal object CalibrationText {
             )
         else -> Still(
             c.getString(R.string.calibration_still_ready), c.getString(R.string.calibration_still_needs),
-            if (rec is RecordingState.NotStarted) c.getString(R.string.record_not_started, rec.reason) else "", 0.0, recording = false, busy = false,
+            if (rec is RecordingState.NotStarted) rec.text(c) else "", 0.0, recording = false, busy = false,
         )
     }
 

@@ -1,5 +1,7 @@
 package dev.motionfusion.app.export
 
+import dev.motionfusion.app.platform.SessionBusyException
+import dev.motionfusion.app.platform.UnreadableSessionException
 import android.content.ClipData
 import android.content.ContentValues
 import android.content.Context
@@ -43,9 +45,9 @@ internal object Exporter {
         val complete = try {
             SessionReader.open(dir.toPath()).use { it.metadata.complete }
         } catch (e: Exception) {
-            throw IOException("${dir.name} is not a readable session: ${e.message}", e)
+            throw UnreadableSessionException("${dir.name} is not a readable session: ${e.message}", e)
         }
-        if (!complete) throw IOException("${dir.name} is still being recorded")
+        if (!complete) throw SessionBusyException("${dir.name} is still being recorded")
     }
 
     /** Writes the zip to [target] all-or-nothing (the project's [AtomicFiles]): a failed export leaves no partial zip. */

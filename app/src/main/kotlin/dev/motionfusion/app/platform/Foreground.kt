@@ -7,6 +7,8 @@ import android.app.Service
 import android.content.Context
 import android.os.Build
 import android.os.PowerManager
+import android.util.Log
+import androidx.annotation.StringRes
 import dev.motionfusion.app.R
 
 /**
@@ -35,9 +37,7 @@ object Foreground {
     /**
      * Enters the foreground through [starter] (ServiceCompat.startForeground, or a test's), with [type] on
      * Android 14+ (the type the manifest declares; earlier versions start without one). Returns why the
-     * system refused, or null: Android 12+ refuses a start from the background
-     * (ForegroundServiceStartNotAllowedException, an IllegalStateException), Android 14+ one whose type's
-     * permission is missing (SecurityException).
+     * system refused ([Refusal]; the exception goes to the log, never to the screen), or null.
      */
     fun enter(
         service: Service,
@@ -45,13 +45,39 @@ object Foreground {
         notification: Notification,
         type: Int,
         starter: (Service, Int, Notification, Int) -> Unit,
-    ): String? = try {
+    ): Refusal? = try {
         starter(service, id, notification, if (Build.VERSION.SDK_INT >= 34) type else 0)
         null
     } catch (e: IllegalStateException) {
-        e.message ?: e.javaClass.simpleName
+        Refusal.of(e, service.javaClass.simpleName)
     } catch (e: SecurityException) {
-        e.message ?: e.javaClass.simpleName
+        Refusal.of(e, service.javaClass.simpleName)
+    }
+
+    /**
+     * Why the system refused a foreground service, each with the words the user reads ([text], a string
+     * resource in every language the app ships); the framework's message goes to the log only.
+     */
+    enum class Refusal(@StringRes val text: Int) {
+        /**
+         * Android 12+: the start came while the app was in the background and is not exempt
+         * (ForegroundServiceStartNotAllowedException, an IllegalStateException; also Android 8+'s
+         * IllegalStateException for a service started from the background).
+         */
+        BACKGROUND(R.string.foreground_refused_background),
+
+        /** Android 14+: the permission of the service's type is missing (SecurityException). */
+        PERMISSION(R.string.foreground_refused_permission),
+        ;
+
+        companion object {
+            /** The kind of [e] (thrown by a start of [what]); logged with its message. */
+            fun of(e: RuntimeException, what: String): Refusal {
+                val kind = if (e is SecurityException) PERMISSION else BACKGROUND
+                Log.w("Foreground", "$what: the system refused the foreground ($kind)", e)
+                return kind
+            }
+        }
     }
 }
 

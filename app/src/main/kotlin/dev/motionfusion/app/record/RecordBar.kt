@@ -2,12 +2,9 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.app.ui.setTextIfChanged
 import dev.motionfusion.app.live.RecordingLimits
-import android.Manifest
 import android.content.Context
 import android.content.Intent
-import android.content.pm.PackageManager
 import android.content.res.ColorStateList
-import android.os.Build
 import android.os.Handler
 import android.os.Looper
 import android.text.InputFilter
@@ -20,11 +17,11 @@ import android.widget.Button
 import android.widget.EditText
 import android.widget.TextView
 import androidx.activity.ComponentActivity
-import androidx.activity.result.contract.ActivityResultContracts
 import androidx.appcompat.app.AlertDialog
-import androidx.core.content.ContextCompat
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.NotificationAsk
+import dev.motionfusion.app.sessions.SessionDetailActivity
 import dev.motionfusion.app.sessions.SessionsActivity
 import dev.motionfusion.core.session.SessionMarkers
 
@@ -36,20 +33,26 @@ import dev.motionfusion.core.session.SessionMarkers
  * time); the recording itself lives in [RecordingService] and does not depend on this view or
  * its activity.
  *
+ * After Stop it offers the saved session: Open (its detail screen) and Share (the same, its Share
+ * started at once). Stop asks first ([confirmStop]).
+ *
  * On Android 13+ the first Record explains the recording's notification before the system asks
- * for the permission; recording starts after the answer, whatever it is, and the question is
- * not asked again. Without the permission the bar says that the notification may be hidden.
+ * for the permission ([NotificationAsk]); recording starts after the answer, whatever it is, and
+ * the question is not asked again. Without the permission the bar says that the notification may
+ * be hidden and offers to turn notifications on (the app's notification settings).
  */
 internal class RecordBar private constructor(private val activity: ComponentActivity, private val root: View) {
     private val toggle: Button = root.findViewById(R.id.record_toggle)
     private val markButton: Button = root.findViewById(R.id.record_mark)
     private val status: TextView = root.findViewById(R.id.record_status)
+    private val after: View = root.findViewById(R.id.record_after)
+    private val notificationsOn: Button = root.findViewById(R.id.record_notifications_on)
     private val handler = Handler(Looper.getMainLooper())
     private val deps = (activity.application as RecordingDependencies.Provider).recordingDependencies
     private val recordings = deps.recordings
     private val announcer = RecordingAnnouncer { root.announceForAccessibility(it) }
 
-    /** The dialog on screen (notification explanation or marker note), for tests. */
+    /** The dialog on screen (Stop's confirmation or marker note; the notification explanation: [notifications]), for tests. */
     internal var dialog: AlertDialog? = null
         private set
     private val poll = object : Runnable {
@@ -59,11 +62,11 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         }
     }
 
-    /** Registered while the activity is created, as the Activity Result API requires. Recording starts after the answer. */
-    private val notificationPermission = activity.registerForActivityResult(ActivityResultContracts.RequestPermission()) {
-        deps.setNotificationsAnswered()
-        start()
-    }
+    /** Made while the activity is created, as the Activity Result API requires. Recording starts after the answer. */
+    private val notifications = NotificationAsk(
+        activity, R.string.record_notifications_title, R.string.record_notifications_text, R.string.record_notifications_skip,
+        { deps.notificationsAnswered }, deps::setNotificationsAnswered, ::start,
+    )
 
     init {
         toggle.setOnClickListener { onToggle() }
@@ -75,6 +78,9 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         root.findViewById<Button>(R.id.record_sessions).setOnClickListener {
             activity.startActivity(Intent(activity, SessionsActivity::class.java))
         }
+        root.findViewById<Button>(R.id.record_open).setOnClickListener { openEnded(share = false) }
+        notificationsOn.setOnClickListener { notifications.openSettings() }
+        root.findViewById<Button>(R.id.record_share).setOnClickListener { openEnded(share = true) }
         root.addOnAttachStateChangeListener(object : View.OnAttachStateChangeListener {
             override fun onViewAttachedToWindow(v: View) {
                 handler.removeCallbacks(poll)
@@ -88,13 +94,19 @@ internal class RecordBar private constructor(private val activity: ComponentActi
 
     private fun onToggle() {
         if (recordings.isRecording) {
-            RecordingService.stop(activity)
+            dialog = confirmStop(activity) { handler.postDelayed(::refresh, 100) }
+        } else if (recordings.state.value is RecordingState.Interrupted) {
+            RecordingService.continueRecording(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
             handler.postDelayed(::refresh, 100)
-        } else if (Build.VERSION.SDK_INT >= 33 && !notificationsAllowed() && !deps.notificationsAnswered) {
-            explainNotifications()
         } else {
-            start()
+            notifications.thenProceed()
         }
+    }
+
+    /** The session the last recording saved, in its detail screen; [share]: its Share started there at once. */
+    private fun openEnded(share: Boolean) {
+        val session = (recordings.state.value as? RecordingState.Ended)?.session ?: return
+        activity.startActivity(SessionDetailActivity.intent(activity, session.name, share))
     }
 
     private fun start() {
@@ -103,22 +115,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         handler.postDelayed(::refresh, 100)
     }
 
-    private fun notificationsAllowed(): Boolean = Build.VERSION.SDK_INT < 33 ||
-        ContextCompat.checkSelfPermission(activity, Manifest.permission.POST_NOTIFICATIONS) == PackageManager.PERMISSION_GRANTED
-
-    /** API 33+, before the first recording: what the notification is for, then the system's question (or recording without it). */
-    private fun explainNotifications() {
-        dialog = MaterialAlertDialogBuilder(activity)
-            .setTitle(R.string.record_notifications_title)
-            .setMessage(R.string.record_notifications_text)
-            .setCancelable(false)
-            .setPositiveButton(R.string.record_notifications_continue) { _, _ -> notificationPermission.launch(Manifest.permission.POST_NOTIFICATIONS) }
-            .setNegativeButton(R.string.record_notifications_skip) { _, _ ->
-                deps.setNotificationsAnswered()
-                start()
-            }
-            .show()
-    }
+    private fun notificationsAllowed(): Boolean = notifications.allowed
 
     /** Marks now: the time is taken at the press, the note (if any) added to it. */
     private fun mark(label: String, atNs: Long = deps.clock.elapsedRealtimeNanos()) {
@@ -156,6 +153,9 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     fun refresh() {
         markButton.visibility = if (recordings.state.value is RecordingState.Active) View.VISIBLE else View.GONE
         val state = recordings.state.value
+        after.visibility = if (state is RecordingState.Ended && state.session != null && !state.still) View.VISIBLE else View.GONE
+        // The way back after "Record without": the app's notification settings.
+        notificationsOn.visibility = if (notifications.declined) View.VISIBLE else View.GONE
         announcer.update(state) { RecordingAnnouncer.text(activity, it) }
         when (val s = state) {
             is RecordingState.Preparing -> {
@@ -179,6 +179,12 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 )
                 status.setTextIfChanged(lines.joinToString("\n"))
             }
+            is RecordingState.Interrupted -> {
+                toggle.setText(R.string.record_continue)
+                toggle.contentDescription = activity.getString(R.string.record_continue_desc)
+                toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_idle))
+                status.setTextIfChanged(activity.getString(R.string.record_interrupted_bar))
+            }
             else -> {
                 toggle.setText(R.string.record_start)
                 toggle.contentDescription = activity.getString(R.string.record_start_desc)
@@ -186,7 +192,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 status.setTextIfChanged(
                     when (s) {
                         is RecordingState.Ended -> RecordingService.endMessage(activity, s.result)
-                        is RecordingState.NotStarted -> activity.getString(R.string.record_not_started, s.reason)
+                        is RecordingState.NotStarted -> s.text(activity)
                         else -> activity.getString(R.string.record_idle)
                     },
                 )
@@ -203,6 +209,21 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         }
     }
 }
+
+/**
+ * Stop, asked first (the record bar's and the banners'; the notification's Stop is the system's and
+ * stops at once): "Stop recording?" with Stop and Keep recording. [stopped] runs after the Stop was sent.
+ */
+internal fun confirmStop(context: Context, stopped: () -> Unit = {}): AlertDialog =
+    MaterialAlertDialogBuilder(context)
+        .setTitle(R.string.record_stop_confirm_title)
+        .setMessage(R.string.record_stop_confirm_text)
+        .setNegativeButton(R.string.record_stop_confirm_keep, null)
+        .setPositiveButton(R.string.record_stop) { _, _ ->
+            RecordingService.stop(context)
+            stopped()
+        }
+        .show()
 
 /** What a starting recording is doing: repairing interrupted sessions (n of m), or preparing. The record bar and the banner show it. */
 internal fun RecordingState.Preparing.line(c: Context): String = when {

@@ -34,7 +34,8 @@ internal class RecordingAnnouncer(private val announce: (CharSequence) -> Unit) 
             is RecordingState.Active -> c.getString(if (s.still) R.string.record_announce_still_started else R.string.record_announce_started)
             is RecordingState.Preparing -> s.line(c)
             is RecordingState.Ended -> c.getString(R.string.record_announce_ended, RecordingService.endMessage(c, s.result))
-            is RecordingState.NotStarted -> c.getString(R.string.record_not_started, s.reason)
+            is RecordingState.NotStarted -> s.text(c)
+            is RecordingState.Interrupted -> c.getString(R.string.record_interrupted_title)
             RecordingState.Idle -> null
         }
     }

@@ -26,7 +26,7 @@ import kotlinx.coroutines.launch
  * banner under the app bar, `res/layout/recording_banner.xml`, that each screen's layout
  * includes. While a recording runs or starts it shows the elapsed time and how many streams are
  * recorded ("Recording 02:13 · 4 streams"), refreshed every second; a tap goes back to the live
- * screen, Stop ends the recording as the record bar's Stop does. Otherwise it is gone. It reads
+ * screen, Stop ends the recording (after a confirmation) as the record bar's Stop does. Otherwise it is gone. It reads
  * [Recordings.state] of the application's graph while its screen is started, and needs nothing
  * from the screen's code.
  */
@@ -36,10 +36,14 @@ class RecordingBanner(context: Context, attrs: AttributeSet?) : LinearLayout(con
     private var watching: Job? = null
     private val announcer = RecordingAnnouncer { announceForAccessibility(it) }
 
+    /** Stop's confirmation on screen, for tests. */
+    internal var dialog: androidx.appcompat.app.AlertDialog? = null
+        private set
+
     override fun onFinishInflate() {
         super.onFinishInflate()
         text = findViewById(R.id.recording_banner_text)
-        findViewById<Button>(R.id.recording_banner_stop).setOnClickListener { RecordingService.stop(context) }
+        findViewById<Button>(R.id.recording_banner_stop).setOnClickListener { dialog = confirmStop(context) }
         setOnClickListener { openLiveScreen() }
         // Read as its text; the tap's action named for accessibility services.
         ViewCompat.replaceAccessibilityAction(this, AccessibilityNodeInfoCompat.AccessibilityActionCompat.ACTION_CLICK, context.getString(R.string.recording_banner_open), null)

@@ -49,6 +49,12 @@ import kotlinx.coroutines.launch
  * is repaired and a new one, whose meta.json names it and the gap (`continues`), goes on with the
  * same settings, limits and start time ([RecordingInProgress]); the notification and the app say
  * so. A recording the user stopped never resumes: Stop forgets it before anything else.
+ *
+ * Android 12+ lets the restarted service enter the foreground only when the app is exempt (battery
+ * optimisation off for it, among others); otherwise it refuses ([Foreground.Refusal.BACKGROUND]).
+ * Then the recording waits for the user: a notification "Recording interrupted — tap to continue"
+ * (and the record bar's Continue) starts the service again from the user's tap, which Android
+ * allows, and the recording goes on as a linked continuation whose gap ends at the tap.
  */
 class RecordingService : Service() {
     private val main = Handler(Looper.getMainLooper())
@@ -113,9 +119,18 @@ class RecordingService : Service() {
                 deps.recordingDisk.execute(null) { deps.inProgress.clear() }
                 stopRecording()
             }
-            ACTION_START -> startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false))
+            ACTION_START -> {
+                // A new recording: an interrupted one is no longer offered (its session stays as it is, repaired by the start).
+                notificationManager().cancel(INTERRUPTED_NOTIFICATION_ID)
+                startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false))
+            }
             // Restarted by the system after the process died (START_STICKY): the recording resumes if one was running.
             null -> if (recorder == null && !preparing) resumeRecording()
+            // The user tapped "tap to continue" (or Continue in the app): the interrupted recording goes on.
+            ACTION_CONTINUE -> {
+                notificationManager().cancel(INTERRUPTED_NOTIFICATION_ID)
+                if (recorder == null && !preparing) resumeRecording()
+            }
             else -> if (recorder == null && !preparing) stopSelf()
         }
         return START_STICKY
@@ -138,8 +153,8 @@ class RecordingService : Service() {
         startedWallMs = deps.clock.wallClockMs()
         startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
         // Foreground first: startForegroundService() must be answered within a few seconds.
-        goForeground()?.let { reason ->
-            notStarted(getString(R.string.record_not_started, reason), reason)
+        goForeground()?.let { refusal ->
+            notStarted(getString(R.string.record_not_started, getString(refusal.text)), refusal)
             return
         }
         beginPreparing(resuming = false)
@@ -150,9 +165,9 @@ class RecordingService : Service() {
     }
 
     /** Foreground refused: told to the user, nothing recorded, the wake lock let go. */
-    private fun notStarted(alert: String, reason: String) {
+    private fun notStarted(alert: String, refusal: Foreground.Refusal) {
         releaseWakeLock()
-        deps.recordings.set(RecordingState.NotStarted(reason))
+        deps.recordings.set(RecordingState.NotStarted(refusal))
         notificationManager().notify(END_NOTIFICATION_ID, alertNotification(alert))
         stopSelf()
     }
@@ -169,9 +184,12 @@ class RecordingService : Service() {
      * The system restarted the service after the process was killed: if a recording was running
      * ([RecordingInProgress]), its cut-off session is repaired (under its folder's lock, on the
      * recording's queue) and the recording goes on in a new session that names it and the gap. On
-     * Android 14+ the restart enters the foreground with the manifest's type as a start does;
-     * a refusal (the system's rules for a service started in the background) is told to the user and
-     * the session before the kill stays as it was written, repaired by the next listing or Record.
+     * Android 14+ the restart enters the foreground with the manifest's type as a start does.
+     * Android 12+ refuses the foreground to a restart in the background unless the app is exempt:
+     * then the recording is [interrupted] and waits for the user's tap ([ACTION_CONTINUE], which
+     * comes here again; the gap ends at the tap). Another refusal (a permission missing) is told
+     * and the recording forgotten; the session before the kill stays as it was written, repaired by
+     * the next listing or Record.
      */
     private fun resumeRecording() {
         holdWakeLock()
@@ -180,10 +198,15 @@ class RecordingService : Service() {
         resuming = true
         startedWallMs = deps.clock.wallClockMs()
         startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
-        goForeground()?.let { reason ->
-            deps.recordingDisk.execute(null) { deps.inProgress.clear() }
+        goForeground()?.let { refusal ->
             resuming = false
-            notStarted(getString(R.string.record_resume_failed, reason), reason)
+            releaseWakeLock()
+            if (refusal == Foreground.Refusal.BACKGROUND) {
+                interrupted()
+            } else {
+                deps.recordingDisk.execute(null) { deps.inProgress.clear() }
+                notStarted(getString(R.string.record_resume_failed, getString(refusal.text)), refusal)
+            }
             return
         }
         beginPreparing(resuming = true)
@@ -192,9 +215,8 @@ class RecordingService : Service() {
             val resumedNs = deps.clock.elapsedRealtimeNanos()
             deps.recordingDisk.execute(null) {
                 val entry = deps.inProgress.read()
-                val previous = entry?.let { deps.sessions.folder(it.session) }?.takeIf { it.isDirectory }
-                // Nothing to resume: none was running (stopped by the user), its session is gone, or the phone restarted since (another clock).
-                if (entry == null || previous == null || entry.startedElapsedMs * 1_000_000 > resumedNs) {
+                val previous = resumable(entry, resumedNs)
+                if (entry == null || previous == null) {
                     deps.inProgress.clear()
                     main.post { nothingToResume() }
                     return@execute
@@ -215,6 +237,39 @@ class RecordingService : Service() {
                     continues = Continuation(previous.name, gapStart, resumedNs)
                     prepare(entry.still, entry.limits)
                 }
+            }
+        }
+    }
+
+    /**
+     * Disk queue: the session folder of [entry] when the recording can go on at [nowNs]; null when
+     * there is nothing to resume: none was running (stopped by the user), its session is gone, or the
+     * phone restarted since (another clock).
+     */
+    private fun resumable(entry: RecordingInProgress.Entry?, nowNs: Long): File? {
+        if (entry == null || entry.startedElapsedMs * 1_000_000 > nowNs) return null
+        return deps.sessions.folder(entry.session).takeIf { it.isDirectory }
+    }
+
+    /**
+     * Main thread, the foreground refused to a restart in the background (Android 12+): when a
+     * recording was running, the user is offered to continue it (a notification whose tap starts
+     * [ACTION_CONTINUE], and the app's [RecordingState.Interrupted]); its entry is kept for that.
+     * Nothing is recorded meanwhile; the service stops.
+     */
+    private fun interrupted() {
+        val nowNs = deps.clock.elapsedRealtimeNanos()
+        deps.recordingDisk.execute(null) {
+            val entry = deps.inProgress.read()
+            val previous = resumable(entry, nowNs)
+            if (previous == null) deps.inProgress.clear()
+            main.post {
+                if (previous != null) {
+                    Log.i("RecordingService", "restart refused the foreground: recording ${previous.name} waits for the user")
+                    deps.recordings.set(RecordingState.Interrupted(previous.name))
+                    notificationManager().notify(INTERRUPTED_NOTIFICATION_ID, interruptedNotification())
+                }
+                stopSelf()
             }
         }
     }
@@ -281,6 +336,7 @@ class RecordingService : Service() {
                 }
                 main.post { ready(d, sink, live, applied, still) }
             } catch (e: Exception) {
+                Log.e("RecordingService", "cannot create the session", e)
                 val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
                 main.post { ended(dir, failed) }
             }
@@ -319,7 +375,7 @@ class RecordingService : Service() {
     private fun releaseWakeLock() = wakeLock.release()
 
     /** Enters the foreground, as a `specialUse` service on Android 14+; returns why the system refused, or null ([Foreground.enter]). */
-    private fun goForeground(): String? =
+    private fun goForeground(): Foreground.Refusal? =
         Foreground.enter(this, NOTIFICATION_ID, ongoingNotification(), FOREGROUND_SERVICE_TYPE, deps::startForeground)
 
     /** Stop button or notification action: the capture hands the recorder everything up to now, then it finishes. */
@@ -350,6 +406,8 @@ class RecordingService : Service() {
     }
 
     private fun ended(dir: File?, result: RecorderResult) {
+        // The user reads what kind of failure it was (endMessage); the system's words go to the log.
+        (result.end as? RecordingEnd.WriteFailed)?.let { Log.e("RecordingService", "recording ${dir?.name} stopped: writing failed: ${it.message}") }
         preparing = false
         resuming = false
         recorder = null
@@ -432,6 +490,20 @@ class RecordingService : Service() {
             .setContentIntent(openApp())
             .build()
 
+    /** "Recording interrupted — tap to continue": the tap starts the service in the foreground, which Android 12+ allows from a notification. */
+    private fun interruptedNotification(): Notification {
+        val text = getString(R.string.record_interrupted_text)
+        return NotificationCompat.Builder(this, CHANNEL_ALERTS)
+            .setSmallIcon(R.drawable.ic_record)
+            .setContentTitle(getString(R.string.record_interrupted_title))
+            .setContentText(text)
+            .setStyle(NotificationCompat.BigTextStyle().bigText(text))
+            .setAutoCancel(true)
+            .setCategory(NotificationCompat.CATEGORY_ERROR)
+            .setContentIntent(continueIntent(this))
+            .build()
+    }
+
     /** The app's launcher screen (the live screen), named by the manifest rather than by class: record does not depend on the screens. */
     private fun openApp(): PendingIntent = PendingIntent.getActivity(
         this, 0,
@@ -449,8 +521,10 @@ class RecordingService : Service() {
     companion object {
         internal const val ACTION_START = "dev.motionfusion.app.record.START"
         internal const val ACTION_STOP = "dev.motionfusion.app.record.STOP"
+        internal const val ACTION_CONTINUE = "dev.motionfusion.app.record.CONTINUE"
         internal const val NOTIFICATION_ID = 7001
         internal const val END_NOTIFICATION_ID = 7002
+        internal const val INTERRUPTED_NOTIFICATION_ID = 7003
         internal const val CHANNEL_RECORDING = Foreground.CHANNEL_RECORDING
         internal const val CHANNEL_ALERTS = Foreground.CHANNEL_ALERTS
         internal const val EXTRA_STILL = "dev.motionfusion.app.record.STILL"
@@ -482,14 +556,25 @@ class RecordingService : Service() {
          * Starts a recording ([still]: a still recording, docs/CALIBRATION.md); call from a user action (Android 12+ forbids it from the background).
          * Returns why the system refused to start the service, or null.
          */
-        fun start(context: Context, still: Boolean = false): String? = try {
-            ContextCompat.startForegroundService(
-                context, Intent(context, RecordingService::class.java).setAction(ACTION_START).putExtra(EXTRA_STILL, still),
-            )
+        fun start(context: Context, still: Boolean = false): Foreground.Refusal? =
+            startForeground(context, Intent(context, RecordingService::class.java).setAction(ACTION_START).putExtra(EXTRA_STILL, still))
+
+        /** Continues an [RecordingState.Interrupted] recording in a linked session; from a user action, as [start]. */
+        fun continueRecording(context: Context): Foreground.Refusal? =
+            startForeground(context, Intent(context, RecordingService::class.java).setAction(ACTION_CONTINUE))
+
+        private fun startForeground(context: Context, intent: Intent): Foreground.Refusal? = try {
+            ContextCompat.startForegroundService(context, intent)
             null
         } catch (e: IllegalStateException) {
-            e.message ?: e.javaClass.simpleName
+            Foreground.Refusal.of(e, "RecordingService")
         }
+
+        /** The tap of the interrupted notification: the service, started in the foreground ([ACTION_CONTINUE]). */
+        internal fun continueIntent(context: Context): PendingIntent = PendingIntent.getForegroundService(
+            context, 2, Intent(context, RecordingService::class.java).setAction(ACTION_CONTINUE),
+            PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
+        )
 
         fun stop(context: Context) {
             context.startService(Intent(context, RecordingService::class.java).setAction(ACTION_STOP))
@@ -507,7 +592,7 @@ class RecordingService : Service() {
                 is RecordingEnd.BatteryLow -> context.getString(R.string.record_end_battery_low, e.percent, rows)
                 is RecordingEnd.QueueOverflow -> context.getString(R.string.record_end_overflow, rows)
                 is RecordingEnd.StorageLow -> context.getString(R.string.record_end_storage_low, rows, e.freeBytes / (1024 * 1024))
-                is RecordingEnd.WriteFailed -> context.getString(R.string.record_end_write_failed, e.message, rows)
+                is RecordingEnd.WriteFailed -> context.getString(R.string.record_end_write_failed, rows)
             }
         }
     }

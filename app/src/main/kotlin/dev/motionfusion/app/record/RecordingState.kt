@@ -3,6 +3,9 @@ package dev.motionfusion.app.record
 import dev.motionfusion.app.live.RecordingLimits
 import android.app.Notification
 import android.app.Service
+import android.content.Context
+import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.Foreground
 import dev.motionfusion.app.live.Capture
 import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.Clock
@@ -54,7 +57,17 @@ sealed interface RecordingState {
     data class Ended internal constructor(val session: File?, internal val result: RecorderResult, val still: Boolean = false) : RecordingState
 
     /** The system refused to start the recording (no foreground service allowed now, a permission missing). */
-    data class NotStarted(val reason: String) : RecordingState
+    data class NotStarted(val refusal: Foreground.Refusal) : RecordingState {
+        /** What the screens say: "Recording could not start: " and the refusal's words. */
+        fun text(c: Context): String = c.getString(R.string.record_not_started, c.getString(refusal.text))
+    }
+
+    /**
+     * Android 12+ refused the foreground to the service the system restarted after killing the
+     * recording's process: [session], the part before, is kept, and a notification (or the record
+     * bar's Continue) continues the recording in a linked session once the user asks.
+     */
+    data class Interrupted(val session: String) : RecordingState
 }
 
 /** The process's recording state: written by [RecordingService] on the main thread, read by anyone. */

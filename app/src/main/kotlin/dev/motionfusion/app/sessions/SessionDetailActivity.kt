@@ -2,6 +2,7 @@ package dev.motionfusion.app.sessions
 
 import android.content.ActivityNotFoundException
 import android.content.Context
+import android.content.Intent
 import com.google.android.material.progressindicator.LinearProgressIndicator
 import android.os.Bundle
 import android.text.InputType
@@ -18,6 +19,7 @@ import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.Failure
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.AnglePlotView
@@ -63,15 +65,19 @@ class SessionDetailActivity : AppCompatActivity() {
             try {
                 saveAs.launch(Exporter.zipName(model.name))
             } catch (e: ActivityNotFoundException) {
-                model.message(getString(R.string.export_failed, e.message))
+                model.message(getString(R.string.export_failed, getString(Failure.of(e, "opening another app").text)))
             }
         }
-        findViewById<Button>(R.id.detail_share).setOnClickListener { export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) } }
+        findViewById<Button>(R.id.detail_share).setOnClickListener { share() }
         findViewById<Button>(R.id.detail_export_cancel).setOnClickListener { model.cancelExport() }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
+        // Opened by the record bar's Share: the share starts once (not again after a rotation).
+        if (savedInstanceState == null && intent.getBooleanExtra(EXTRA_SHARE, false)) share()
     }
+
+    private fun share() = export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) }
 
     override fun onSupportNavigateUp(): Boolean {
         finish()
@@ -89,7 +95,10 @@ class SessionDetailActivity : AppCompatActivity() {
         }
         findViewById<TextView>(R.id.detail_name).text = state.name
         title = state.name
-        findViewById<TextView>(R.id.detail_message).text = state.message ?: ""
+        findViewById<TextView>(R.id.detail_message).apply {
+            text = state.message ?: ""
+            visibility = if (state.message == null) View.GONE else View.VISIBLE
+        }
         showExport(state)
         val whenText = findViewById<TextView>(R.id.detail_when)
         val s = state.summary
@@ -121,7 +130,7 @@ class SessionDetailActivity : AppCompatActivity() {
      */
     private fun export(action: (Context, File, Exporter.Progress) -> Any) {
         val app = applicationContext
-        model.export({ reason -> app.getString(R.string.export_failed, reason) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
+        model.export({ failure -> app.getString(R.string.export_failed, app.getString(failure.text)) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
     }
 
     /** An export under way: its progress and Cancel, the export buttons off; a share's chooser started once. */
@@ -143,7 +152,7 @@ class SessionDetailActivity : AppCompatActivity() {
             try {
                 startActivity(it)
             } catch (e: ActivityNotFoundException) {
-                model.message(getString(R.string.export_failed, e.message))
+                model.message(getString(R.string.export_failed, getString(Failure.of(e, "opening another app").text)))
             }
         }
     }
@@ -180,11 +189,16 @@ class SessionDetailActivity : AppCompatActivity() {
         dialog = MaterialAlertDialogBuilder(this)
             .setMessage(getString(R.string.session_delete_confirm, model.name))
             .setNegativeButton(R.string.cancel, null)
-            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete { getString(R.string.session_delete_failed, it) } }
+            .setPositiveButton(R.string.session_delete) { _, _ -> model.delete { getString(R.string.session_delete_failed, getString(it.text)) } }
             .show()
     }
 
     internal companion object {
         const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
+        const val EXTRA_SHARE = "dev.motionfusion.app.sessions.SHARE"
+
+        /** The detail of the session folder [name]; [share]: its Share started as it opens. */
+        fun intent(context: Context, name: String, share: Boolean = false): Intent =
+            Intent(context, SessionDetailActivity::class.java).putExtra(EXTRA_SESSION, name).putExtra(EXTRA_SHARE, share)
     }
 }

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.platform.SessionBusyException
 import dev.motionfusion.core.io.AtomicFiles
 import java.io.File
 import java.io.IOException
@@ -16,7 +17,7 @@ internal object SessionStore {
     fun rename(sessions: SessionsRepository, dir: File, newName: String): File {
         val name = newName.trim()
         if (!isValidName(name)) throw IOException("invalid name")
-        if (sessions.isRecording(dir)) throw IOException("the session is being recorded")
+        if (sessions.isRecording(dir)) throw SessionBusyException("the session is being recorded")
         val target = File(dir.parentFile, name)
         if (target.exists()) throw IOException("a session called $name exists")
         AtomicFiles().rename(dir.toPath(), target.toPath()) // one atomic step, then the folder synced
@@ -25,7 +26,7 @@ internal object SessionStore {
 
     @Throws(IOException::class)
     fun delete(sessions: SessionsRepository, dir: File) {
-        if (sessions.isRecording(dir)) throw IOException("the session is being recorded")
+        if (sessions.isRecording(dir)) throw SessionBusyException("the session is being recorded")
         if (!dir.deleteRecursively()) throw IOException("cannot delete ${dir.name}")
     }
 

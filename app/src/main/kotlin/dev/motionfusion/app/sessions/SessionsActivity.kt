@@ -66,7 +66,7 @@ class SessionsActivity : AppCompatActivity() {
         val empty = findViewById<TextView>(R.id.sessions_empty)
         when (state) {
             SessionsUiState.Loading -> empty.setText(R.string.sessions_loading)
-            is SessionsUiState.Failed -> empty.text = getString(R.string.sessions_failed, state.message)
+            is SessionsUiState.Failed -> empty.text = getString(R.string.sessions_failed, getString(state.failure.text))
             is SessionsUiState.Loaded -> empty.setText(R.string.sessions_empty)
         }
         empty.visibility = if (items.isEmpty()) View.VISIBLE else View.GONE

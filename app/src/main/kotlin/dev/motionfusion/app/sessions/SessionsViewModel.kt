@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.platform.Failure
 import androidx.lifecycle.ViewModel
 import androidx.lifecycle.ViewModelProvider
 import androidx.lifecycle.viewModelScope
@@ -35,7 +36,7 @@ internal fun readError(dir: File, e: Exception): String {
 internal sealed interface SessionsUiState {
     data object Loading : SessionsUiState
     data class Loaded(val items: List<SessionItem>) : SessionsUiState
-    data class Failed(val message: String) : SessionsUiState
+    data class Failed(val failure: Failure) : SessionsUiState
 }
 
 /**
@@ -53,11 +54,12 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
             flow.value = try {
                 SessionsUiState.Loaded(withContext(deps.io) { load() })
             } catch (e: Exception) {
-                SessionsUiState.Failed(e.message ?: e.javaClass.simpleName)
+                SessionsUiState.Failed(Failure.of(e, "listing the sessions"))
             }
         }
     }
 
+    /** Newest first by the start time meta.json records (a renamed session keeps its place); unreadable ones last, by name. */
     private fun load(): List<SessionItem> {
         deps.sessions.repairInterrupted()
         return deps.sessions.list().map { dir ->
@@ -66,7 +68,12 @@ internal class SessionsViewModel(private val deps: SessionsDependencies) : ViewM
             } catch (e: Exception) {
                 SessionItem(dir, null, readError(dir, e))
             }
-        }
+        }.sortedWith(NEWEST_FIRST)
+    }
+
+    private companion object {
+        val NEWEST_FIRST: Comparator<SessionItem> =
+            compareByDescending<SessionItem> { it.summary?.startWallClockMs ?: Long.MIN_VALUE }.thenByDescending { it.dir.name }
     }
 
     class Factory(private val deps: SessionsDependencies) : ViewModelProvider.Factory {
@@ -144,14 +151,14 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
         }
     }
 
-    /** Deletes the session; a failure is shown as [failed] makes it of the reason. */
-    fun delete(failed: (String) -> String) {
+    /** Deletes the session; a failure is shown as [failed] makes it of its kind. */
+    fun delete(failed: (Failure) -> String) {
         viewModelScope.launch {
             flow.value = try {
                 withContext(deps.io) { folder().let { dir -> deps.sessions.locks.withFolder(dir) { SessionStore.delete(deps.sessions, dir) } } }
                 flow.value.copy(deleted = true)
             } catch (e: Exception) {
-                flow.value.copy(message = failed(e.message ?: e.javaClass.simpleName))
+                flow.value.copy(message = failed(Failure.of(e, "deleting $name")))
             }
         }
     }
@@ -170,7 +177,7 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
      * 64 KiB, and what it had begun is removed ([Exporter]). [failed] makes the message of a failure,
      * [cancelled] is shown after a cancel. Kept across a rotation (the ViewModel's scope).
      */
-    fun export(failed: (String?) -> String, cancelled: String, action: (File, Exporter.Progress) -> Any) {
+    fun export(failed: (Failure) -> String, cancelled: String, action: (File, Exporter.Progress) -> Any) {
         if (exportJob?.isActive == true) return
         flow.value = flow.value.copy(exporting = 0f, message = null)
         exportJob = viewModelScope.launch {
@@ -195,7 +202,7 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
                 flow.value = flow.value.copy(exporting = null, message = cancelled)
                 throw e
             } catch (e: Exception) {
-                failed(e.message)
+                failed(Failure.of(e, "exporting ${name}"))
             }
             flow.value = if (result is Intent) flow.value.copy(exporting = null, share = result)
             else flow.value.copy(exporting = null, message = result.toString())

@@ -12,6 +12,7 @@ import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.NotificationAsk
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.ui.fitToSystemBars
 import dev.motionfusion.stream.StreamClientInfo
@@ -33,6 +34,12 @@ class StreamActivity : AppCompatActivity() {
     private val settings: SettingsRepository get() = (application as SettingsRepository.Provider).settingsRepository
     private lateinit var switch: CompoundButton
 
+    /** Android 13+: the stream's notification (its Stop) explained and asked for before the first stream, as the recording's is. */
+    internal val notifications = NotificationAsk(
+        this, R.string.stream_notifications_title, R.string.stream_notifications_text, R.string.stream_notifications_skip,
+        { settings.notificationsAnswered }, { settings.markNotificationsAnswered() }, { controller.start() },
+    )
+
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
         setContentView(R.layout.activity_stream)
@@ -42,7 +49,7 @@ class StreamActivity : AppCompatActivity() {
         switch = findViewById(R.id.stream_switch)
         show(controller.state.value)
         switch.setOnCheckedChangeListener { _, on ->
-            if (switch.tag !== SHOWING) if (on) controller.start() else controller.stop()
+            if (switch.tag !== SHOWING) if (on) notifications.thenProceed() else controller.stop()
         }
         val target = findViewById<EditText>(R.id.stream_udp_target)
         findViewById<View>(R.id.stream_udp_button).setOnClickListener {

@@ -106,8 +106,8 @@ class StreamService : Service() {
         begun = true
         Foreground.createChannels(this)
         val controller = deps.streamController
-        Foreground.enter(this, NOTIFICATION_ID, notification(controller.state.value), FOREGROUND_SERVICE_TYPE, deps::startForeground)?.let { reason ->
-            controller.stop(failure = reason)
+        Foreground.enter(this, NOTIFICATION_ID, notification(controller.state.value), FOREGROUND_SERVICE_TYPE, deps::startForeground)?.let { refusal ->
+            controller.stop(failure = getString(refusal.text))
             end()
             return
         }

@@ -177,6 +177,13 @@ class RecordingAsExpectedTest {
         a.findViewById<View>(R.id.record_bar).let { shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1)) }
         val status = a.findViewById<TextView>(R.id.record_status).text.toString()
         assertTrue(status, status.contains("notification may be hidden"))
+        // The way back: the app's notification settings.
+        val turnOn = a.findViewById<Button>(R.id.record_notifications_on)
+        assertEquals(View.VISIBLE, turnOn.visibility)
+        turnOn.performClick()
+        val settings = shadowOf(a).nextStartedActivity
+        assertEquals(android.provider.Settings.ACTION_APP_NOTIFICATION_SETTINGS, settings.action)
+        assertEquals(app.packageName, settings.getStringExtra(android.provider.Settings.EXTRA_APP_PACKAGE))
         stop(c.get())
 
         // The next Record starts at once: no explanation, no question.
@@ -209,6 +216,9 @@ class RecordingAsExpectedTest {
         assertNull(shadowOf(activity.get()).lastRequestedPermission)
         assertNotNull(shadowOf(app).nextStartedService)
         assertTrue(graph.graph.notificationsAnswered)
+        // Without notifications: the bar offers to turn them on.
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+        assertEquals(View.VISIBLE, activity.get().findViewById<View>(R.id.record_notifications_on).visibility)
         activity.pause().stop().destroy()
     }
 

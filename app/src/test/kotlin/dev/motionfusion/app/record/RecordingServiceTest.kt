@@ -43,6 +43,8 @@ import dev.motionfusion.app.sessions.SessionsActivity
 import org.junit.Assert.assertNotEquals
 import org.junit.Assert.assertNull
 import org.robolectric.annotation.GraphicsMode
+import org.robolectric.shadows.ShadowLog
+import dev.motionfusion.app.platform.Foreground
 
 /** The recording service with the sensors ShadowSensorManager provides and a test double of the session format. */
 @RunWith(RobolectricTestRunner::class)
@@ -194,27 +196,29 @@ class RecordingServiceTest {
     }
 
     @Test
-    fun `a foreground start the system refuses is shown to the user and records nothing`() {
-        for (refusal in listOf(
-            SecurityException("Starting FGS with type specialUse requires permissions"),
-            IllegalStateException("startForeground() not allowed due to mAllowStartForeground false"),
+    fun `a foreground start the system refuses is shown to the user in their language, the system's words only in the log, and records nothing`() {
+        for ((refusal, kind) in listOf(
+            SecurityException("Starting FGS with type specialUse requires permissions") to Foreground.Refusal.PERMISSION,
+            IllegalStateException("startForeground() not allowed due to mAllowStartForeground false") to Foreground.Refusal.BACKGROUND,
         )) {
             this.refusal = refusal
             val before = File(app.filesDir, "sessions").list()?.size ?: 0
             val c = startService()
             val state = this.state
-            assertTrue(state.toString(), state is RecordingState.NotStarted && state.reason == refusal.message)
+            assertEquals(RecordingState.NotStarted(kind), state)
+            assertTrue("logged", ShadowLog.getLogsForTag("Foreground").any { it.throwable === refusal })
             assertTrue(shadowOf(c.get()).isStoppedBySelf)
             assertTrue(sensors.listeners.isEmpty())
             assertEquals(before, File(app.filesDir, "sessions").list()?.size ?: 0)
             val nm = app.getSystemService(NotificationManager::class.java)
             val text = shadowOf(nm).getNotification(RecordingService.END_NOTIFICATION_ID).extras.getCharSequence(Notification.EXTRA_TEXT).toString()
-            assertEquals(app.getString(R.string.record_not_started, refusal.message), text)
+            assertEquals(app.getString(R.string.record_not_started, app.getString(kind.text)), text)
+            assertFalse(text, text.contains(refusal.message!!))
         }
         // The main screen says it too (built last: its live view listens to the sensors).
         val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
         assertEquals(
-            app.getString(R.string.record_not_started, "startForeground() not allowed due to mAllowStartForeground false"),
+            app.getString(R.string.record_not_started, app.getString(R.string.foreground_refused_background)),
             main.findViewById<android.widget.TextView>(R.id.record_status).text.toString(),
         )
     }
@@ -245,9 +249,12 @@ class RecordingServiceTest {
         val nm = app.getSystemService(NotificationManager::class.java)
         val alert = shadowOf(nm).getNotification(RecordingService.END_NOTIFICATION_ID)
         val text = alert.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
-        assertTrue(text, text.contains("No space left on device"))
+        assertEquals(app.getString(R.string.record_end_write_failed, ended.result.rows), text)
+        // The system's words go to the log, not to the user.
+        assertFalse(text, text.contains("No space left on device"))
+        assertTrue(ShadowLog.getLogsForTag("RecordingService").any { "No space left on device" in it.msg })
         val main = Robolectric.buildActivity(MainActivity::class.java).setup().get()
-        assertTrue(main.findViewById<android.widget.TextView>(R.id.record_status).text.contains("Writing failed"))
+        assertEquals(text, main.findViewById<android.widget.TextView>(R.id.record_status).text.toString())
     }
 
     @Test
@@ -433,21 +440,101 @@ class RecordingServiceTest {
     }
 
     @Test
-    fun `a restart the system refuses to bring to the foreground is told, and the session before is kept for repair`() {
+    @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
+    @GraphicsMode(GraphicsMode.Mode.NATIVE)
+    fun `a restart Android refuses the foreground from 12 on waits for the user's tap, which continues it in a linked session with the gap to the tap`() {
         startService()
         for (i in 0 until 50) sendRound(1_000_000_000L + i * 5_000_000L)
         graph.pump()
         val before = (state as RecordingState.Active).session
         kill()
-        refusal = IllegalStateException("startForeground() not allowed due to mAllowStartForeground false")
+        graph.clock.elapsedNs += 10_000_000_000L
+        // The system restarts the sticky service in the background. Android 12+ refuses it the foreground unless the
+        // app is exempt (battery optimisation off, ...): Robolectric's ShadowService refuses only when told, so the test
+        // tells it from 31 on, as the platform does; 8–11 allow it.
+        val r = Robolectric.buildService(RecordingService::class.java, null).create()
+        if (Build.VERSION.SDK_INT >= 31) {
+            shadowOf(r.get()).setThrowInStartForeground(
+                android.app.ForegroundServiceStartNotAllowedException("startForeground() not allowed due to mAllowStartForeground false"),
+            )
+        }
+        assertEquals(Service.START_STICKY, r.get().onStartCommand(null, Service.START_FLAG_RETRY, 1))
+        graph.settle()
+        val nm = shadowOf(app.getSystemService(NotificationManager::class.java))
+        if (Build.VERSION.SDK_INT < 31) {
+            // Allowed: it resumes by itself, nothing to tap.
+            val active = state as? RecordingState.Active ?: error("not resumed: $state")
+            assertEquals(before.name, active.continues!!.previousSession)
+            assertNull(nm.getNotification(RecordingService.INTERRUPTED_NOTIFICATION_ID))
+            r.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+            awaitEnded()
+            return
+        }
+        // Refused: nothing records, the wake lock is let go, the service stops; the recording waits for the user.
+        assertEquals(RecordingState.Interrupted(before.name), state)
+        assertTrue(shadowOf(r.get()).isStoppedBySelf)
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
+        assertTrue(sensors.listeners.isEmpty())
+        assertTrue("kept for the tap", offMainThread { inProgressFile().isFile })
+        val n = nm.getNotification(RecordingService.INTERRUPTED_NOTIFICATION_ID) ?: error("no interrupted notification")
+        assertEquals(app.getString(R.string.record_interrupted_title), n.extras.getCharSequence(Notification.EXTRA_TITLE).toString())
+        assertEquals(app.getString(R.string.record_interrupted_text), n.extras.getCharSequence(Notification.EXTRA_TEXT).toString())
+        // The tap starts the service in the foreground, which Android allows from a notification.
+        val tap = shadowOf(n.contentIntent)
+        assertTrue(tap.isForegroundService)
+        assertEquals(RecordingService.ACTION_CONTINUE, tap.savedIntent.action)
+        if (Build.VERSION.SDK_INT == Sdks.MAX) {
+            // The app offers the same: Continue on the record bar.
+            graph.graph.setNotificationsAnswered()
+            val main = Robolectric.buildActivity(MainActivity::class.java).setup()
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+            val toggle = main.get().findViewById<Button>(R.id.record_toggle)
+            assertEquals(app.getString(R.string.record_continue), toggle.text.toString())
+            assertEquals(app.getString(R.string.record_interrupted_bar), main.get().findViewById<TextView>(R.id.record_status).text.toString())
+            Screenshots.assertLaidOut(main.get(), "interrupted-live")
+            Screenshots.captureWhole(main.get(), "interrupted-live")
+            toggle.performClick()
+            assertEquals(RecordingService.ACTION_CONTINUE, shadowOf(app).nextStartedService.action)
+            main.pause().stop().destroy()
+        }
+        // The user taps a minute later: the recording goes on in a new session that names the one before and the gap.
+        val lastBefore = offMainThread { LineFormat.rows(before).last().split(',')[1].toLong() }
+        graph.clock.elapsedNs += 60_000_000_000L
+        val tappedAt = graph.clock.elapsedNs
+        val c = Robolectric.buildService(RecordingService::class.java, tap.savedIntent).create().startCommand(0, 1)
+        graph.settle()
+        assertNotNull(shadowOf(c.get()).lastForegroundNotification)
+        val active = state as? RecordingState.Active ?: error("not continued: $state")
+        assertNotEquals(before, active.session)
+        val continues = format.metadata!!.continues!!
+        assertEquals(before.name, continues.previousSession)
+        assertEquals(lastBefore, continues.gapStartElapsedRealtimeNs)
+        assertEquals(tappedAt, continues.gapEndElapsedRealtimeNs)
+        assertNull("the offer is gone", nm.getNotification(RecordingService.INTERRUPTED_NOTIFICATION_ID))
+        for (i in 0 until 20) sendRound(80_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        assertEquals(20L * SensorStreams.all.size, active.rows())
+        c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
+        awaitEnded()
+        assertFalse("nothing left to resume", offMainThread { inProgressFile().exists() })
+    }
+
+    @Test
+    fun `a restart refused for another reason (a permission missing) is told in the user's words, and the session before is kept for repair`() {
+        startService()
+        for (i in 0 until 50) sendRound(1_000_000_000L + i * 5_000_000L)
+        graph.pump()
+        val before = (state as RecordingState.Active).session
+        kill()
+        refusal = SecurityException("Starting FGS with type specialUse requires permissions")
         val r = restart()
         graph.settle()
-        assertEquals(RecordingState.NotStarted(refusal!!.message!!), state)
+        assertEquals(RecordingState.NotStarted(Foreground.Refusal.PERMISSION), state)
         assertTrue(shadowOf(r.get()).isStoppedBySelf)
         assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
         val text = shadowOf(app.getSystemService(NotificationManager::class.java)).getNotification(RecordingService.END_NOTIFICATION_ID)
             .extras.getCharSequence(Notification.EXTRA_TEXT).toString()
-        assertEquals(app.getString(R.string.record_resume_failed, refusal!!.message), text)
+        assertEquals(app.getString(R.string.record_resume_failed, app.getString(R.string.foreground_refused_permission)), text)
         assertFalse("forgotten", offMainThread { inProgressFile().exists() })
         assertEquals(listOf(before), sessions())
         // The next listing repairs it as any interrupted session.

@@ -39,6 +39,7 @@ import org.junit.After
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertNotNull
+import org.junit.Assert.assertNull
 import org.junit.Assert.assertTrue
 import org.junit.Before
 import org.junit.Test
@@ -108,13 +109,14 @@ class SessionsScreensTest {
         val list = a.findViewById<ListView>(R.id.sessions_list)
         assertEquals(3, list.adapter.count)
         val items = a.items
-        assertEquals(listOf("walk to the station", "session_2026-11-26_13-05-00", "session_2026-11-26_09-15-00"), items.map { it.dir.name })
+        // Newest first by the start time in meta.json: the renamed 10:15 walk sits between 13:05 and 09:15, not above them by its name.
+        assertEquals(listOf("session_2026-11-26_13-05-00", "walk to the station", "session_2026-11-26_09-15-00"), items.map { it.dir.name })
         val first = items.single { it.dir.name == "session_2026-11-26_09-15-00" }.summary!!
         assertEquals(6000L, first.streams.single { it.name == "accelerometer" }.rows)
         assertEquals(200.0, first.streams.single { it.name == "gyroscope" }.rateHz, 0.5)
         assertEquals(29.995, first.durationNs / 1e9, 0.01)
         assertTrue(items.single { it.dir == killed }.summary!!.recovered)
-        val row = list.adapter.getView(1, null, list)
+        val row = list.adapter.getView(0, null, list)
         val line1 = row.findViewById<TextView>(R.id.session_line1).text.toString()
         assertTrue(line1, line1.contains("00:07") && line1.contains("recovered") && line1.contains("samples"))
         assertTrue(row.findViewById<TextView>(R.id.session_line2).text.contains("gyr\u00A0200\u00A0Hz"))
@@ -320,11 +322,40 @@ class SessionsScreensTest {
         val status = main.findViewById<TextView>(R.id.record_status).text.toString()
         assertTrue(status, status.contains("1,500 samples"))
         Screenshots.capture(main, "main-recording")
-        service.get().onStartCommand(Intent(app, RecordingService::class.java).setAction("dev.motionfusion.app.record.STOP"), 0, 2)
+        assertEquals(View.GONE, main.findViewById<View>(R.id.record_after).visibility)
+        // Stop asks first.
+        toggle.performClick()
+        val ask = org.robolectric.shadows.ShadowDialog.getLatestDialog() as androidx.appcompat.app.AlertDialog
+        assertEquals(main.getString(R.string.record_stop_confirm_text), ask.findViewById<TextView>(android.R.id.message)!!.text.toString())
+        assertNull("nothing stopped before the answer", shadowOf(app).peekNextStartedService())
+        shadowOf(Looper.getMainLooper()).idle()
+        Screenshots.captureDialog(main, ask, "main-recording-stop-confirm")
+        ask.getButton(androidx.appcompat.app.AlertDialog.BUTTON_POSITIVE).performClick()
+        shadowOf(Looper.getMainLooper()).idle()
+        val stop = shadowOf(app).nextStartedService
+        assertEquals("dev.motionfusion.app.record.STOP", stop.action)
+        service.get().onStartCommand(stop, 0, 2)
         graph.settle()
-        assertTrue(graph.graph.recordings.state.value is RecordingState.Ended)
+        val ended = graph.graph.recordings.state.value as RecordingState.Ended
         shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
         assertEquals(main.getString(R.string.record_start), toggle.text.toString())
+        // The session just saved: Open and Share right there.
+        assertEquals(View.VISIBLE, main.findViewById<View>(R.id.record_after).visibility)
         Screenshots.capture(main, "main-recording-saved")
+        main.findViewById<Button>(R.id.record_open).performClick()
+        val open = shadowOf(main).nextStartedActivity
+        assertEquals(SessionDetailActivity::class.java.name, open.component!!.className)
+        assertEquals(ended.session!!.name, open.getStringExtra(SessionDetailActivity.EXTRA_SESSION))
+        assertFalse(open.getBooleanExtra(SessionDetailActivity.EXTRA_SHARE, true))
+        main.findViewById<Button>(R.id.record_share).performClick()
+        val share = shadowOf(main).nextStartedActivity
+        assertEquals(ended.session!!.name, share.getStringExtra(SessionDetailActivity.EXTRA_SESSION))
+        assertTrue(share.getBooleanExtra(SessionDetailActivity.EXTRA_SHARE, false))
+        // The detail opened for Share starts the share at once: the chooser with the session's zip.
+        Robolectric.setupContentProvider(ExportProvider::class.java, ExportProvider.authority(app))
+        val detail = Robolectric.buildActivity(SessionDetailActivity::class.java, share).setup().get()
+        graph.settle()
+        val chooser = shadowOf(detail).nextStartedActivity
+        assertEquals(Intent.ACTION_CHOOSER, chooser.action)
     }
 }

@@ -58,6 +58,8 @@ class StreamScreensTest {
             sm.addSensor(SensorBuilder.newBuilder().setType(type).build())
         }
         graph = TestGraph(streamPort = StreamController.PORT)
+        // Notifications allowed (StreamNotificationsTest covers the question on API 33+): the switch starts at once.
+        shadowOf(RuntimeEnvironment.getApplication()).grantPermissions(android.Manifest.permission.POST_NOTIFICATIONS)
     }
 
     private val pool = java.util.concurrent.Executors.newSingleThreadExecutor()

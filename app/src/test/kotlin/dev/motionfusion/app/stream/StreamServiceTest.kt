@@ -236,7 +236,8 @@ class StreamServiceTest {
     fun `a foreground start the system refuses stops the stream and says why`() {
         refusal = IllegalStateException("startForeground() not allowed")
         val c = startStreaming()
-        assertEquals(StreamState.Failed("startForeground() not allowed"), controller.state.value)
+        // In the user's words, not the system's (the system's go to the log).
+        assertEquals(StreamState.Failed(app.getString(dev.motionfusion.app.R.string.foreground_refused_background)), controller.state.value)
         assertTrue(shadowOf(c.get()).isStoppedBySelf)
         assertEquals(emptyList<Int>(), graph.wifiLocks.held.toList())
         assertFalse(graph.capture.isRunning)

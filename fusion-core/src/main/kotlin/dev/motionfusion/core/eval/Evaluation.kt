@@ -10,7 +10,7 @@ import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.input.ImuTableEvents
 import dev.motionfusion.core.input.ImuTableReader
-import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer

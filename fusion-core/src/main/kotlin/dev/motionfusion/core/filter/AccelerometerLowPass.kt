@@ -12,7 +12,7 @@
  */
 package dev.motionfusion.core.filter
 
-internal class AccelerometerLowPass(settings: FilterSettings) {
+internal class AccelerometerLowPass(settings: FilterSettings) : Stage<AccelerometerLowPass.State> {
     private val time = settings.accLowPassTime
 
     /** False with accLowPassTime = 0: the steps use the reading itself. */
@@ -69,27 +69,20 @@ internal class AccelerometerLowPass(settings: FilterSettings) {
         z = vz + k * (az - vz)
     }
 
-    fun reset() {
+    override fun reset() {
         x = 0.0; y = 0.0; z = 0.0
         fresh = true
         elapsed = 0.0
     }
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = x; d[at + 1] = y; d[at + 2] = z
-        d[at + 3] = if (fresh) 1.0 else 0.0
-        d[at + 4] = elapsed
-        return at + STATE_SIZE
-    }
+    /** The low-passed reading, whether the next reading starts it again, and the time since it started. */
+    data class State(val x: Double, val y: Double, val z: Double, val fresh: Boolean, val elapsed: Double)
 
-    fun readState(d: DoubleArray, at: Int): Int {
-        x = d[at]; y = d[at + 1]; z = d[at + 2]
-        fresh = d[at + 3] != 0.0
-        elapsed = d[at + 4]
-        return at + STATE_SIZE
-    }
+    override fun state() = State(x, y, z, fresh, elapsed)
 
-    companion object {
-        const val STATE_SIZE = 5
+    override fun restore(state: State) {
+        x = state.x; y = state.y; z = state.z
+        fresh = state.fresh
+        elapsed = state.elapsed
     }
 }

@@ -12,8 +12,9 @@ package dev.motionfusion.core.filter
 import dev.motionfusion.core.STANDARD_GRAVITY
 import kotlin.math.abs
 import kotlin.math.cos
+import kotlin.math.sqrt
 
-internal class AccelerometerRejection(settings: FilterSettings) {
+internal class AccelerometerRejection(settings: FilterSettings) : Check<AccelerometerRejection.State> {
     private val normTolerance = settings.accNormTolerance
     private val cosAngleTolerance = cos(settings.accAngleTolerance)
     private val maxRejectionTime = settings.accMaxRejectionTime
@@ -23,6 +24,20 @@ internal class AccelerometerRejection(settings: FilterSettings) {
 
     var rejected = false
         private set
+
+    /** Steps whose reading was rejected. */
+    var rejections = 0L
+        private set
+
+    /** The held reading of [s] enters the step unless [accept] rejects it (the direction against the estimated up). */
+    override fun check(s: Step) {
+        if (!s.useAcc) return
+        val n = sqrt(s.ax * s.ax + s.ay * s.ay + s.az * s.az)
+        if (!accept(s.dt, n, (s.ax * s.ux + s.ay * s.uy + s.az * s.uz) / n)) {
+            rejections++
+            s.useAcc = false
+        }
+    }
 
     /**
      * Classifies one reading of magnitude [norm] (m/s²) whose direction has cosine [cosUp] with the
@@ -41,27 +56,21 @@ internal class AccelerometerRejection(settings: FilterSettings) {
         return !rejected
     }
 
-    fun reset() {
-        rejectedTime = 0.0
-        recovering = false
-        rejected = false
+    override fun reset() = restore(NEW)
+
+    /** The time rejected, whether the rejection is suspended, the verdict and the count. */
+    data class State(val rejectedTime: Double, val recovering: Boolean, val rejected: Boolean, val rejections: Long)
+
+    override fun state() = State(rejectedTime, recovering, rejected, rejections)
+
+    override fun restore(state: State) {
+        rejectedTime = state.rejectedTime
+        recovering = state.recovering
+        rejected = state.rejected
+        rejections = state.rejections
     }
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = rejectedTime
-        d[at + 1] = if (recovering) 1.0 else 0.0
-        d[at + 2] = if (rejected) 1.0 else 0.0
-        return at + STATE_SIZE
-    }
-
-    fun readState(d: DoubleArray, at: Int): Int {
-        rejectedTime = d[at]
-        recovering = d[at + 1] != 0.0
-        rejected = d[at + 2] != 0.0
-        return at + STATE_SIZE
-    }
-
-    companion object {
-        const val STATE_SIZE = 3
+    private companion object {
+        val NEW = State(0.0, false, false, 0L)
     }
 }

@@ -1,6 +1,7 @@
 /*
- * The gyroscope bias estimate ω_b (rad/s, device frame) beyond the report's drift compensation ζ
- * (which the filter's gradient step adds to the same estimate, eqs. 47–48).
+ * The gyroscope bias estimate ω_b (rad/s, device frame): the report's drift compensation ζ (eqs. 47–48,
+ * whose term the MARG step hands in: [GyroBiasEstimate.drift]) and, beyond the report, estimates at rest
+ * and in motion. This class is the bias's one writer.
  *
  * At rest (restBiasEstimation, RestDetector): the mean of the readings since rest began, then a moving
  * average over restBiasTime. In motion (motionBiasGain > 0 with headingGain > 0): the heading error the
@@ -13,18 +14,25 @@
  */
 package dev.motionfusion.core.filter
 
-internal class GyroBiasEstimate(settings: FilterSettings) {
+internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstimate.State> {
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
+    private val zeta = settings.zeta
     private val restBiasTime = settings.restBiasTime
     private val restMinTime = settings.restMinTime
     private val motionGain = settings.motionBiasGain
     private val motionRestTime = settings.motionBiasRestTime
     private val limit = settings.motionBiasLimit
 
-    /** ω_b, rad/s, device frame (the gradient step's ζ term adds to it too). */
+    /** ω_b, rad/s, device frame. */
     var x = 0.0
+        private set
     var y = 0.0
+        private set
     var z = 0.0
+        private set
+
+    /** Whether the report's drift compensation acts (ζ ≠ 0). */
+    val drifts = zeta != 0.0
 
     // Time since the rest estimate last acted, s (infinite before it has).
     private var sinceRest = Double.POSITIVE_INFINITY
@@ -56,31 +64,39 @@ internal class GyroBiasEstimate(settings: FilterSettings) {
         z = (z + k * upZ).coerceIn(-limit, limit)
     }
 
+    /**
+     * The report's drift compensation (eqs. 47–48) in a MARG step of [dt] s at the estimate q̂ = ([q1]..[q4]) with
+     * the normalised gradient q̇_ε = ([e1]..[e4]): ω_ε = 2 q̂* ⊗ q̇_ε, ω_b += ζ ω_ε Δt. Returns ζΔt, for the step's
+     * own share of the change.
+     */
+    fun drift(dt: Double, q1: Double, q2: Double, q3: Double, q4: Double, e1: Double, e2: Double, e3: Double, e4: Double): Double {
+        val k = zeta * dt
+        x += 2.0 * k * (q1 * e2 - q2 * e1 - q3 * e4 + q4 * e3)
+        y += 2.0 * k * (q1 * e3 + q2 * e4 - q3 * e1 - q4 * e2)
+        z += 2.0 * k * (q1 * e4 - q2 * e3 + q3 * e2 - q4 * e1)
+        return k
+    }
+
     /** For a pass backward in time (gyroscope readings negated): the estimate and the rest detector's gyroscope low-pass are negated. */
     fun reverse() {
         x = -x; y = -y; z = -z
         rest?.reverse()
     }
 
-    fun reset() {
+    override fun reset() {
         x = 0.0; y = 0.0; z = 0.0
         sinceRest = Double.POSITIVE_INFINITY
         rest?.reset()
     }
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = x; d[at + 1] = y; d[at + 2] = z
-        d[at + 3] = sinceRest
-        return rest?.writeState(d, at + 4) ?: (at + STATE_SIZE)
-    }
+    /** ω_b, the time since the rest estimate acted, and the rest detector's state (null without it). */
+    data class State(val x: Double, val y: Double, val z: Double, val sinceRest: Double, val rest: RestDetector.State?)
 
-    fun readState(d: DoubleArray, at: Int): Int {
-        x = d[at]; y = d[at + 1]; z = d[at + 2]
-        sinceRest = d[at + 3]
-        return rest?.readState(d, at + 4) ?: (at + STATE_SIZE)
-    }
+    override fun state() = State(x, y, z, sinceRest, rest?.state())
 
-    companion object {
-        const val STATE_SIZE = 4 + RestDetector.STATE_SIZE
+    override fun restore(state: State) {
+        x = state.x; y = state.y; z = state.z
+        sinceRest = state.sinceRest
+        if (rest != null) rest.restore(state.rest!!)
     }
 }

@@ -11,7 +11,7 @@ package dev.motionfusion.core.filter
 
 import kotlin.math.abs
 
-internal class HeadingCorrection(settings: FilterSettings) {
+internal class HeadingCorrection(settings: FilterSettings) : Stage<HeadingCorrection.State> {
     private val gain = settings.headingGain
     private val recoveryTime = settings.headingRecoveryTime
 
@@ -47,23 +47,19 @@ internal class HeadingCorrection(settings: FilterSettings) {
         off = abs(sinDelta) > (if (off) SIN_RECOVERY_DONE else SIN_RECOVERY_ERROR)
     }
 
-    fun reset() = restart()
+    override fun reset() = restart()
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = clock
-        d[at + 1] = if (off) 1.0 else 0.0
-        return at + STATE_SIZE
-    }
+    /** The time since the start, a saturation or a new reference, and whether the fast convergence acts. */
+    data class State(val clock: Double, val off: Boolean)
 
-    fun readState(d: DoubleArray, at: Int): Int {
-        clock = d[at]
-        off = d[at + 1] != 0.0
-        return at + STATE_SIZE
+    override fun state() = State(clock, off)
+
+    override fun restore(state: State) {
+        clock = state.clock
+        off = state.off
     }
 
     companion object {
-        const val STATE_SIZE = 2
-
         /** sin of the heading errors at which the fast convergence starts (2°) and ends (0.5°). */
         val SIN_RECOVERY_ERROR = kotlin.math.sin(2.0 * Math.PI / 180.0)
         val SIN_RECOVERY_DONE = kotlin.math.sin(0.5 * Math.PI / 180.0)

@@ -14,7 +14,7 @@ import dev.motionfusion.core.STANDARD_GRAVITY
 import kotlin.math.abs
 import kotlin.math.sqrt
 
-internal class InclinationRecovery(settings: FilterSettings) {
+internal class InclinationRecovery(settings: FilterSettings) : Stage<InclinationRecovery.State> {
     private val beta = settings.beta
     private val recoveryBeta = settings.inclinationRecoveryBeta
     private val accTrustTime = settings.accTrustTime
@@ -33,6 +33,10 @@ internal class InclinationRecovery(settings: FilterSettings) {
 
     // How long the accelerometer magnitude has stayed near gravity, s.
     private var accTrusted = 0.0
+
+    /** Times a still error armed the recovery. */
+    var stillRecoveries = 0L
+        private set
 
     /** The start: inclination may be anything (an identity start, or a first reading taken in motion). */
     fun start() {
@@ -74,6 +78,7 @@ internal class InclinationRecovery(settings: FilterSettings) {
             active = true
             accTrusted = accTrustTime
             stillTime = 0.0
+            stillRecoveries++
             return true
         }
         return false
@@ -105,28 +110,22 @@ internal class InclinationRecovery(settings: FilterSettings) {
         return beta
     }
 
-    fun reset() {
-        stillTime = 0.0
-        active = false
-        accTrusted = 0.0
-    }
+    override fun reset() = restore(NEW)
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = stillTime
-        d[at + 1] = if (active) 1.0 else 0.0
-        d[at + 2] = accTrusted
-        return at + STATE_SIZE
-    }
+    /** The still time, whether the recovery acts, the time the accelerometer has been trusted, and the count of still errors. */
+    data class State(val stillTime: Double, val active: Boolean, val accTrusted: Double, val stillRecoveries: Long)
 
-    fun readState(d: DoubleArray, at: Int): Int {
-        stillTime = d[at]
-        active = d[at + 1] != 0.0
-        accTrusted = d[at + 2]
-        return at + STATE_SIZE
+    override fun state() = State(stillTime, active, accTrusted, stillRecoveries)
+
+    override fun restore(state: State) {
+        stillTime = state.stillTime
+        active = state.active
+        accTrusted = state.accTrusted
+        stillRecoveries = state.stillRecoveries
     }
 
     companion object {
-        const val STATE_SIZE = 3
+        private val NEW = State(0.0, false, 0.0, 0L)
 
         /** The recovery ends within 1° of the accelerometer, or after 10 s of acting. */
         val COS_RECOVERY_DONE = kotlin.math.cos(1.0 * Math.PI / 180.0)

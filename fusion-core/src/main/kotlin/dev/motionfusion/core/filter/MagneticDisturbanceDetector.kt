@@ -26,7 +26,7 @@ package dev.motionfusion.core.filter
 import kotlin.math.cos
 import kotlin.math.sqrt
 
-internal class MagneticDisturbanceDetector(settings: FilterSettings) {
+internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<MagneticDisturbanceDetector.State> {
     private val normTolerance = settings.magNormTolerance
     private val cosDipTolerance = cos(settings.magDipTolerance)
     private val maxRejectionTime = settings.magMaxRejectionTime
@@ -38,6 +38,15 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     private val reducedGain = if (rejectionFactor > 0.0) 1.0 / rejectionFactor else 1.0
     private val firstFieldTime = settings.magFirstFieldTime
     private val undisturbedTime = settings.magUndisturbedTime
+
+    // After a disturbance the heading gain comes back as a ramp (magResumeTime), the bias estimate with it; a
+    // disturbed field used after the hold's budget is spent enters at a reduced gain (magRejectionFactor).
+    private val resumes = settings.magResumeTime > 0.0
+    private val scales = resumes || settings.magRejectionFactor > 0.0
+
+    /** Steps whose reading was rejected as disturbed. */
+    var rejections = 0L
+        private set
 
     // Time the field has agreed with the reference without a break, s.
     private var agreeTime = 0.0
@@ -77,6 +86,26 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
     /** True when the next reading will become the reference (so its raw dip is needed). */
     val needsReference: Boolean get() =
         (!hasReference && firstFieldTime == 0.0) || (rejectionFactor == 0.0 && disturbedTime > maxRejectionTime)
+
+    /**
+     * Whether the held reading of [s] enters the step: its dip measured against the estimated up, or the
+     * accelerometer's when [Step.accOk] and a new reference is taken; the squared bias-corrected rate for
+     * magNewFieldMinGyro. Scales the heading gain ([gainFactor]) when magResumeTime or magRejectionFactor is
+     * set; a new reference starts the heading's fast convergence again (without the resume ramp).
+     */
+    override fun check(s: Step) {
+        if (!s.useMag) return
+        val n2 = s.mx * s.mx + s.my * s.my + s.mz * s.mz
+        val inv = MadgwickSteps.invSqrt(n2)
+        val sinDip = -(s.mx * s.ux + s.my * s.uy + s.mz * s.uz) * inv
+        val sinDipRaw = if (s.accOk && needsReference) -(s.mx * s.ax + s.my * s.ay + s.mz * s.az) * inv * MadgwickSteps.invSqrt(s.ax * s.ax + s.ay * s.ay + s.az * s.az) else sinDip
+        if (!accept(s.dt, n2 * inv, sinDip, sinDipRaw, s.wx * s.wx + s.wy * s.wy + s.wz * s.wz)) {
+            rejections++
+            s.useMag = false
+        }
+        if (newReference && !resumes) s.newMagReference = true
+        if (scales) s.headingFactor *= gainFactor
+    }
 
     /**
      * Classifies one magnetometer reading of magnitude [norm] whose dip has sine [sinDip] (the
@@ -174,55 +203,38 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) {
         kotlin.math.abs(norm - rNorm) <= normTolerance * rNorm &&
             sqrt((1.0 - sinDip * sinDip) * (1.0 - rSinDip * rSinDip)) + sinDip * rSinDip >= cosDipTolerance
 
-    fun reset() {
-        sinceDisturbed = Double.POSITIVE_INFINITY
-        candNorm = 0.0
-        candSinDip = 0.0
-        steadyTime = 0.0
-        hasReference = false
-        refNorm = 0.0
-        refSinDip = 0.0
-        disturbedTime = 0.0
-        disturbed = false
-        newReference = false
-        agreeTime = 0.0
-        rejectTime = 0.0
-        overBudget = false
+    override fun reset() = restore(NEW)
+
+    /** The reference, the disturbance, the candidate field, the hold's budget and the count. */
+    data class State(
+        val hasReference: Boolean, val refNorm: Double, val refSinDip: Double, val disturbedTime: Double, val disturbed: Boolean,
+        val candNorm: Double, val candSinDip: Double, val steadyTime: Double, val sinceDisturbed: Double, val agreeTime: Double,
+        val rejectTime: Double, val overBudget: Boolean, val newReference: Boolean, val rejections: Long,
+    )
+
+    override fun state() = State(
+        hasReference, refNorm, refSinDip, disturbedTime, disturbed, candNorm, candSinDip, steadyTime, sinceDisturbed, agreeTime,
+        rejectTime, overBudget, newReference, rejections,
+    )
+
+    override fun restore(state: State) {
+        hasReference = state.hasReference
+        refNorm = state.refNorm
+        refSinDip = state.refSinDip
+        disturbedTime = state.disturbedTime
+        disturbed = state.disturbed
+        candNorm = state.candNorm
+        candSinDip = state.candSinDip
+        steadyTime = state.steadyTime
+        sinceDisturbed = state.sinceDisturbed
+        agreeTime = state.agreeTime
+        rejectTime = state.rejectTime
+        overBudget = state.overBudget
+        newReference = state.newReference
+        rejections = state.rejections
     }
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = if (hasReference) 1.0 else 0.0
-        d[at + 1] = refNorm
-        d[at + 2] = refSinDip
-        d[at + 3] = disturbedTime
-        d[at + 4] = if (disturbed) 1.0 else 0.0
-        d[at + 5] = candNorm
-        d[at + 6] = candSinDip
-        d[at + 7] = steadyTime
-        d[at + 8] = sinceDisturbed
-        d[at + 9] = agreeTime
-        d[at + 10] = rejectTime
-        d[at + 11] = if (overBudget) 1.0 else 0.0
-        return at + STATE_SIZE
-    }
-
-    fun readState(d: DoubleArray, at: Int): Int {
-        hasReference = d[at] != 0.0
-        refNorm = d[at + 1]
-        refSinDip = d[at + 2]
-        disturbedTime = d[at + 3]
-        disturbed = d[at + 4] != 0.0
-        candNorm = d[at + 5]
-        candSinDip = d[at + 6]
-        steadyTime = d[at + 7]
-        sinceDisturbed = d[at + 8]
-        agreeTime = d[at + 9]
-        rejectTime = d[at + 10]
-        overBudget = d[at + 11] != 0.0
-        return at + STATE_SIZE
-    }
-
-    companion object {
-        const val STATE_SIZE = 12
+    private companion object {
+        val NEW = State(false, 0.0, 0.0, 0.0, false, 0.0, 0.0, 0.0, Double.POSITIVE_INFINITY, 0.0, 0.0, false, false, 0L)
     }
 }

@@ -8,7 +8,7 @@
  */
 package dev.motionfusion.core.filter
 
-internal class RestDetector(settings: FilterSettings) {
+internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State> {
     private val gyroThreshold2 = settings.restGyroThreshold * settings.restGyroThreshold
     private val accThreshold2 = settings.restAccThreshold * settings.restAccThreshold
     private val minTime = settings.restMinTime
@@ -66,7 +66,7 @@ internal class RestDetector(settings: FilterSettings) {
         gx = -gx; gy = -gy; gz = -gz
     }
 
-    fun reset() {
+    override fun reset() {
         started = false
         gx = 0.0; gy = 0.0; gz = 0.0
         ax = 0.0; ay = 0.0; az = 0.0
@@ -74,27 +74,24 @@ internal class RestDetector(settings: FilterSettings) {
         atRest = false
     }
 
-    fun writeState(d: DoubleArray, at: Int): Int {
-        d[at] = if (started) 1.0 else 0.0
-        d[at + 1] = gx; d[at + 2] = gy; d[at + 3] = gz
-        d[at + 4] = ax; d[at + 5] = ay; d[at + 6] = az
-        d[at + 7] = restTime
-        d[at + 8] = if (atRest) 1.0 else 0.0
-        return at + STATE_SIZE
-    }
+    /** The low-passed gyroscope and accelerometer, the time at rest and the verdict. */
+    data class State(
+        val started: Boolean, val gx: Double, val gy: Double, val gz: Double,
+        val ax: Double, val ay: Double, val az: Double, val restTime: Double, val atRest: Boolean,
+    )
 
-    fun readState(d: DoubleArray, at: Int): Int {
-        started = d[at] != 0.0
-        gx = d[at + 1]; gy = d[at + 2]; gz = d[at + 3]
-        ax = d[at + 4]; ay = d[at + 5]; az = d[at + 6]
-        restTime = d[at + 7]
-        atRest = d[at + 8] != 0.0
-        return at + STATE_SIZE
+    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest)
+
+    override fun restore(state: State) {
+        started = state.started
+        gx = state.gx; gy = state.gy; gz = state.gz
+        ax = state.ax; ay = state.ay; az = state.az
+        restTime = state.restTime
+        atRest = state.atRest
     }
 
     companion object {
         /** Time constant of the low-pass references, s. */
         const val LOW_PASS_TIME = 0.5
-        const val STATE_SIZE = 9
     }
 }

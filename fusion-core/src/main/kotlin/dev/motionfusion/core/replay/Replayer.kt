@@ -1,7 +1,7 @@
 /*
  * Replay: runs the Madgwick filter over recorded events in time order, as the app would have
  * live. Accelerometer and magnetometer samples are held; each gyroscope sample is one filter
- * step and one output step (MadgwickFilter's pairing rule). Orientation sensor → ENU,
+ * step and one output step (the filter's pairing rule, filter/SampleGate.kt). Orientation sensor → ENU,
  * quaternions [w, x, y, z] Hamilton; timestamps ns, times s relative to the recording's origin.
  */
 package dev.motionfusion.core.replay
@@ -9,6 +9,9 @@ package dev.motionfusion.core.replay
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.filter.offline.OfflineOutput
+import dev.motionfusion.core.filter.offline.OfflinePasses
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.event.RowEvents
@@ -88,7 +91,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
     public fun runOffline(
         events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null, source: String = "input",
         offline: OfflineSettings = OfflineSettings(), tempDir: java.nio.file.Path? = null,
-    ): ReplayCounts = OfflinePass(filter, offline, tempDir).use { pass ->
+    ): ReplayCounts = OfflineReplay(filter, offline, tempDir).use { pass ->
         val counts = usable(source, runCausal(events, originNs, pass, progress))
         pass.finish(listener)
         counts
@@ -258,4 +261,32 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             return if (overflow) (toNs.toDouble() - fromNs.toDouble()) * 1e-9 else d * 1e-9
         }
     }
+}
+
+/** The offline estimate (filter/offline) as a [ReplayListener] for the first pass; [finish] hands every step and reference on. */
+private class OfflineReplay(filter: MadgwickFilter, offline: OfflineSettings, tempDir: java.nio.file.Path?) : ReplayListener, java.io.Closeable {
+    private val passes = OfflinePasses(filter, offline, tempDir)
+
+    override fun step(step: ReplayStep) = passes.step(
+        step.timestampNs, step.timeS, step.accelerometerNs, step.magnetometerNs,
+        step.angularVelocity, step.specificForce, step.magneticField, step.orientation,
+    )
+
+    override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = passes.reference(stream, timestampNs, values)
+
+    fun finish(listener: ReplayListener) {
+        val step = ReplayStep()
+        passes.finish(step.angularVelocity, step.specificForce, step.magneticField, step.orientation, object : OfflineOutput {
+            override fun row(timestampNs: Long, timeS: Double) {
+                step.timestampNs = timestampNs
+                step.timeS = timeS
+                step.initialised = !step.orientation[0].isNaN()
+                listener.step(step)
+            }
+
+            override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = listener.reference(stream, timestampNs, values)
+        })
+    }
+
+    override fun close() = passes.close()
 }

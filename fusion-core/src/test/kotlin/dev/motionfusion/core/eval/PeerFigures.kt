@@ -2,7 +2,7 @@ package dev.motionfusion.core.eval
 
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.io.Json
-import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.Paths

@@ -1,7 +1,7 @@
 package dev.motionfusion.core.eval
 
 import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.replay.OfflineSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Assumptions.assumeTrue

@@ -17,7 +17,7 @@ import kotlin.math.PI
 import kotlin.math.cos
 import kotlin.math.sin
 
-/** Frames, input validation, snapshot/restore and settings. */
+/** Frames, input validation, state/restore and settings. */
 class FilterApiTest {
     private val g = 9.80665
     private val dip = 60.0 * PI / 180.0
@@ -117,15 +117,15 @@ class FilterApiTest {
             val first = MadgwickFilter(settings)
             data.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
             val second = MadgwickFilter(settings)
-            second.restore(first.snapshot())
-            assertEquals(first.snapshot(), second.snapshot())
+            second.restore(first.state())
+            assertEquals(first.state(), second.state())
             data.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
             assertEquals(whole.orientation(), second.orientation(), "split at $split")
             assertEquals(whole.diagnostics(), second.diagnostics(), "split at $split")
-            assertEquals(whole.snapshot(), second.snapshot(), "split at $split")
+            assertEquals(whole.state(), second.state(), "split at $split")
         }
-        assertNotEquals(MadgwickFilter(settings).snapshot(), whole.snapshot())
-        assertThrows(IllegalArgumentException::class.java) { MadgwickFilter(FilterSettings()).restore(whole.snapshot()) }
+        assertNotEquals(MadgwickFilter(settings).state(), whole.state())
+        assertThrows(IllegalArgumentException::class.java) { MadgwickFilter(FilterSettings()).restore(whole.state()) }
     }
 
     @Test

@@ -84,7 +84,7 @@ class MagneticDisturbanceHoldTest {
         val first = MadgwickFilter(hold)
         SimulatedRuns.run(first, d.subList(0, cut))
         val second = MadgwickFilter(hold)
-        second.restore(first.snapshot())
+        second.restore(first.state())
         val rest = SimulatedRuns.run(second, d.subList(cut, d.size))
         for (i in rest.indices) assertEquals(whole[cut + i], rest[i], "sample ${cut + i}")
     }

@@ -18,11 +18,11 @@ import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.TestFactory
 
 /**
- * snapshot()/restore() carry every unit's state: a replay stopped at a point where each mechanism holds
+ * state()/restore() carry every unit's state: a replay stopped at a point where each mechanism holds
  * state of its own (the rest bias being learnt, the accelerometer low-pass and heading convergence just
  * after the start, the inclination recovery after a shake, a magnetic disturbance being held, the
  * heading gain ramping back after it) and resumed in a new filter continues bit for bit: every later
- * orientation and the final state equal the unbroken run's. Leaving any unit's state out of the snapshot
+ * orientation and the final state equal the unbroken run's. Leaving any stage's state out of FilterState
  * makes one of these fail. reset() returns a used filter to a new one's state.
  */
 class StopResumeTest {
@@ -80,10 +80,10 @@ class StopResumeTest {
         val first = MadgwickFilter(settings)
         for (i in 0 until split) step(first, data[i])
         val second = MadgwickFilter(settings)
-        second.restore(first.snapshot())
-        assertEquals(first.snapshot(), second.snapshot(), what)
+        second.restore(first.state())
+        assertEquals(first.state(), second.state(), what)
         assertArrayEquals(expected, trace(second, split), "$what: the continuation differs")
-        assertEquals(whole.snapshot(), second.snapshot(), what)
+        assertEquals(whole.state(), second.state(), what)
         assertEquals(whole.diagnostics(), second.diagnostics(), what)
     }
 
@@ -126,9 +126,9 @@ class StopResumeTest {
     fun `reset returns a used filter to a new one`() {
         val used = MadgwickFilter(phone)
         for (i in 0 until data.size / 2) step(used, data[i])
-        assertNotEquals(MadgwickFilter(phone).snapshot(), used.snapshot())
+        assertNotEquals(MadgwickFilter(phone).state(), used.state())
         used.reset()
-        assertEquals(MadgwickFilter(phone).snapshot(), used.snapshot())
+        assertEquals(MadgwickFilter(phone).state(), used.state())
         assertArrayEquals(trace(MadgwickFilter(phone), 0), trace(used, 0))
     }
 }

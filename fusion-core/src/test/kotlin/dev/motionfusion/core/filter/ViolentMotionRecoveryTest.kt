@@ -60,9 +60,9 @@ class ViolentMotionRecoveryTest {
             val first = MadgwickFilter(FilterSettings())
             d.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
             val second = MadgwickFilter(FilterSettings())
-            second.restore(first.snapshot())
+            second.restore(first.state())
             d.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            assertEquals(whole.snapshot(), second.snapshot())
+            assertEquals(whole.state(), second.state())
             assertEquals(whole.orientation(), second.orientation())
         }
     }

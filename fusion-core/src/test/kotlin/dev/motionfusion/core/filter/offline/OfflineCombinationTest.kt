@@ -1,9 +1,12 @@
-package dev.motionfusion.core.replay
+package dev.motionfusion.core.filter.offline
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.input.Recording
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import org.junit.jupiter.api.Assertions.assertEquals
@@ -39,7 +42,7 @@ class OfflineCombinationTest {
             // The backward estimate: the forward one turned 10° about a world axis (vertical: heading; horizontal: inclination).
             val back = (q(about(axis, 10.0)) * q(base)).let { doubleArrayOf(it.w, it.x, it.y, it.z) }
             val p = base.copyOf()
-            OfflinePass.combine(p, back, 0.2, 0.7)
+            Blend.combine(p, back, 0.2, 0.7)
             val turned = q(p) * q(base).conjugate()
             val expected = deg(2.0 * atan(w * tan(5.0 * PI / 180.0)))
             assertEquals(expected, deg(turned.angleTo(Quaternion.IDENTITY)), 1e-9, "about $axis")
@@ -48,27 +51,27 @@ class OfflineCombinationTest {
         }
         // Where one is missing, the other; equal weights are symmetric (for estimates a few degrees apart).
         fun nan() = doubleArrayOf(Double.NaN, Double.NaN, Double.NaN, Double.NaN)
-        nan().let { OfflinePass.combine(it, base, 0.0, 0.0); assertTrue(it.contentEquals(base)) }
-        base.copyOf().let { OfflinePass.combine(it, nan(), 1.0, 1.0); assertTrue(it.contentEquals(base)) }
+        nan().let { Blend.combine(it, base, 0.0, 0.0); assertTrue(it.contentEquals(base)) }
+        base.copyOf().let { Blend.combine(it, nan(), 1.0, 1.0); assertTrue(it.contentEquals(base)) }
         val other = (q(about(Vector3(1.0, 1.0, 1.0).normalized(), 4.0)) * q(base)).let { doubleArrayOf(it.w, it.x, it.y, it.z) }
-        val a = base.copyOf().also { OfflinePass.combine(it, other, 0.5, 0.5) }
-        val b = other.copyOf().also { OfflinePass.combine(it, base, 0.5, 0.5) }
+        val a = base.copyOf().also { Blend.combine(it, other, 0.5, 0.5) }
+        val b = other.copyOf().also { Blend.combine(it, base, 0.5, 0.5) }
         assertEquals(0.0, deg(q(a).angleTo(q(b))), 2e-3)
     }
 
     @Test
     fun `the pass that met a disturbed field lately gives way to the other`() {
-        val ε = OfflinePass.CONFIDENCE_FLOOR
-        assertEquals((0.3 + ε) / (1.0 + 2 * ε), OfflinePass.headingWeight(0.3, 0.0, 0.0), 1e-12)
+        val ε = Blend.CONFIDENCE_FLOOR
+        assertEquals((0.3 + ε) / (1.0 + 2 * ε), Blend.headingWeight(0.3, 0.0, 0.0), 1e-12)
         // The forward pass just came out of a disturbance, the backward one has not met it: the backward one gets
         // more, half even where it had none.
-        assertTrue(OfflinePass.headingWeight(0.3, 1.0, 0.0) > 0.85)
-        assertEquals(0.5, OfflinePass.headingWeight(0.0, 1.0, 0.0), 1e-12)
-        assertTrue(OfflinePass.headingWeight(0.0, 0.5, 0.0) > OfflinePass.headingWeight(0.0, 0.2, 0.0))
+        assertTrue(Blend.headingWeight(0.3, 1.0, 0.0) > 0.85)
+        assertEquals(0.5, Blend.headingWeight(0.0, 1.0, 0.0), 1e-12)
+        assertTrue(Blend.headingWeight(0.0, 0.5, 0.0) > Blend.headingWeight(0.0, 0.2, 0.0))
         // The other way round, the forward one leads.
-        assertTrue(OfflinePass.headingWeight(0.5, 0.0, 1.0) < 0.1)
+        assertTrue(Blend.headingWeight(0.5, 0.0, 1.0) < 0.1)
         // Both in it: the weights where neither was.
-        assertEquals(0.5, OfflinePass.headingWeight(0.3, 1.0, 1.0), 1e-12)
+        assertEquals(0.5, Blend.headingWeight(0.3, 1.0, 1.0), 1e-12)
     }
 
     @Test

@@ -1,8 +1,11 @@
-package dev.motionfusion.core.replay
+package dev.motionfusion.core.filter.offline
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.input.Recording
+import dev.motionfusion.core.replay.ReplayListener
+import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
