@@ -6,7 +6,12 @@
  * collection with the attack's connections still open, and how long a laptop takes to pair at the attack's end (from
  * 127.0.0.1, which the paired client's address: during a pause after wrong codes only such an address may pair).
  * Every attack loop is bounded by the run's time and a count, and ends by itself.
- * Run: java -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.StreamUnderAttack [SECONDS_PER_ATTACK]
+ * The server asks its "phone" to confirm each new client, as the app's does: this one allows 127.0.0.1 (the laptops
+ * measured here) and denies every other address. Against a server without that (an older fusion-stream on the class
+ * path, whose StreamServer has only the three-argument constructor) it runs the same attacks without it, which is how
+ * the "before" figures in docs/STREAMING.md were taken.
+ * Run: java -Xmx256m [-DnoConfirmation=true] -cp fusion-bench/target/benchmarks.jar dev.motionfusion.bench.StreamUnderAttack [SECONDS_PER_ATTACK [ATTACK,...]]
+ * (ATTACK: none, frames, headers, halfopen, places, rotating, preopened, origin, binary; default all).
  */
 package dev.motionfusion.bench;
 
@@ -55,21 +60,53 @@ public final class StreamUnderAttack {
         System.out.println("| attack | paired client's messages kept | p99 latency | heap retained | a new laptop pairs in | attack's own count |");
         System.out.println("|---|---|---|---|---|---|");
         Object[][] attacks = {
-            {"none", (Attack) (port, stop, held) -> ""},
-            {"2 GiB frame headers, again and again", (Attack) StreamUnderAttack::bigFrames},
-            {"endless upgrade headers, 2 connections", (Attack) StreamUnderAttack::endlessHeaders},
-            {"500 half-open upgrade requests", (Attack) StreamUnderAttack::halfOpen},
-            {"24 connections holding places without a code", (Attack) StreamUnderAttack::placeHolding},
-            {"wrong codes from 200 rotating 127.x addresses", (Attack) StreamUnderAttack::guessing},
+            {"none", "none", (Attack) (port, stop, held) -> ""},
+            {"frames", "2 GiB frame headers, again and again", (Attack) StreamUnderAttack::bigFrames},
+            {"headers", "endless upgrade headers, 2 connections", (Attack) StreamUnderAttack::endlessHeaders},
+            {"halfopen", "500 half-open upgrade requests", (Attack) StreamUnderAttack::halfOpen},
+            {"places", "24 connections holding places without a code", (Attack) (port, stop, held) -> holdPlaces(port, stop, held, 2, "", null)},
+            {"rotating", "wrong codes from 200 rotating 127.x addresses", (Attack) StreamUnderAttack::guessing},
+            {"preopened", "8 connections opened, then 8 wrong codes at once, again and again", (Attack) StreamUnderAttack::preOpened},
+            {"origin", "24 browser pages of a foreign Origin holding places", (Attack) (port, stop, held) ->
+                holdPlaces(port, stop, held, 5, "Origin: http://attacker.example\r\n", null)},
+            {"binary", "24 connections whose first frame is binary (the right code)", (Attack) (port, stop, held) ->
+                holdPlaces(port, stop, held, 6, "", frame(2, pairJson(CODE)))},
         };
-        for (Object[] a : attacks) measure(offer, (String) a[0], (Attack) a[1], seconds);
+        List<String> wanted = args.length > 1 ? Arrays.asList(args[1].split(",")) : null;
+        for (Object[] a : attacks) {
+            if (wanted == null || wanted.contains((String) a[0])) measure(offer, (String) a[1], (Attack) a[2], seconds);
+        }
     }
+
+    /**
+     * The server: one whose phone confirms each new client (allowing 127.0.0.1, denying the rest) where the class path's
+     * fusion-stream has it, else the older three-argument one.
+     */
+    private static StreamServer newServer(StreamOffer offer, AtomicInteger codeChanges) {
+        InetSocketAddress address = new InetSocketAddress(InetAddress.getLoopbackAddress(), 0);
+        StreamServer[] self = new StreamServer[1];
+        try {
+            if (Boolean.getBoolean("noConfirmation")) throw new NoSuchMethodError("-DnoConfirmation=true");
+            self[0] = new StreamServer(address, CODE, () -> offer, new StreamServerSettings(), System::nanoTime, () -> CODE,
+                c -> { codeChanges.incrementAndGet(); return kotlin.Unit.INSTANCE; }, f -> kotlin.Unit.INSTANCE,
+                request -> {
+                    if (request.getAddress().equals("127.0.0.1")) self[0].allow(request.getId());
+                    else self[0].deny(request.getId());
+                    return kotlin.Unit.INSTANCE;
+                });
+            confirming = true;
+        } catch (NoSuchMethodError | NoClassDefFoundError e) {
+            self[0] = new StreamServer(address, CODE, () -> offer);
+            confirming = false;
+        }
+        return self[0];
+    }
+
+    private static boolean confirming;
 
     private static void measure(StreamOffer offer, String name, Attack attack, int seconds) throws Exception {
         AtomicInteger codeChanges = new AtomicInteger();
-        StreamServer server = new StreamServer(new InetSocketAddress(InetAddress.getLoopbackAddress(), 0), CODE, () -> offer,
-            new StreamServerSettings(), System::nanoTime, () -> CODE, c -> { codeChanges.incrementAndGet(); return kotlin.Unit.INSTANCE; },
-            f -> kotlin.Unit.INSTANCE);
+        StreamServer server = newServer(offer, codeChanges);
         server.start();
         int total = seconds * 200 * 8;
         long[] latency = new long[total];
@@ -87,6 +124,10 @@ public final class StreamUnderAttack {
             return kotlin.Unit.INSTANCE;
         });
         client.connect(10_000);
+        if (!headerPrinted) {
+            headerPrinted = true;
+            System.out.println(confirming ? "(server: new clients confirmed on the phone)" : "(server: without confirmation on the phone)");
+        }
         StreamLatency.publishRealTime(server, 1); // warm-up
         System.gc();
         long heap0 = usedHeap();
@@ -133,6 +174,8 @@ public final class StreamUnderAttack {
         server.stop(1000);
     }
 
+    private static boolean headerPrinted;
+
     private static long usedHeap() {
         return ManagementFactory.getMemoryMXBean().getHeapMemoryUsage().getUsed();
     }
@@ -146,7 +189,12 @@ public final class StreamUnderAttack {
     }
 
     private static boolean upgrade(Socket s) throws IOException {
-        s.getOutputStream().write(REQUEST.getBytes(StandardCharsets.US_ASCII));
+        return upgrade(s, "");
+    }
+
+    /** Sends the upgrade request with [extra] header lines; true when the server switched protocols. */
+    private static boolean upgrade(Socket s, String extra) throws IOException {
+        s.getOutputStream().write((REQUEST.substring(0, REQUEST.length() - 2) + extra + "\r\n").getBytes(StandardCharsets.US_ASCII));
         InputStream in = s.getInputStream();
         ByteArrayOutputStream head = new ByteArrayOutputStream();
         while (!head.toString(StandardCharsets.US_ASCII).endsWith("\r\n\r\n")) {
@@ -222,7 +270,11 @@ public final class StreamUnderAttack {
             for (Socket s : held) {
                 try {
                     s.setSoTimeout(1);
-                    if (s.getInputStream().read() < 0) closed++;
+                    // Whatever the server sent before closing is read first.
+                    byte[] buf = new byte[4096];
+                    int n = 0;
+                    for (int k = 0; k < 1000 && n >= 0; k++) n = s.getInputStream().read(buf);
+                    if (n < 0) closed++;
                 } catch (IOException e) {
                     if (!(e instanceof java.net.SocketTimeoutException)) closed++;
                 }
@@ -231,8 +283,44 @@ public final class StreamUnderAttack {
         return opened + " opened, " + closed + " closed by the server";
     }
 
-    private static String placeHolding(int port, AtomicBoolean stop, List<Socket> held) throws IOException {
+    private static byte[] pairJson(String code) {
+        return ("{\"type\":\"pair\",\"schema\":1,\"code\":\"" + code + "\"}").getBytes(StandardCharsets.UTF_8);
+    }
+
+    /** A client's frame of [opcode], masked with a zero key; payloads under 126 bytes. */
+    private static byte[] frame(int opcode, byte[] p) {
+        byte[] f = new byte[2 + 4 + p.length];
+        f[0] = (byte) (0x80 | opcode);
+        f[1] = (byte) (0x80 | p.length);
+        System.arraycopy(p, 0, f, 6, p.length);
+        return f;
+    }
+
+    /** The code of the server's close frame, reading until it comes (bounded by the socket's timeout), or -1. */
+    private static int closeCode(Socket s) {
+        try {
+            java.io.DataInputStream in = new java.io.DataInputStream(s.getInputStream());
+            for (int k = 0; k < 10_000; k++) {
+                int opcode = in.readUnsignedByte() & 0x0f;
+                long len = in.readUnsignedByte() & 0x7f;
+                if (len == 126) len = in.readUnsignedShort();
+                else if (len == 127) len = in.readLong();
+                byte[] payload = new byte[(int) len];
+                in.readFully(payload);
+                if (opcode == 8) return payload.length >= 2 ? ((payload[0] & 0xff) << 8) | (payload[1] & 0xff) : 1005;
+            }
+        } catch (IOException ignored) {
+        }
+        return -1;
+    }
+
+    /**
+     * Keeps 24 connections open from 127.0.[net].x, each upgraded with [extra] header lines and, when [first] is given,
+     * having sent it; reopens those the server closes.
+     */
+    private static String holdPlaces(int port, AtomicBoolean stop, List<Socket> held, int net, String extra, byte[] first) throws IOException {
         int opened = 0;
+        int refused = 0;
         List<Socket> mine = new ArrayList<>();
         while (!stop.get() && opened < 100_000) {
             mine.removeIf(Socket::isClosed);
@@ -240,7 +328,11 @@ public final class StreamUnderAttack {
             for (Socket s : new ArrayList<>(mine)) {
                 try {
                     s.setSoTimeout(1);
-                    if (s.getInputStream().read() < 0) { s.close(); mine.remove(s); }
+                    // What the server sent before closing (an error, the close frame) is read first.
+                    byte[] buf = new byte[4096];
+                    int n = 0;
+                    for (int k = 0; k < 1000 && n >= 0; k++) n = s.getInputStream().read(buf);
+                    if (n < 0) { s.close(); mine.remove(s); }
                 } catch (java.net.SocketTimeoutException e) {
                     // still open
                 } catch (IOException e) {
@@ -249,17 +341,54 @@ public final class StreamUnderAttack {
                 }
             }
             while (mine.size() < 24 && !stop.get()) {
-                Socket s = connect(port, "127.0.2." + (1 + opened % 250));
+                Socket s = connect(port, "127.0." + net + "." + (1 + opened % 250));
                 opened++;
-                if (upgrade(s)) { mine.add(s); held.add(s); } else s.close();
+                if (upgrade(s, extra)) {
+                    if (first != null) s.getOutputStream().write(first);
+                    mine.add(s);
+                    held.add(s);
+                } else {
+                    refused++;
+                    s.close();
+                }
             }
             LockSupport.parkNanos(50_000_000);
         }
-        return opened + " connections opened";
+        return opened + " connections opened" + (refused > 0 ? ", " + refused + " upgrades refused" : "");
+    }
+
+    private static String preOpened(int port, AtomicBoolean stop, List<Socket> held) throws IOException {
+        int tries = 0;
+        int wrong = 0;
+        int paused = 0;
+        for (int round = 0; round < 10_000 && !stop.get(); round++) {
+            List<Socket> socks = new ArrayList<>();
+            try {
+                for (int i = 0; i < 8; i++) {
+                    Socket s = connect(port, "127.0.4." + (1 + (round * 8 + i) % 250));
+                    socks.add(s);
+                    upgrade(s);
+                }
+                for (int i = 0; i < 8; i++) {
+                    socks.get(i).getOutputStream().write(frame(1, pairJson(String.format(Locale.ROOT, "%06d", (round * 8 + i) % 1_000_000))));
+                    tries++;
+                }
+                for (Socket s : socks) {
+                    int code = closeCode(s);
+                    if (code == 4001) wrong++;
+                    else if (code == 4029) paused++;
+                }
+            } catch (IOException ignored) {
+            } finally {
+                for (Socket s : socks) s.close();
+            }
+        }
+        return tries + " tries sent: " + wrong + " looked at and wrong, " + paused + " refused unread (pause)";
     }
 
     private static String guessing(int port, AtomicBoolean stop, List<Socket> held) throws Exception {
         AtomicInteger tries = new AtomicInteger();
+        AtomicInteger wrong = new AtomicInteger();
         long t0 = System.nanoTime();
         List<Thread> threads = new ArrayList<>();
         for (int t = 0; t < 4; t++) {
@@ -268,15 +397,10 @@ public final class StreamUnderAttack {
                 for (int k = 0; k < 1_000_000 && !stop.get(); k++) {
                     try (Socket s = connect(port, "127.0.3." + (1 + (k * 4 + id) % 200))) {
                         if (!upgrade(s)) continue;
-                        byte[] p = ("{\"type\":\"pair\",\"schema\":1,\"code\":\"" + String.format(Locale.ROOT, "%06d", (k * 4 + id) % 1_000_000) + "\"}")
-                            .getBytes(StandardCharsets.UTF_8);
-                        byte[] f = new byte[2 + 4 + p.length];
-                        f[0] = (byte) 0x81;
-                        f[1] = (byte) (0x80 | p.length);
-                        System.arraycopy(p, 0, f, 6, p.length);
-                        s.getOutputStream().write(f);
+                        s.getOutputStream().write(frame(1, pairJson(String.format(Locale.ROOT, "%06d", (k * 4 + id) % 1_000_000))));
                         tries.incrementAndGet();
-                        drain(s);
+                        // 4001: looked at and wrong; 4029: refused unread (a pause, or, before, the address locked out).
+                        if (closeCode(s) == 4001) wrong.incrementAndGet();
                     } catch (IOException ignored) {
                     }
                 }
@@ -285,6 +409,7 @@ public final class StreamUnderAttack {
             threads.add(th);
         }
         for (Thread th : threads) th.join(60_000);
-        return String.format(Locale.ROOT, "%d tries sent, %.0f a second", tries.get(), tries.get() / ((System.nanoTime() - t0) / 1e9));
+        double s = (System.nanoTime() - t0) / 1e9;
+        return String.format(Locale.ROOT, "%d tries sent, %.0f a second; %d looked at (%.1f a second)", tries.get(), tries.get() / s, wrong.get(), wrong.get() / s);
     }
 }

@@ -107,7 +107,7 @@ internal class Cli(
         appendLine("            ${ExitCode.USAGE} wrong command line (also: an output that names an input),")
         appendLine("            ${ExitCode.IO_ERROR} a file (or standard output) cannot be read or written, or out of memory;")
         appendLine("            the message names the file and the reason; ${ExitCode.CONNECTION_LOST} listen: the connection to the phone")
-        appendLine("            was lost; ${ExitCode.INTERNAL_ERROR} an internal error (a bug).")
+        appendLine("            was lost; ${ExitCode.DENIED} listen: denied on the phone; ${ExitCode.INTERNAL_ERROR} an internal error (a bug).")
         appendLine()
         appendLine("Outputs are written aside and moved into place only when the command succeeds: a failed")
         appendLine("run leaves an earlier file as it was. An output that is an input, or lies inside an input")

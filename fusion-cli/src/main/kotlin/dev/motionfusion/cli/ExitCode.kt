@@ -17,6 +17,9 @@ internal object ExitCode {
     /** `fusion listen`: the connection to the phone was lost (no close from it, or no answer to pings). */
     const val CONNECTION_LOST = 4
 
+    /** `fusion listen`: the phone's user denied this laptop, or did not answer in time. */
+    const val DENIED = 5
+
     /** A bug of fusion: an unexpected exception, reported in one line instead of a stack trace. */
     const val INTERNAL_ERROR = 70
 }

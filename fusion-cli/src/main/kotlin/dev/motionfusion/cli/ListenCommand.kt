@@ -48,9 +48,11 @@ internal class ListenCommand(
         |because this client did not keep up, malformed messages skipped, the latency (the phone's sensor clock put on the
         |wall clock through its clock anchor, against this computer's clock: it includes the difference between the two
         |clocks), and how it ended. -o DIR is handed to the system at least once a second: a kill leaves a session that
-        |'fusion recover DIR' repairs. Exit codes: 0 the phone stopped streaming or --duration passed; 1 a message from the
-        |phone over 1 MiB; 3 no connection or pairing refused; 4 the connection was lost (no close from the phone, or no
-        |answer to pings for 10-20 s); 130 Ctrl-C.
+        |'fusion recover DIR' repairs. The phone asks its user to allow a laptop it has not seen since streaming was
+        |turned on ("fusion listen on HOST" and this computer's address): meanwhile "waiting for confirmation on the
+        |phone..." is printed, for up to 60 s. Exit codes: 0 the phone stopped streaming or --duration passed; 1 a message
+        |from the phone over 1 MiB; 3 no connection or pairing refused; 4 the connection was lost (no close from the phone,
+        |or no answer to pings for 10-20 s); 5 denied on the phone, or not allowed there within 60 s; 130 Ctrl-C.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
@@ -74,10 +76,15 @@ internal class ListenCommand(
 
         val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
         // The hello is taken on the connection's thread before the first sample: nothing comes before the header or the session.
-        val client = StreamClient(uri, StreamMessage.Pair(code, streams, rate), receiver::begin, receiver::malformed, receiver::take)
+        val pair = StreamMessage.Pair(code, streams, rate, client = "fusion listen on ${hostName()}")
+        val client = StreamClient(uri, pair, receiver::begin, receiver::malformed, receiver::take)
         try {
-            client.connect()
+            client.connect(onWaiting = { err.println("fusion: waiting for confirmation on the phone... (allow this laptop there)") })
         } catch (e: java.io.IOException) {
+            if (client.end == StreamEnd.DENIED) {
+                err.println("fusion: ${e.message}")
+                return ExitCode.DENIED
+            }
             // Over the size limit before the hello was read (the hello and the large frame in one read): malformed input.
             if (client.end == StreamEnd.TOO_LARGE) {
                 err.println("fusion: ${e.message}")
@@ -109,7 +116,7 @@ internal class ListenCommand(
                 StreamEnd.PHONE_STOPPED, StreamEnd.CLOSED, null -> "the phone stopped streaming" to ExitCode.OK
                 StreamEnd.TOO_LARGE -> (client.endReason ?: "a message too large") to ExitCode.DATA_ERROR
                 StreamEnd.LOST -> (client.endReason ?: "connection lost") to ExitCode.CONNECTION_LOST
-                StreamEnd.REFUSED -> (client.endReason ?: "closed by the phone") to ExitCode.CONNECTION_LOST
+                StreamEnd.REFUSED, StreamEnd.DENIED -> (client.endReason ?: "closed by the phone") to ExitCode.CONNECTION_LOST
             }
         }
         val mine = receiver.finish(reason)
@@ -256,5 +263,9 @@ internal class ListenCommand(
         const val MAX_LATENCIES = 1_000_000
         const val FLUSH_POLL_MS = 200L
         const val FLUSH_INTERVAL_NS = 500_000_000L
+
+        /** This computer's name, for the phone's question to its user. */
+        fun hostName(): String = listOf("HOSTNAME", "COMPUTERNAME").firstNotNullOfOrNull { System.getenv(it)?.takeIf(String::isNotBlank) }
+            ?: runCatching { java.net.InetAddress.getLocalHost().hostName }.getOrNull() ?: "this computer"
     }
 }

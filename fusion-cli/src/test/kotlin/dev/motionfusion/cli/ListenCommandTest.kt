@@ -35,7 +35,7 @@ class ListenCommandTest {
     }
 
     /** Serves the sample session: every recorded stream, then one gyroscope sample 20 s later (the listeners stop at --duration). */
-    private fun serve(extra: List<SessionStream> = emptyList()): StreamServer {
+    private fun serve(extra: List<SessionStream> = emptyList(), onConfirmation: ((dev.motionfusion.stream.StreamClientInfo) -> Unit)? = null): StreamServer {
         val reader = SessionReader.open(sample)
         val streams = reader.streams.filter { it in StreamCodec.STREAMABLE } + extra
         val s = StreamServer(
@@ -43,6 +43,7 @@ class ListenCommandTest {
             { StreamOffer("test phone", reader.metadata, streams) },
             // Nothing may be dropped here: the whole session is handed over at once.
             StreamServerSettings(clientQueueFrames = 1_000_000, handOffCapacity = 1_000_000),
+            onConfirmationRequested = onConfirmation,
         )
         s.start()
         server = s
@@ -120,6 +121,29 @@ class ListenCommandTest {
         val r = fusion("listen", "ws://127.0.0.1:${s.port}", "--code", "000000")
         assertEquals(ExitCode.IO_ERROR, r.code)
         assertTrue("pairing code wrong" in r.err, r.err)
+    }
+
+    @Test
+    fun `a phone that asks its user, listen says it waits, exit code 5 when denied, the stream when allowed`() {
+        val asked = java.util.concurrent.LinkedBlockingQueue<dev.motionfusion.stream.StreamClientInfo>()
+        val s = serve(listOf(SessionStream.ORIENTATION), onConfirmation = { asked += it })
+        val denied = listen("ws://127.0.0.1:${s.port}", "--code", "271828")
+        val first = asked.poll(30, TimeUnit.SECONDS) ?: throw AssertionError("the phone was not asked")
+        assertTrue(first.name!!.startsWith("fusion listen on "), first.name)
+        s.deny(first.id)
+        val r = denied.get(60, TimeUnit.SECONDS)
+        assertEquals(ExitCode.DENIED, r.code, r.err)
+        assertTrue("fusion: waiting for confirmation on the phone" in r.err, r.err)
+        assertTrue("denied on the phone" in r.err && "Exception" !in r.err, r.err)
+        // The deny made a new code; with it, and allowed this time, the stream comes.
+        val run = listen("ws://127.0.0.1:${s.port}", "--code", s.pairingCode, "--csv", "--duration", "30")
+        s.allow((asked.poll(30, TimeUnit.SECONDS) ?: throw AssertionError("the phone was not asked again")).id)
+        awaitPaired(s)
+        for (k in 0 until 10) s.publishOrientation(k * 5_000_000L, 1.0, 0.0, 0.0, 0.0)
+        s.publishOrientation(40_000_000_000L, 1.0, 0.0, 0.0, 0.0)
+        val allowed = run.get(60, TimeUnit.SECONDS)
+        assertEquals(0, allowed.code, allowed.err)
+        assertEquals(11, allowed.out.trim().lines().size, allowed.out)
     }
 
     /**

@@ -28,6 +28,9 @@ public enum class StreamEnd {
     /** The phone refused the pairing, or ended the connection with another code. */
     REFUSED,
 
+    /** The phone's user denied this client, or did not answer in time ([StreamServer.CLOSE_DENIED], [StreamServer.CLOSE_NOT_CONFIRMED]). */
+    DENIED,
+
     /** This side closed it. */
     CLOSED,
 }
@@ -63,6 +66,11 @@ public class StreamClient @JvmOverloads constructor(
 
     @Volatile private var closing = false
 
+    /** What the phone waits for before its hello (its user's answer), once it said so. */
+    @Volatile private var waiting: String? = null
+
+    @Volatile private var onWaiting: (String) -> Unit = {}
+
     private val socket = object : WebSocketClient(uri, Draft_6455(emptyList(), listOf<IProtocol>(Protocol("")), MAX_MESSAGE_BYTES)) {
         override fun onOpen(handshake: ServerHandshake) = send(StreamCodec.encode(request))
 
@@ -77,6 +85,10 @@ public class StreamClient @JvmOverloads constructor(
             }
             when {
                 m is StreamMessage.Error -> fail("the phone refused: ${m.reason}")
+                helloMessage == null && m is StreamMessage.Waiting -> {
+                    waiting = m.reason
+                    onWaiting(m.reason)
+                }
                 helloMessage == null && m is StreamMessage.Hello -> {
                     try {
                         onHello(m)
@@ -101,6 +113,7 @@ public class StreamClient @JvmOverloads constructor(
                 closing && !remote -> StreamEnd.CLOSED
                 code == CloseFrame.ABNORMAL_CLOSE || code == CloseFrame.NEVER_CONNECTED -> StreamEnd.LOST
                 remote && (code == CloseFrame.NORMAL || code == CloseFrame.GOING_AWAY) -> StreamEnd.PHONE_STOPPED
+                remote && (code == StreamServer.CLOSE_DENIED || code == StreamServer.CLOSE_NOT_CONFIRMED) -> StreamEnd.DENIED
                 else -> StreamEnd.REFUSED
             }
             val why = when (ended) {
@@ -133,16 +146,28 @@ public class StreamClient @JvmOverloads constructor(
     }
 
     /**
-     * Connects and pairs; returns the phone's hello. @throws IOException when it cannot connect, is refused, or hears no
-     * hello within [timeoutMs]; what [onHello] threw, as it is.
+     * Connects and pairs; returns the phone's hello. When the phone says it asks its user to allow this client (a
+     * `waiting` message), [onWaiting] gets its reason (on the connection's thread) and the hello is awaited for up to
+     * [confirmationTimeoutMs] more; the phone closes the request itself when its user does not answer
+     * ([StreamEnd.DENIED]). @throws IOException when it cannot connect, is refused or denied, or hears no hello in time;
+     * what [onHello] threw, as it is.
      */
-    public fun connect(timeoutMs: Long = 10_000): StreamMessage.Hello {
+    @JvmOverloads
+    public fun connect(timeoutMs: Long = 10_000, confirmationTimeoutMs: Long = CONFIRMATION_WAIT_MS, onWaiting: (String) -> Unit = {}): StreamMessage.Hello {
+        this.onWaiting = onWaiting
         socket.connect()
-        if (!helloLatch.await(timeoutMs, TimeUnit.MILLISECONDS)) {
+        if (!helloLatch.await(timeoutMs, TimeUnit.MILLISECONDS) &&
+            (waiting == null || !helloLatch.await(confirmationTimeoutMs, TimeUnit.MILLISECONDS))
+        ) {
             socket.close()
-            throw IOException("$uri: no answer within ${timeoutMs / 1000.0} s")
+            throw IOException(
+                if (waiting == null) "$uri: no answer within ${timeoutMs / 1000.0} s"
+                else "$uri: not allowed on the phone within ${(timeoutMs + confirmationTimeoutMs) / 1000.0} s",
+            )
         }
         helloMessage?.let { return it }
+        // Refused: the phone closes right after its error; its close code tells a denial from other refusals ([end]).
+        closedLatch.await(REFUSAL_CLOSE_MS, TimeUnit.MILLISECONDS)
         socket.close()
         helloFailure?.let { throw it }
         throw IOException("$uri: ${failure ?: "no hello"}")
@@ -166,6 +191,12 @@ public class StreamClient @JvmOverloads constructor(
         /** The largest message taken from the phone (its hello with the metadata is a few kB). */
         public const val MAX_MESSAGE_BYTES: Int = 1 shl 20
 
+        /** How long [connect] waits for the hello once the phone asks its user (its own limit is 60 s). */
+        public const val CONFIRMATION_WAIT_MS: Long = 120_000
+
         private const val CLOSE_MALFORMED = 4002
+
+        /** How long a refused [connect] waits for the phone's close, which says how it ended. */
+        private const val REFUSAL_CLOSE_MS = 2_000L
     }
 }

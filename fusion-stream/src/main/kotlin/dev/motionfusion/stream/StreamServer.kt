@@ -59,7 +59,9 @@ public data class StreamOffer(val source: String, val metadata: SessionMetadata,
  * makes a new code (the phone shows it) and pauses pairing for [wrongCodePauseNs]: meanwhile only an address that
  * paired before (and sent no wrong code since) may pair, so that codes cannot be tried faster than [maxWrongCodes] per
  * pause, however many addresses the tries come from. A browser page is refused unless its Origin is one of [allowedOrigins]
- * (clients that are not browsers send none).
+ * (clients that are not browsers send none). A server that asks the phone's user to allow each new client
+ * ([StreamServer]'s `onConfirmationRequested`) closes a request that was not answered within [confirmationTimeoutNs] of
+ * its right code; until then it counts among the unpaired connections.
  */
 public data class StreamServerSettings(
     val maxClients: Int = 8,
@@ -74,6 +76,7 @@ public data class StreamServerSettings(
     val maxWrongCodes: Int = 5,
     val wrongCodePauseNs: Long = 60_000_000_000L,
     val allowedOrigins: Set<String> = emptySet(),
+    val confirmationTimeoutNs: Long = 60_000_000_000L,
 ) {
     init {
         require(maxClients in 1..64) { "maxClients must be 1 to 64" }
@@ -87,6 +90,7 @@ public data class StreamServerSettings(
         require(pairingTimeoutNs > 0) { "pairingTimeoutNs must be positive" }
         require(maxWrongCodes >= 1) { "maxWrongCodes must be at least 1" }
         require(wrongCodePauseNs >= 0) { "wrongCodePauseNs must not be negative" }
+        require(confirmationTimeoutNs > 0) { "confirmationTimeoutNs must be positive" }
     }
 }
 
@@ -105,6 +109,12 @@ public data class StreamClientInfo(
      * over the last status interval.
      */
     val stalled: Boolean = false,
+    /** Identifies the connection for [StreamServer.allow] and [StreamServer.deny]. */
+    val id: Long = 0,
+    /** The name the client gave in its pair message (its own claim, cleaned of control characters, at most 40 characters). */
+    val name: String? = null,
+    /** Its code was right and the phone's user has not answered yet: [StreamServer.allow] or [StreamServer.deny]. */
+    val awaitingConfirmation: Boolean = false,
 )
 
 /**
@@ -121,7 +131,13 @@ public data class StreamClientInfo(
  * than an unpaired peer may ([StreamServerSettings]). [nanoTime] is the clock of those limits.
  *
  * After [StreamServerSettings.maxWrongCodes] wrong codes the server takes a new code from [newPairingCode] and
- * gives it to [onPairingCodeChanged] (on one of the server's threads), so that the phone shows it. A failure that
+ * gives it to [onPairingCodeChanged] (on one of the server's threads), so that the phone shows it.
+ *
+ * With [onConfirmationRequested] given, a right code is not enough for a new client: it gets a `waiting` message, and the
+ * callback (on one of the server's threads) the client as [StreamClientInfo.awaitingConfirmation], for the phone to ask
+ * its user; [allow] then pairs it, [deny] closes it ([CLOSE_DENIED]) and makes a new code (whoever asked knew the code),
+ * and no answer within [StreamServerSettings.confirmationTimeoutNs] closes it ([CLOSE_NOT_CONFIRMED]). An address
+ * allowed once pairs again without asking for the rest of the server's life, unless it sends a wrong code. A failure that
  * stops the server while it runs (the library's fatal errors, such as running out of memory) goes to [onFailure]
  * once and is kept in [failure].
  */
@@ -134,6 +150,7 @@ public class StreamServer @JvmOverloads constructor(
     private val newPairingCode: () -> String = ::randomPairingCode,
     private val onPairingCodeChanged: (String) -> Unit = {},
     private val onFailure: (String) -> Unit = {},
+    private val onConfirmationRequested: ((StreamClientInfo) -> Unit)? = null,
 ) {
     @Volatile private var code = pairingCode.toByteArray(Charsets.UTF_8)
     private val codeLock = Any()
@@ -142,8 +159,12 @@ public class StreamServer @JvmOverloads constructor(
     /** Pairing is paused until then (on [nanoTime]), after too many wrong codes; guarded by [codeLock]. */
     private var pausedUntilNs: Long? = null
 
-    /** Addresses that paired with a right code and sent no wrong one since: they may pair during a pause. */
+    /**
+     * Addresses that paired with a right code (and were allowed on the phone, when it asks) and sent no wrong code since:
+     * they may pair during a pause, and without asking again. Guarded by [codeLock].
+     */
     private val trusted = HashSet<String>()
+    private val nextId = AtomicLong()
     private val clients = CopyOnWriteArrayList<Client>()
 
     /** Connections not paired yet, oldest first, from their accepted socket on (guarded by itself). */
@@ -196,13 +217,14 @@ public class StreamServer @JvmOverloads constructor(
 
         override fun onMessage(conn: WebSocket, message: String) {
             val client = conn.getAttachment<Client>() ?: return
-            if (client.accepted) return // later requests are not part of schema 1
+            // Later requests are not part of schema 1; one waiting for the phone's answer has made its request.
+            if (client.accepted || client.awaiting != null) return
             pair(client, message)
         }
 
         override fun onMessage(conn: WebSocket, message: ByteBuffer) {
             val client = conn.getAttachment<Client>() ?: return
-            if (!client.accepted) refuse(client, "the first message must be a text frame of type \"pair\"")
+            if (!client.accepted && client.awaiting == null) refuse(client, "the first message must be a text frame of type \"pair\"")
         }
 
         override fun onError(conn: WebSocket?, ex: Exception) {
@@ -332,6 +354,7 @@ public class StreamServer @JvmOverloads constructor(
             return refuse(client, e.message ?: "malformed request")
         }
         if (request !is StreamMessage.Pair) return refuse(client, "the first message must be of type \"pair\"")
+        client.name = request.client?.let(::cleanName)
         var newCode: String? = null
         val verdict = synchronized(codeLock) {
             val now = nanoTime()
@@ -339,9 +362,18 @@ public class StreamServer @JvmOverloads constructor(
             when {
                 // Not even looked at: a pause lets no new address try.
                 until != null && now - until < 0 && client.address !in trusted -> PAUSED
-                MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code) -> {
-                    trusted += client.address
-                    RIGHT
+                MessageDigest.isEqual(request.code.toByteArray(Charsets.UTF_8), code) -> when {
+                    client.address in trusted -> RIGHT
+                    onConfirmationRequested != null -> {
+                        // Awaiting the phone's user, under the same lock as a deny's new code.
+                        client.awaiting = request
+                        client.awaitingSinceNs = now
+                        CONFIRM
+                    }
+                    else -> {
+                        trusted += client.address
+                        RIGHT
+                    }
                 }
                 else -> {
                     trusted -= client.address
@@ -361,6 +393,63 @@ public class StreamServer @JvmOverloads constructor(
             return refuse(client, "too many wrong pairing codes: pairing paused for up to ${settings.wrongCodePauseNs / 1_000_000_000} s", CLOSE_PAUSED)
         }
         if (verdict == WRONG) return refuse(client, "pairing code wrong")
+        if (verdict == CONFIRM) {
+            // A request the phone would refuse anyway is not put to its user.
+            val offered = offer().streams
+            request.streams?.firstOrNull { it !in offered }?.let {
+                synchronized(codeLock) { client.awaiting = null }
+                return refuse(client, "this phone does not capture ${it.key}")
+            }
+            send(client, StreamMessage.Waiting("the phone asks its user to allow this client"))
+            onConfirmationRequested?.invoke(client.info())
+            return
+        }
+        welcome(client, request)
+    }
+
+    /**
+     * Pairs [id], a client awaiting confirmation ([StreamClientInfo.awaitingConfirmation]), as the phone's user allowed;
+     * its address is trusted from now on. False when there is no such client (closed, timed out, answered already).
+     */
+    public fun allow(id: Long): Boolean {
+        val (client, request) = answer(id) ?: return false
+        synchronized(codeLock) { trusted += client.address }
+        welcome(client, request)
+        return true
+    }
+
+    /**
+     * Closes [id], a client awaiting confirmation, as the phone's user denied it ([CLOSE_DENIED]), and makes a new code
+     * (whoever asked knew the code): [onPairingCodeChanged] gets it. False when there is no such client.
+     */
+    public fun deny(id: Long): Boolean {
+        val (client, _) = answer(id) ?: return false
+        val newCode = synchronized(codeLock) {
+            trusted -= client.address
+            newPairingCode().also { code = it.toByteArray(Charsets.UTF_8) }
+        }
+        onPairingCodeChanged(newCode)
+        refuse(client, "denied on the phone", CLOSE_DENIED)
+        return true
+    }
+
+    /** Takes [id] out of the clients awaiting confirmation, with its request: an answer is given once. */
+    private fun answer(id: Long): Pair<Client, StreamMessage.Pair>? = synchronized(unpaired) {
+        val client = unpaired.firstOrNull { it.id == id } ?: return null
+        val request = synchronized(codeLock) { client.awaiting?.also { client.awaiting = null } } ?: return null
+        client to request
+    }
+
+    private fun send(client: Client, m: StreamMessage) {
+        try {
+            client.conn.send(StreamCodec.encode(m))
+        } catch (_: WebsocketNotConnectedException) {
+            // Closed meanwhile.
+        }
+    }
+
+    /** Admits [client], whose code was right (and which was allowed, when the phone asks): the hello, then its messages. */
+    private fun welcome(client: Client, request: StreamMessage.Pair) {
         val offered = offer()
         val streams = request.streams?.filter { it in offered.streams } ?: offered.streams
         request.streams?.firstOrNull { it !in offered.streams }?.let { return refuse(client, "this phone does not capture ${it.key}") }
@@ -397,6 +486,7 @@ public class StreamServer @JvmOverloads constructor(
     internal fun closeUnpaired() {
         val now = nanoTime()
         val late = ArrayList<Pair<Client, String>>()
+        val timedOut = ArrayList<Client>()
         synchronized(unpaired) {
             val i = unpaired.iterator()
             while (i.hasNext()) {
@@ -408,6 +498,13 @@ public class StreamServer @JvmOverloads constructor(
                         i.remove()
                         late += c to "no WebSocket upgrade within ${settings.handshakeTimeoutNs / 1_000_000_000} s"
                     }
+                    c.awaiting != null -> if (now - c.awaitingSinceNs > settings.confirmationTimeoutNs) {
+                        // Taken out of waiting under the lock an answer takes, so that a late answer finds nothing.
+                        if (synchronized(codeLock) { c.awaiting?.also { c.awaiting = null } } != null) {
+                            i.remove()
+                            timedOut += c
+                        }
+                    }
                     age > settings.pairingTimeoutNs -> {
                         i.remove()
                         late += c to "no pairing code within ${settings.pairingTimeoutNs / 1_000_000_000} s"
@@ -416,6 +513,9 @@ public class StreamServer @JvmOverloads constructor(
             }
         }
         for ((c, reason) in late) drop(c, CLOSE_REFUSED, reason)
+        for (c in timedOut) {
+            refuse(c, "not allowed on the phone within ${settings.confirmationTimeoutNs / 1_000_000_000} s", CLOSE_NOT_CONFIRMED)
+        }
     }
 
     private val pairingWatch = java.util.concurrent.Executors.newSingleThreadScheduledExecutor { r ->
@@ -423,11 +523,7 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     private fun refuse(client: Client, reason: String, closeCode: Int = CLOSE_REFUSED) {
-        try {
-            client.conn.send(StreamCodec.encode(StreamMessage.Error(reason)))
-        } catch (_: WebsocketNotConnectedException) {
-            // Closed meanwhile.
-        }
+        send(client, StreamMessage.Error(reason))
         client.conn.close(closeCode, reason.take(100))
     }
 
@@ -488,8 +584,19 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     private inner class Client(val conn: WebSocketImpl, val acceptedNs: Long) {
+        val id = nextId.incrementAndGet()
+
         /** The peer's address, known once its upgrade is done. */
         @Volatile var address: String = "?"
+
+        /** The name given in its pair message, cleaned. */
+        @Volatile var name: String? = null
+
+        /** Its request, while the phone's user has not answered it; set and taken under [codeLock]. */
+        @Volatile var awaiting: StreamMessage.Pair? = null
+
+        /** When [awaiting] was set, on [nanoTime]. */
+        @Volatile var awaitingSinceNs = 0L
 
         /** Held while the hello is queued and [paired] set. */
         val pairing = Any()
@@ -572,6 +679,7 @@ public class StreamServer @JvmOverloads constructor(
         fun info() = StreamClientInfo(
             address, accepted, streams, rateHz, sent, dropped, achievedRateHz,
             stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
+            id = id, name = name, awaitingConfirmation = awaiting != null,
         )
     }
 
@@ -585,9 +693,20 @@ public class StreamServer @JvmOverloads constructor(
         /** Pairing paused after too many wrong codes (a new code is shown). */
         public const val CLOSE_PAUSED: Int = 4029
 
+        /** The phone's user denied the client (a new code is shown). */
+        public const val CLOSE_DENIED: Int = 4010
+
+        /** The phone's user did not answer within [StreamServerSettings.confirmationTimeoutNs]. */
+        public const val CLOSE_NOT_CONFIRMED: Int = 4011
+
         private const val RIGHT = 0
         private const val WRONG = 1
         private const val PAUSED = 2
+        private const val CONFIRM = 3
+
+        /** A client's name as the phone shows it: no control characters, at most 40 characters. */
+        private fun cleanName(name: String): String? =
+            name.filter { !it.isISOControl() && Character.getType(it) != Character.FORMAT.toInt() }.trim().take(40).ifEmpty { null }
 
         /** Too many paired clients, or an unpaired connection closed to make room for a newer one. */
         public const val CLOSE_TOO_MANY: Int = 4008

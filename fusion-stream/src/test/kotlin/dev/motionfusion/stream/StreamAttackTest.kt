@@ -52,8 +52,9 @@ class StreamAttackTest {
         onCode: (String) -> Unit = {},
         onFailure: (String) -> Unit = {},
         offer: () -> StreamOffer = { this.offer },
+        onConfirmation: ((StreamClientInfo) -> Unit)? = null,
     ) = StreamServer(
-        InetSocketAddress(InetAddress.getLoopbackAddress(), 0), CODE, offer, settings, nanoTime, newCode, onCode, onFailure,
+        InetSocketAddress(InetAddress.getLoopbackAddress(), 0), CODE, offer, settings, nanoTime, newCode, onCode, onFailure, onConfirmation,
     ).also { it.start(); servers += it }
 
     /** A TCP connection to [s] from [local] (any address of 127/8), reads bounded by 10 s. */
@@ -96,6 +97,15 @@ class StreamAttackTest {
 
     private fun pairFrame(code: String) = frame(1, """{"type":"pair","schema":1,"code":"$code"}""".toByteArray())
 
+    /** Reads the server's next text frame (bounded by the socket's timeout). */
+    private fun textFrame(sock: Socket): String {
+        val input = sock.getInputStream()
+        input.byte()
+        val len = input.byte() and 0x7f
+        check(len < 126) { "a long frame" }
+        return String(ByteArray(len) { input.byte().toByte() }, Charsets.UTF_8)
+    }
+
     private fun InputStream.byte(): Int = read().also { if (it < 0) throw EOFException() }
 
     /**
@@ -124,9 +134,9 @@ class StreamAttackTest {
     }
 
     /** A laptop paired with the right code that counts the orientations it gets. */
-    private inner class Laptop(s: StreamServer, code: String = CODE) {
+    private inner class Laptop(s: StreamServer, code: String = CODE, name: String? = null) {
         val received = AtomicLong()
-        val client = StreamClient(URI("ws://127.0.0.1:${s.port}"), StreamMessage.Pair(code)) { m ->
+        val client = StreamClient(URI("ws://127.0.0.1:${s.port}"), StreamMessage.Pair(code, client = name)) { m ->
             if (m is StreamMessage.Orientation) received.incrementAndGet()
         }.also { closeables += it }
 
@@ -316,6 +326,75 @@ class StreamAttackTest {
         assertTrue(reported.await(10, TimeUnit.SECONDS), "no failure reported")
         assertEquals(listOf("the stream server stopped: OutOfMemoryError: simulated"), failures.toList())
         assertEquals(failures.single(), s.failure)
+    }
+
+    @Test
+    fun `with confirmation a right code waits for the phone's user, an allowed laptop pairs and later reconnects without asking`() {
+        val asked = java.util.concurrent.LinkedBlockingQueue<StreamClientInfo>()
+        val s = server(onConfirmation = { asked += it })
+        val laptop = Laptop(s, name = "fusion listen on lab\u0007\n\u202e")
+        val waitingFor = java.util.concurrent.LinkedBlockingQueue<String>()
+        val pairing = java.util.concurrent.Executors.newSingleThreadExecutor()
+        val hello = pairing.submit<StreamMessage.Hello> { laptop.client.connect(onWaiting = { waitingFor += it }) }
+        pairing.shutdown()
+        val request = asked.poll(10, TimeUnit.SECONDS) ?: throw AssertionError("nobody was asked")
+        assertEquals("fusion listen on lab", request.name, "control and format characters removed")
+        assertEquals("127.0.0.1", request.address)
+        assertTrue(request.awaitingConfirmation && !request.paired)
+        assertEquals(listOf(request.id), s.clients().filter { it.awaitingConfirmation }.map { it.id })
+        assertEquals("the phone asks its user to allow this client", waitingFor.poll(10, TimeUnit.SECONDS))
+        assertTrue(!hello.isDone, "no hello before the answer")
+        assertTrue(s.allow(request.id))
+        assertEquals(offer.streams, hello.get(10, TimeUnit.SECONDS).streams)
+        assertTrue(!s.allow(request.id) && !s.deny(request.id), "an answer is given once")
+        laptop.getsAll(s, 100)
+        // The same address again (fusion listen restarted): paired at once, nobody asked.
+        Laptop(s).client.connect(2_000)
+        assertTrue(asked.isEmpty(), "$asked")
+    }
+
+    @Test
+    fun `a denied client is closed (4010) and the code changes, an unanswered one is closed at the time limit (4011)`() {
+        val asked = java.util.concurrent.LinkedBlockingQueue<StreamClientInfo>()
+        val shown = ConcurrentLinkedQueue<String>()
+        var now = 0L
+        val s = server(nanoTime = { now }, newCode = { "111111" }, onCode = { shown += it }, onConfirmation = { asked += it })
+        val sock = raw(s, "127.0.6.1")
+        upgrade(sock)
+        sock.getOutputStream().write(pairFrame(CODE))
+        assertEquals("""{"type":"waiting","reason":"the phone asks its user to allow this client"}""", textFrame(sock))
+        val first = asked.poll(10, TimeUnit.SECONDS)!!
+        assertTrue(s.deny(first.id))
+        assertEquals(StreamServer.CLOSE_DENIED, awaitEnd(sock))
+        // Whoever asked knew the code: a new one is shown, the old one no longer pairs.
+        assertEquals(listOf("111111"), shown.toList())
+        assertEquals("111111", s.pairingCode)
+        // No answer: held past the 10-s pairing limit, closed once the confirmation's limit has passed.
+        val late = raw(s, "127.0.6.2")
+        upgrade(late)
+        late.getOutputStream().write(pairFrame("111111"))
+        textFrame(late)
+        asked.poll(10, TimeUnit.SECONDS)!!
+        now += StreamServerSettings().confirmationTimeoutNs - 1_000_000_000L
+        s.closeUnpaired()
+        assertEquals(listOf(true), s.clients().filter { it.address == "127.0.6.2" }.map { it.awaitingConfirmation })
+        now += 2_000_000_000L
+        s.closeUnpaired()
+        assertEquals(StreamServer.CLOSE_NOT_CONFIRMED, awaitEnd(late))
+    }
+
+    @Test
+    fun `clients awaiting confirmation count among the unpaired, the oldest closed first`() {
+        val asked = java.util.concurrent.LinkedBlockingQueue<StreamClientInfo>()
+        val s = server(StreamServerSettings(maxUnpaired = 4), onConfirmation = { asked += it })
+        val waiting = raw(s, "127.0.7.1")
+        upgrade(waiting)
+        waiting.getOutputStream().write(pairFrame(CODE))
+        textFrame(waiting)
+        val request = asked.poll(10, TimeUnit.SECONDS)!!
+        List(4) { k -> raw(s, "127.0.7.${2 + k}").also { upgrade(it) } }
+        assertEquals(StreamServer.CLOSE_TOO_MANY, awaitEnd(waiting))
+        assertTrue(!s.allow(request.id), "no longer waiting")
     }
 
     private companion object {

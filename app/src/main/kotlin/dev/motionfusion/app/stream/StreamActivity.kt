@@ -15,11 +15,13 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.NotificationAsk
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.ui.fitToSystemBars
+import dev.motionfusion.stream.StreamClientInfo
 import kotlinx.coroutines.launch
 
 /**
  * The Stream screen (docs/STREAMING.md): a switch, off by default, that starts and stops the
- * [StreamController]; while on, the addresses a laptop connects to (Wi-Fi and USB), the pairing
+ * [StreamController]; while on, a laptop that asks to connect (its name and address, Allow and Deny), the addresses a
+ * laptop connects to (Wi-Fi and USB), the pairing
  * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
  * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
  * dropped or why it did not start; the field offers the last target a push started to). While the server starts
@@ -94,6 +96,7 @@ class StreamActivity : AppCompatActivity() {
         findViewById<View>(R.id.stream_note).visibility = if (on == null) View.VISIBLE else View.GONE
         findViewById<View>(R.id.stream_details).visibility = if (on == null) View.GONE else View.VISIBLE
         if (on == null) return
+        showRequest(on.clients.filter { it.awaitingConfirmation })
         findViewById<TextView>(R.id.stream_code).text = on.code
         findViewById<TextView>(R.id.stream_addresses).text =
             if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
@@ -108,6 +111,7 @@ class StreamActivity : AppCompatActivity() {
                 for ((i, c) in on.clients.withIndex()) {
                     if (i > 0) append('\n')
                     when {
+                        c.awaitingConfirmation -> append(getString(R.string.stream_client_asking, c.address))
                         !c.paired -> append(getString(R.string.stream_client_unpaired, c.address))
                         // A client whose messages are being dropped: its own text, in the warning colour.
                         c.stalled -> append(getString(R.string.stream_client_stalled, c.address, c.sent, c.dropped), ForegroundColorSpan(warning), 0)
@@ -115,6 +119,21 @@ class StreamActivity : AppCompatActivity() {
                     }
                 }
             }
+    }
+
+    /** The first laptop that asks to connect, with Allow and Deny; how many more ask after it. */
+    private fun showRequest(asking: List<StreamClientInfo>) {
+        findViewById<View>(R.id.stream_request).visibility = if (asking.isEmpty()) View.GONE else View.VISIBLE
+        val first = asking.firstOrNull() ?: return
+        findViewById<TextView>(R.id.stream_request_text).text =
+            first.name?.let { getString(R.string.stream_request_named, it, first.address) } ?: getString(R.string.stream_request_unnamed, first.address)
+        findViewById<TextView>(R.id.stream_request_more).let {
+            val more = asking.size - 1
+            it.text = if (more > 0) resources.getQuantityString(R.plurals.stream_request_more, more, more) else ""
+            it.visibility = if (more > 0) View.VISIBLE else View.GONE
+        }
+        findViewById<View>(R.id.stream_request_allow).setOnClickListener { controller.allow(first.id) }
+        findViewById<View>(R.id.stream_request_deny).setOnClickListener { controller.deny(first.id) }
     }
 
     private fun showUdp(udp: UdpView?) {

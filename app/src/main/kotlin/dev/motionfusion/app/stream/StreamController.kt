@@ -82,6 +82,10 @@ internal sealed interface UdpView {
  * stop on [control]). [start], [stop], [pushUdp] and
  * [stopUdp] are called on [scope]'s thread (the main thread), and the controller's own steps come back to
  * it there.
+ *
+ * A laptop that gives the right code is not let in yet: the server holds it until the user answers on the screen or in
+ * the notification ([StreamClientInfo.awaitingConfirmation]; [allow], [deny]); the state is refreshed at once when one
+ * asks. An address allowed once pairs again without asking until streaming is turned off; a deny makes a new code.
  */
 internal class StreamController(
     private val capture: Capture,
@@ -137,6 +141,8 @@ internal class StreamController(
             onPairingCodeChanged = { scope.launch { if (running?.server === server) showNow() } },
             // A server that died (out of memory, say) is not shown as on.
             onFailure = { reason -> scope.launch { if (running?.server === server) stop(failure = reason) } },
+            // A laptop with the right code asks to connect: shown at once (screen and notification) for the user to answer.
+            onConfirmationRequested = { scope.launch { if (running?.server === server) showNow() } },
         )
         starting = server
         stateFlow.value = StreamState.Starting
@@ -198,6 +204,21 @@ internal class StreamController(
 
     private fun showNow() {
         running?.let { stateFlow.value = on(it.server) }
+    }
+
+    /** The user allowed the laptop [id] that asks to connect: it pairs (on [control]), and the state shows it. */
+    fun allow(id: Long) = answer(id) { it.allow(id) }
+
+    /** The user denied the laptop [id]: it is closed and a new code is shown (whoever asked knew the old one). */
+    fun deny(id: Long) = answer(id) { it.deny(id) }
+
+    private fun answer(id: Long, give: (StreamServer) -> Unit) {
+        val r = running ?: return
+        if (r.server.clients().none { it.id == id && it.awaitingConfirmation }) return showNow()
+        control.execute {
+            give(r.server)
+            scope.launch { if (running === r) showNow() }
+        }
     }
 
     /**

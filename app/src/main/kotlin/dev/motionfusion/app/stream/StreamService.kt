@@ -16,6 +16,7 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.Foreground
 import dev.motionfusion.app.platform.RenewedWakeLock
+import dev.motionfusion.stream.StreamClientInfo
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.SupervisorJob
@@ -88,6 +89,12 @@ class StreamService : Service() {
                 deps.streamController.stop()
                 if (!begun) stopSelf()
             }
+            // The notification's answer to a laptop that asks to connect.
+            ACTION_ALLOW, ACTION_DENY -> {
+                val id = intent.getLongExtra(EXTRA_CLIENT, -1)
+                if (intent.action == ACTION_ALLOW) deps.streamController.allow(id) else deps.streamController.deny(id)
+                if (!begun) stopSelf()
+            }
             else -> begin()
         }
         return START_NOT_STICKY
@@ -152,15 +159,20 @@ class StreamService : Service() {
     }
 
     private fun update(state: StreamState) {
-        val text = text(state)
-        if (text == shownText) return
+        // The request's id too: a new request with the same text needs the notification's answers anew.
+        if (text(state) + asking(state)?.id == shownText) return
         notificationUpdates++
         getSystemService(android.app.NotificationManager::class.java).notify(NOTIFICATION_ID, notification(state))
     }
 
-    /** What the notification says: the paired clients (stalled ones named) and the code, or that the server starts or stops. */
+    /**
+     * What the notification says: a laptop that asks to connect, or the paired clients (stalled ones named) and the code,
+     * or that the server starts or stops.
+     */
     private fun text(state: StreamState): String = when (state) {
-        is StreamState.On -> {
+        is StreamState.On -> asking(state)?.let { r ->
+            r.name?.let { getString(R.string.stream_notification_request, it, r.address) } ?: getString(R.string.stream_notification_request_unnamed, r.address)
+        } ?: run {
             val paired = state.clients.filter { it.paired }
             val stalled = paired.count { it.stalled }
             val clients = if (paired.isEmpty()) getString(R.string.stream_notification_waiting)
@@ -172,9 +184,12 @@ class StreamService : Service() {
         else -> getString(R.string.stream_starting)
     }
 
+    /** The first laptop that asks to connect, answered from the notification. */
+    private fun asking(state: StreamState): StreamClientInfo? = (state as? StreamState.On)?.clients?.firstOrNull { it.awaitingConfirmation }
+
     private fun notification(state: StreamState): Notification {
         val text = text(state)
-        shownText = text
+        shownText = text + asking(state)?.id
         val builder = ongoing ?: NotificationCompat.Builder(this, Foreground.CHANNEL_STREAMING)
             .setSmallIcon(R.drawable.ic_stream)
             .setContentTitle(getString(R.string.stream_notification_title))
@@ -187,13 +202,19 @@ class StreamService : Service() {
                     this, 0, Intent(this, StreamActivity::class.java).addFlags(Intent.FLAG_ACTIVITY_SINGLE_TOP), PendingIntent.FLAG_IMMUTABLE,
                 ),
             )
-            .addAction(
-                0, getString(R.string.stream_stop),
-                PendingIntent.getService(
-                    this, 1, Intent(this, StreamService::class.java).setAction(ACTION_STOP), PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
-                ),
-            )
             .also { ongoing = it }
+        builder.clearActions()
+        // Deny and Allow while a laptop asks (immutable: the request's id is fixed when the notification is posted).
+        asking(state)?.let { r ->
+            builder.addAction(0, getString(R.string.stream_deny), answer(ACTION_DENY, 2, r.id))
+            builder.addAction(0, getString(R.string.stream_allow), answer(ACTION_ALLOW, 3, r.id))
+        }
+        builder.addAction(
+            0, getString(R.string.stream_stop),
+            PendingIntent.getService(
+                this, 1, Intent(this, StreamService::class.java).setAction(ACTION_STOP), PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
+            ),
+        )
         // On the lock screen the pairing code stays hidden: there the public version, without it, is shown.
         val public = NotificationCompat.Builder(this, Foreground.CHANNEL_STREAMING)
             .setSmallIcon(R.drawable.ic_stream)
@@ -203,9 +224,19 @@ class StreamService : Service() {
         return builder.setContentText(text).setVisibility(NotificationCompat.VISIBILITY_PRIVATE).setPublicVersion(public).build()
     }
 
+    private fun answer(action: String, requestCode: Int, id: Long): PendingIntent = PendingIntent.getService(
+        this, requestCode, Intent(this, StreamService::class.java).setAction(action).putExtra(EXTRA_CLIENT, id),
+        PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
+    )
+
     companion object {
         internal const val ACTION_START = "dev.motionfusion.app.stream.START"
         internal const val ACTION_STOP = "dev.motionfusion.app.stream.STOP"
+        internal const val ACTION_ALLOW = "dev.motionfusion.app.stream.ALLOW"
+        internal const val ACTION_DENY = "dev.motionfusion.app.stream.DENY"
+
+        /** The id of the laptop answered ([StreamClientInfo.id]), with [ACTION_ALLOW] and [ACTION_DENY]. */
+        internal const val EXTRA_CLIENT = "client"
         internal const val NOTIFICATION_ID = 7003
 
         /** How often the wake lock's renewal is looked at (it renews once a minute of the clock). */

@@ -104,7 +104,7 @@ class StreamControllerTest {
             if (it is StreamMessage.Orientation && it.timestampNs == lastGyroNs) lastOrientation.countDown()
         }
         try {
-            val hello = client.connect()
+            val hello = connectAllowed(client)
             assertEquals(metadata, hello.metadata)
             assertTrue(SessionStream.ORIENTATION in hello.streams && SessionStream.GYROSCOPE in hello.streams, hello.streams.toString())
             awaitState("the client listed as paired") { it is StreamState.On && it.clients.any { c -> c.paired } }
@@ -145,6 +145,58 @@ class StreamControllerTest {
         c.drain()
         c.capture.release()
         assertFalse(c.capture.isRunning)
+    }
+
+    /** Waits until the controller shows a laptop asking to connect; fails after 10 s. */
+    private fun awaitAsking(): dev.motionfusion.stream.StreamClientInfo = runBlocking {
+        withTimeoutOrNull(10_000) { controller.state.first { it is StreamState.On && it.clients.any { c -> c.awaitingConfirmation } } }
+    }.let { it as? StreamState.On ?: error("nobody asks: ${controller.state.value}") }.clients.first { it.awaitingConfirmation }
+
+    /** Connects [client] on a thread of its own and, once the controller shows it asking, allows it; returns its hello. */
+    private fun connectAllowed(client: StreamClient): StreamMessage.Hello {
+        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+        try {
+            val hello = pool.submit<StreamMessage.Hello> { client.connect() }
+            controller.allow(awaitAsking().id)
+            return hello.get(10, TimeUnit.SECONDS)
+        } finally {
+            pool.shutdown()
+        }
+    }
+
+    @Test
+    fun `a laptop with the right code waits for the user, denied it is closed and a new code shown, allowed it pairs and is not asked again`() {
+        controller.start()
+        val on = controller.state.value as StreamState.On
+        val url = URI("ws://127.0.0.1:${on.port}")
+        val denied = StreamClient(url, StreamMessage.Pair(on.code, client = "fusion listen on lab")) {}
+        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+        try {
+            val refused = pool.submit<Throwable?> { runCatching { denied.connect() }.exceptionOrNull() }
+            val asking = awaitAsking()
+            assertEquals("fusion listen on lab", asking.name)
+            assertEquals("127.0.0.1", asking.address)
+            assertFalse(asking.paired)
+            controller.deny(asking.id)
+            val e = refused.get(10, TimeUnit.SECONDS)
+            assertTrue(e?.message?.contains("denied on the phone") == true, e?.message)
+            assertEquals(dev.motionfusion.stream.StreamEnd.DENIED, denied.end)
+            // Whoever asked knew the code: a new one is shown.
+            awaitState("a new code") { it is StreamState.On && it.code != on.code && it.clients.none { c -> c.awaitingConfirmation } }
+            val code = (controller.state.value as StreamState.On).code
+            StreamClient(url, StreamMessage.Pair(on.code)) {}.use { old ->
+                assertTrue(runCatching { old.connect() }.exceptionOrNull()?.message?.contains("pairing code wrong") == true)
+            }
+            StreamClient(url, StreamMessage.Pair(code)) {}.use { allowed ->
+                connectAllowed(allowed)
+                awaitState("the allowed client paired") { it is StreamState.On && it.clients.any { c -> c.paired } }
+                // The same address again (the laptop reconnecting): paired without asking.
+                StreamClient(url, StreamMessage.Pair(code)) {}.use { again -> again.connect(5_000) }
+            }
+        } finally {
+            pool.shutdownNow()
+            denied.close()
+        }
     }
 
     @Test

@@ -62,8 +62,34 @@ class StreamScreensTest {
         shadowOf(RuntimeEnvironment.getApplication()).grantPermissions(android.Manifest.permission.POST_NOTIFICATIONS)
     }
 
+    private val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+
+    /** Connects [c] on a thread of its own (it waits for the user's answer on the phone); the hello, or what failed. */
+    private fun connectInBackground(c: StreamClient) = pool.submit<StreamMessage.Hello> { c.connect() }
+
+    /** Runs the main thread until the screen's state shows a laptop asking to connect (bounded). */
+    private fun awaitAsking(): dev.motionfusion.stream.StreamClientInfo {
+        repeat(10_000) {
+            shadowOf(Looper.getMainLooper()).idle()
+            (graph.graph.stream.state.value as? StreamState.On)?.clients?.firstOrNull { it.awaitingConfirmation }?.let { return it }
+            java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+        }
+        error("nobody asks: ${graph.graph.stream.state.value}")
+    }
+
+    /** Pairs [c] as a user would: it asks, Allow on the screen. */
+    private fun pairAllowed(a: StreamActivity, c: StreamClient) {
+        val hello = connectInBackground(c)
+        awaitAsking()
+        a.findViewById<View>(R.id.stream_request_allow).performClick()
+        graph.settle()
+        hello.get(10, TimeUnit.SECONDS)
+        shadowOf(Looper.getMainLooper()).idle()
+    }
+
     @After
     fun tearDown() {
+        pool.shutdownNow()
         unstall.countDown()
         client?.close()
         graph.graph.stream.stop()
@@ -99,8 +125,25 @@ class StreamScreensTest {
         Screenshots.captureScreen(a, "stream-waiting")
 
         val got = CountDownLatch(400)
-        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.countDown() }
-        client!!.connect()
+        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code, client = "fusion listen on lab-laptop")) {
+            if (it is StreamMessage.Sample) got.countDown()
+        }
+        // The right code: the laptop asks, with its name and address, and waits for Allow.
+        val hello = connectInBackground(client!!)
+        awaitAsking()
+        assertEquals(View.VISIBLE, a.findViewById<View>(R.id.stream_request).visibility)
+        assertEquals(
+            "“fusion listen on lab-laptop” at 127.0.0.1. Allow it only if it is yours: it will get everything this phone streams.",
+            a.findViewById<TextView>(R.id.stream_request_text).text.toString(),
+        )
+        assertEquals("127.0.0.1: asks to connect, waiting for your answer", a.findViewById<TextView>(R.id.stream_clients).text.toString())
+        assertFalse(hello.isDone)
+        Screenshots.captureScreen(a, "stream-request")
+        a.findViewById<View>(R.id.stream_request_allow).performClick()
+        graph.settle()
+        hello.get(10, TimeUnit.SECONDS)
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_request).visibility)
         val v = floatArrayOf(0.01f, -0.02f, 0.003f)
         for (i in 0 until 400) graph.capture.ring.offer(SessionStream.GYROSCOPE, 1_000_000_000L + i * 5_000_000L, 3, v, 3)
         graph.pump()
@@ -175,7 +218,7 @@ class StreamScreensTest {
         val on = graph.graph.stream.state.value as StreamState.On
         val stalled = AtomicBoolean(false)
         client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { if (stalled.get()) unstall.await() }
-        client!!.connect()
+        pairAllowed(a, client!!)
         stalled.set(true)
         val v = floatArrayOf(0.01f, -0.02f, 0.003f)
         var t = 1_000_000_000L
@@ -204,11 +247,28 @@ class StreamScreensTest {
 
     @Test
     @Config(qualifiers = "de-w400dp-h860dp-port-night-xhdpi")
-    fun `German and dark, on and waiting`() {
+    fun `German and dark, on and waiting, then a laptop without a name asks and is denied`() {
         val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
         a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
         graph.settle()
         assertEquals("Warte auf einen Client …", a.findViewById<TextView>(R.id.stream_clients).text.toString())
         Screenshots.captureScreen(a, "stream-waiting-de-dark")
+        val code = (graph.graph.stream.state.value as StreamState.On).code
+        client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(code)) {}
+        val hello = connectInBackground(client!!)
+        awaitAsking()
+        assertEquals(
+            "Ein Client ohne Namen unter 127.0.0.1. Nur erlauben, wenn es Ihr Gerät ist: Es erhält alles, was dieses Telefon sendet.",
+            a.findViewById<TextView>(R.id.stream_request_text).text.toString(),
+        )
+        Screenshots.captureScreen(a, "stream-request-de-dark")
+        a.findViewById<View>(R.id.stream_request_deny).performClick()
+        graph.settle()
+        val e = runCatching { hello.get(10, TimeUnit.SECONDS) }.exceptionOrNull()
+        assertTrue("$e", e?.cause?.message?.contains("denied on the phone") == true)
+        // Whoever asked knew the code: a new one is shown.
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals(View.GONE, a.findViewById<View>(R.id.stream_request).visibility)
+        assertFalse(code == a.findViewById<TextView>(R.id.stream_code).text.toString())
     }
 }

@@ -72,6 +72,27 @@ class StreamServiceTest {
 
     private fun text(n: Notification) = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
 
+    /** Connects [client] on a thread of its own and allows it once the controller shows it asking; returns its hello. */
+    private fun connectAllowed(client: StreamClient): StreamMessage.Hello {
+        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+        try {
+            val hello = pool.submit<StreamMessage.Hello> { client.connect() }
+            for (k in 0 until 10_000) {
+                shadowOf(Looper.getMainLooper()).idle()
+                val asking = (controller.state.value as? StreamState.On)?.clients?.firstOrNull { it.awaitingConfirmation }
+                if (asking != null) {
+                    controller.allow(asking.id)
+                    graph.settle()
+                    break
+                }
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            return hello.get(10, TimeUnit.SECONDS)
+        } finally {
+            pool.shutdown()
+        }
+    }
+
     @Test
     @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `streaming runs in the foreground as connectedDevice with a wake lock and the level's Wi-Fi locks, and Stop in the notification ends it`() {
@@ -118,6 +139,46 @@ class StreamServiceTest {
     }
 
     @Test
+    fun `a laptop that asks to connect is in the notification with Deny and Allow, immutable, and Allow there pairs it`() {
+        val c = startStreaming()
+        val on = controller.state.value as StreamState.On
+        val nm = shadowOf(app.getSystemService(android.app.NotificationManager::class.java))
+        val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code, client = "fusion listen on lab")) {}
+        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
+        try {
+            val hello = pool.submit<StreamMessage.Hello> { client.connect() }
+            var shown = nm.getNotification(StreamService.NOTIFICATION_ID)
+            for (k in 0 until 10_000) {
+                shadowOf(Looper.getMainLooper()).idle()
+                shown = nm.getNotification(StreamService.NOTIFICATION_ID)
+                if (shown.actions.size > 1) break
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            assertEquals("“fusion listen on lab” at 127.0.0.1 asks to connect", text(shown))
+            assertEquals(listOf("Deny", "Allow", "Stop"), shown.actions.map { it.title.toString() })
+            for (action in shown.actions) assertTrue(shadowOf(action.actionIntent).isImmutable)
+            // On the lock screen: the title alone, neither the name nor the address.
+            assertFalse("127.0.0.1" in shown.publicVersion.extras.getCharSequence(Notification.EXTRA_TEXT)?.toString().orEmpty())
+            val allow = shadowOf(shown.actions[1].actionIntent).savedIntent
+            assertEquals(StreamService.ACTION_ALLOW, allow.action)
+            c.get().onStartCommand(allow, 0, 2)
+            graph.settle()
+            hello.get(10, TimeUnit.SECONDS)
+            for (k in 0 until 10_000) {
+                shadowOf(Looper.getMainLooper()).idle()
+                if (text(nm.getNotification(StreamService.NOTIFICATION_ID)).startsWith("1 client")) break
+                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+            }
+            val paired = nm.getNotification(StreamService.NOTIFICATION_ID)
+            assertEquals("1 client · code ${on.code}", text(paired))
+            assertEquals(listOf("Stop"), paired.actions.map { it.title.toString() })
+        } finally {
+            pool.shutdownNow()
+            client.close()
+        }
+    }
+
+    @Test
     fun `the wake lock is renewed every minute of the injected clock while waiting for a client, when nothing else changes`() {
         val c = startStreaming()
         val lock = ShadowPowerManager.getLatestWakeLock()
@@ -148,7 +209,7 @@ class StreamServiceTest {
         val got = CountDownLatch(200)
         val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.countDown() }
         try {
-            client.connect() // returns with the hello: the server lists the client as paired
+            connectAllowed(client) // returns with the hello: the server lists the client as paired
             shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1)) // the state's refresh
             assertEquals("1 client · code ${on.code}", text(nm.getNotification(StreamService.NOTIFICATION_ID)))
             val updates = c.get().notificationUpdates

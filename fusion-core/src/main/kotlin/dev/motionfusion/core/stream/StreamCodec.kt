@@ -63,6 +63,7 @@ public object StreamCodec {
                 sb.append(Json.write(m.code).trim())
                 m.streams?.let { s -> sb.append(",\"streams\":[").append(s.joinToString(",") { "\"${it.key}\"" }).append(']') }
                 m.rateHz?.let { sb.append(",\"rate_hz\":"); double(sb, it) }
+                m.client?.let { sb.append(",\"client\":").append(Json.write(it).trim()) }
                 sb.append('}')
             }
             is StreamMessage.Hello -> {
@@ -72,6 +73,7 @@ public object StreamCodec {
                 sb.append(",\"meta\":").append(Json.write(MetadataJson.toMap(m.metadata), indent = "").replace("\n", "")).append('}')
             }
             is StreamMessage.Error -> sb.append("{\"type\":\"error\",\"reason\":").append(Json.write(m.reason).trim()).append('}')
+            is StreamMessage.Waiting -> sb.append("{\"type\":\"waiting\",\"reason\":").append(Json.write(m.reason).trim()).append('}')
         }
     }
 
@@ -106,11 +108,13 @@ public object StreamCodec {
             }
             "status" -> StreamMessage.Status(timestamp(o), o.long("sent", 0), o.long("dropped", 0), o.double("rate_hz"))
             "error" -> StreamMessage.Error(o.string("reason"))
+            "waiting" -> StreamMessage.Waiting(o.string("reason"))
             "pair" -> StreamMessage.Pair(
                 code = o.stringOrNull("code") ?: throw o.error("code", "missing: the pairing code shown on the phone"),
                 streams = streams(o),
                 rateHz = rate(o),
                 schema = schema(o),
+                client = o.stringOrNull("client"),
             )
             "hello" -> {
                 val meta = o.raw("meta") as? Map<*, *> ?: throw o.error("meta", "missing or not an object")

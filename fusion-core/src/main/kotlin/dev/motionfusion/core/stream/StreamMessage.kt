@@ -14,13 +14,15 @@ public sealed class StreamMessage {
     /**
      * Client → phone, the first message of a connection: the pairing [code] shown on the phone,
      * the [streams] wanted (null: every stream the phone offers) and the highest rate per stream
-     * in Hz ([rateHz], null: every sample).
+     * in Hz ([rateHz], null: every sample), and optionally the [client]'s name, which the phone shows when it asks
+     * its user to allow a new client ("fusion listen on lab-laptop"; a claim of the client, not checked).
      */
-    public data class Pair(
+    public data class Pair @JvmOverloads constructor(
         val code: String,
         val streams: List<SessionStream>? = null,
         val rateHz: Double? = null,
         val schema: Int = StreamCodec.SCHEMA_VERSION,
+        val client: String? = null,
     ) : StreamMessage()
 
     /**
@@ -71,4 +73,10 @@ public sealed class StreamMessage {
 
     /** Phone → client before it closes the connection: why ("pairing code wrong", "unknown stream …"). */
     public data class Error(val reason: String) : StreamMessage()
+
+    /**
+     * Phone → client after a right code, before the hello, when the phone asks its user to allow this client: what it
+     * waits for ([reason]). The hello follows once allowed; a refusal is an [Error] and the close.
+     */
+    public data class Waiting(val reason: String) : StreamMessage()
 }

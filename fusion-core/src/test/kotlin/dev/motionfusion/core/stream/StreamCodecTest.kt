@@ -65,6 +65,8 @@ class StreamCodecTest {
             StreamMessage.Hello("x", meta, StreamCodec.STREAMABLE, 12.5),
             StreamMessage.Status(77, 1000, 3, 199.5),
             StreamMessage.Error("pairing code wrong"),
+            StreamMessage.Pair("123456", client = "fusion listen on \"lab\" ä"),
+            StreamMessage.Waiting("the phone asks its user to allow this client"),
         )
         for (m in messages) {
             val text = StreamCodec.encode(m)
