@@ -13,20 +13,20 @@ internal object AllanPlot {
 
     /** Per sensor one log-log panel: the three axes' curves and, dashed, each axis' fitted N and K lines and B floor. */
     fun svg(r: AllanResult, title: String): String {
-        val fig = LogLogFigure(title, "cluster time τ (s)")
+        val fig = SvgFigure(title, "cluster time τ (s)", xScale = Scale.Log, panelHeight = 360.0, legendWidth = 230.0)
         fun panel(label: String, curve: AllanCurve?, terms: List<NoiseTerms>?) {
             if (curve == null || terms == null || curve.tau.size < 3) return
             val t = curve.tau
             val ends = doubleArrayOf(t.first(), t.last())
-            val curves = ArrayList<LogLogFigure.Curve>()
-            for (a in 0 until 3) curves += LogLogFigure.Curve("${AXES[a]}", COLORS[a], t, curve.deviation[a])
+            val curves = ArrayList<SvgFigure.Curve>()
+            for (a in 0 until 3) curves += SvgFigure.Curve("${AXES[a]}", COLORS[a], t, curve.deviation[a])
             for (a in 0 until 3) {
                 val nt = terms[a]
-                if (nt.whiteNoise.isFinite()) curves += LogLogFigure.Curve("${AXES[a]} N ${g(nt.whiteNoise)}", COLORS[a], ends, DoubleArray(2) { nt.whiteNoise / sqrt(ends[it]) }, dashed = true)
-                if (nt.randomWalk.isFinite()) curves += LogLogFigure.Curve("${AXES[a]} K ${g(nt.randomWalk)}", COLORS[a], ends, DoubleArray(2) { nt.randomWalk * sqrt(ends[it] / 3.0) }, dashed = true)
-                if (nt.biasInstability.isFinite()) curves += LogLogFigure.Curve("${AXES[a]} 0.664·B ${g(nt.biasInstability)}", COLORS[a], ends, DoubleArray(2) { nt.biasInstability * NoiseTerms.FLICKER_FACTOR }, dashed = true)
+                if (nt.whiteNoise.isFinite()) curves += SvgFigure.Curve("${AXES[a]} N ${g(nt.whiteNoise)}", COLORS[a], ends, DoubleArray(2) { nt.whiteNoise / sqrt(ends[it]) }, dashed = true, guide = true)
+                if (nt.randomWalk.isFinite()) curves += SvgFigure.Curve("${AXES[a]} K ${g(nt.randomWalk)}", COLORS[a], ends, DoubleArray(2) { nt.randomWalk * sqrt(ends[it] / 3.0) }, dashed = true, guide = true)
+                if (nt.biasInstability.isFinite()) curves += SvgFigure.Curve("${AXES[a]} 0.664·B ${g(nt.biasInstability)}", COLORS[a], ends, DoubleArray(2) { nt.biasInstability * NoiseTerms.FLICKER_FACTOR }, dashed = true, guide = true)
             }
-            fig.panel(LogLogFigure.Panel(label, curves))
+            fig.panel(SvgFigure.Panel(label, curves, yScale = Scale.Log))
         }
         panel("gyroscope Allan deviation (rad/s)", r.gyroscope, r.gyroscopeTerms)
         panel("accelerometer Allan deviation (m/s²)", r.accelerometer, r.accelerometerTerms)

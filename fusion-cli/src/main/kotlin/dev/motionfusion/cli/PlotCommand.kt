@@ -108,15 +108,15 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             val tMax = angles.maxOf { it.lastT }
             val marks = markers.map { SvgFigure.Mark(Replayer.secondsBetween(origin ?: 0L, it.timestampNs), it.label) }
             val outside = marks.count { it.t < 0.0 || it.t > tMax }
-            val fig = SvgFigure("fusion replay of ${rec.name}", 0.0, tMax, marks)
+            val fig = SvgFigure("fusion replay of ${rec.name}", "time (s)", xMin = 0.0, xMax = tMax, marks = marks)
             val names = if (aerospace) listOf("yaw", "pitch", "roll") else listOf("azimuth", "pitch", "roll")
             val colors = listOf("#1f77b4", "#d62728", "#2ca02c")
             fig.panel(SvgFigure.Panel("${if (aerospace) "aerospace" else "Android"} angles (°)",
-                names.indices.map { SvgFigure.Line(names[it], colors[it], angles[it], wraps = it != 1) }, -180.0, 180.0, 90.0))
+                names.indices.map { angles[it].curve(names[it], colors[it], wraps = it != 1) }, -180.0, 180.0, 90.0))
             if (refLabel != null && !errors[0].isEmpty) {
                 val labels = listOf("total", "heading", "inclination")
                 val c2 = listOf("#000000", "#ff7f0e", "#9467bd")
-                fig.panel(SvgFigure.Panel("error vs $refLabel (°)", labels.indices.map { SvgFigure.Line(labels[it], c2[it], errors[it], wraps = false) }, 0.0, null, null))
+                fig.panel(SvgFigure.Panel("error vs $refLabel (°)", labels.indices.map { errors[it].curve(labels[it], c2[it], wraps = false) }, 0.0))
             }
             outputs.file(output, listOfNotNull(input, truthPath?.toString())).use { it.write(fig.render().toByteArray(Charsets.UTF_8)) }
             val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""

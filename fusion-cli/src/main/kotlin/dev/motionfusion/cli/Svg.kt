@@ -60,6 +60,12 @@ internal class Envelope {
     private fun maxOf2(a: Double, b: Double) = if (a.isNaN()) b else if (b.isNaN()) a else maxOf(a, b)
 
     /** The points (t, v) in time order: per bucket min and max (one point when equal). */
+    /** The envelope as a curve of [SvgFigure]. */
+    fun curve(label: String, color: String, wraps: Boolean): SvgFigure.Curve {
+        val p = points()
+        return SvgFigure.Curve(label, color, DoubleArray(p.size) { p[it].first }, DoubleArray(p.size) { p[it].second }, wraps = wraps)
+    }
+
     fun points(): List<Pair<Double, Double>> {
         val out = ArrayList<Pair<Double, Double>>()
         for (i in 0 until CAP) {
@@ -79,75 +85,146 @@ internal class Envelope {
     }
 }
 
-/**
- * A hand-written SVG figure of stacked panels sharing the time axis, with [marks] (moments
- * marked while recording) drawn as vertical lines through every panel, labelled in the first.
- */
-internal class SvgFigure(private val title: String, private val tMin: Double, private val tMax: Double, private val marks: List<Mark> = emptyList()) {
-    class Line(val label: String, val color: String, val data: Envelope, val wraps: Boolean)
+/** How values map onto an axis: [Linear] with round steps, or [Log] in decades. */
+internal sealed class Scale {
+    /** The axis's [min] and [max] for the values [v] (fixed ends where given), and its ticks with their labels. */
+    abstract fun range(v: List<Double>, min: Double?, max: Double?, step: Double?): Axis
 
-    /** A marker at [t] (s on the figure's time axis) with its [label] (shown cut to [SHOWN_CHARS], whole in its tooltip). */
+    class Axis(val min: Double, val max: Double, val ticks: List<Pair<Double, String>>, val position: (Double) -> Double)
+
+    object Linear : Scale() {
+        override fun range(v: List<Double>, min: Double?, max: Double?, step: Double?): Axis {
+            var lo = min ?: (v.minOrNull() ?: 0.0)
+            var hi = max ?: (v.maxOrNull() ?: 1.0)
+            if (hi <= lo) hi = lo + 1.0
+            val s = step ?: niceStep((hi - lo) / 5)
+            if (min == null) lo = floor(lo / s) * s
+            if (max == null) hi = ceil(hi / s) * s
+            val ticks = ArrayList<Pair<Double, String>>()
+            var t = ceil(lo / s - 1e-9) * s
+            while (t <= hi + 1e-9) {
+                ticks += t to num(t)
+                t += s
+            }
+            return Axis(lo, hi, ticks) { it }
+        }
+    }
+
+    object Log : Scale() {
+        override fun range(v: List<Double>, min: Double?, max: Double?, step: Double?): Axis {
+            val lo = floor(log10(v.filter { it > 0 }.minOrNull() ?: 0.1))
+            val hi = ceil(log10(v.filter { it > 0 }.maxOrNull() ?: 10.0)).coerceAtLeast(lo + 1)
+            return Axis(lo, hi, (lo.toInt()..hi.toInt()).map { e -> e.toDouble() to "1e$e" }) { log10(it) }
+        }
+    }
+
+    companion object {
+        fun niceStep(raw: Double): Double {
+            if (!(raw > 0)) return 1.0
+            val e = 10.0.pow(floor(log10(raw)))
+            val m = raw / e
+            return e * when {
+                m <= 1.0 -> 1.0
+                m <= 2.0 -> 2.0
+                m <= 5.0 -> 5.0
+                else -> 10.0
+            }
+        }
+
+        fun num(v: Double): String = if (abs(v - Math.rint(v)) < 1e-9) String.format(Locale.ROOT, "%d", Math.rint(v).toLong()) else String.format(Locale.ROOT, "%.2f", v).trimEnd('0')
+    }
+}
+
+/**
+ * A hand-written SVG figure: panels stacked one above the other sharing the x axis ([xScale],
+ * [xLabel]; [xMin]/[xMax] fixed, or from the data), each with its own y axis, curves and legend;
+ * [marks] (moments marked while recording) as vertical lines through every panel, labelled in the
+ * first. One renderer for `fusion plot` (time series) and `fusion allan --plot` (log–log).
+ */
+internal class SvgFigure(
+    private val title: String,
+    private val xLabel: String,
+    private val xScale: Scale = Scale.Linear,
+    private val xMin: Double? = null,
+    private val xMax: Double? = null,
+    private val marks: List<Mark> = emptyList(),
+    private val panelHeight: Double = 260.0,
+    private val legendWidth: Double = 150.0,
+) {
+    /**
+     * A curve: [x], [y] (points that do not fit the scale, such as ≤ 0 on a log axis or not
+     * finite, are left out), [dashed] lines thinner; [wraps]: a jump over 180 starts a new stroke
+     * (angles). [guide]: a line drawn for reference that does not set the axes' ranges.
+     */
+    class Curve(val label: String, val color: String, val x: DoubleArray, val y: DoubleArray, val dashed: Boolean = false, val wraps: Boolean = false, val guide: Boolean = false)
+
+    /** A marker at [t] (on the x axis) with its [label] (shown cut to [SHOWN_CHARS], whole in its tooltip). */
     class Mark(val t: Double, val label: String)
-    class Panel(val yLabel: String, val lines: List<Line>, val yMin: Double?, val yMax: Double?, val yStep: Double?)
+
+    /** A panel: its y axis ([yScale], fixed ends and step where given) and its curves. */
+    class Panel(val yLabel: String, val curves: List<Curve>, val yMin: Double? = null, val yMax: Double? = null, val yStep: Double? = null, val yScale: Scale = Scale.Linear)
 
     private val panels = ArrayList<Panel>()
 
     fun panel(p: Panel) { panels += p }
 
+    private fun fits(scale: Scale, v: Double) = v.isFinite() && (scale != Scale.Log || v > 0)
+
     fun render(): String {
         val w = 1000.0
-        val ph = 260.0
+        val ph = panelHeight
         val left = 70.0
-        val right = 150.0
         val top = 40.0
         val gap = 50.0
         val h = top + panels.size * ph + (panels.size - 1) * gap + 50.0
+        val plotW = w - left - legendWidth
         val sb = StringBuilder()
         svgStart(sb, w, h, left, title)
-        val plotW = w - left - right
-        val span = if (tMax > tMin) tMax - tMin else 1.0
-        fun x(t: Double) = left + (t - tMin) / span * plotW
+        val xs = panels.flatMap { p -> p.curves.filter { !it.guide }.flatMap { c -> c.x.filter { fits(xScale, it) } } }
+        val xAxis = xScale.range(xs, xMin, xMax, null).let { a ->
+            // A time axis keeps its data's ends and takes about eight round steps between them.
+            if (xScale == Scale.Linear) {
+                val lo = xMin ?: (xs.minOrNull() ?: 0.0)
+                val hi = (xMax ?: (xs.maxOrNull() ?: 1.0)).let { if (it > lo) it else lo + 1.0 }
+                Scale.Linear.range(emptyList(), lo, hi, Scale.niceStep((hi - lo) / 8))
+            } else {
+                a
+            }
+        }
+        fun x(v: Double) = left + (xAxis.position(v) - xAxis.min) / (xAxis.max - xAxis.min) * plotW
         for ((pi, p) in panels.withIndex()) {
             val y0 = top + pi * (ph + gap)
-            val all = p.lines.flatMap { l -> l.data.points().map { it.second } }
-            var yMin = p.yMin ?: (all.minOrNull() ?: 0.0)
-            var yMax = p.yMax ?: (all.maxOrNull() ?: 1.0)
-            if (yMax <= yMin) yMax = yMin + 1.0
-            val yStep = p.yStep ?: niceStep((yMax - yMin) / 5)
-            if (p.yMin == null) yMin = floor(yMin / yStep) * yStep
-            if (p.yMax == null) yMax = ceil(yMax / yStep) * yStep
-            fun y(v: Double) = y0 + ph - (v - yMin) / (yMax - yMin) * ph
-            sb.append("""<g>""").append('\n')
+            val yAxis = p.yScale.range(p.curves.filter { !it.guide }.flatMap { c -> c.y.filter { fits(p.yScale, it) } }, p.yMin, p.yMax, p.yStep)
+            fun y(v: Double) = y0 + ph - (p.yScale.let { yAxis.position(v) } - yAxis.min) / (yAxis.max - yAxis.min) * ph
+            sb.append("<g>\n")
             sb.append("""<rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}" fill="none" stroke="#444"/>""").append('\n')
-            var v = yMin
-            while (v <= yMax + 1e-9) {
-                sb.append("""<line x1="${svgNum(left)}" x2="${svgNum(left + plotW)}" y1="${svgNum(y(v))}" y2="${svgNum(y(v))}" stroke="#ddd"/>""")
-                sb.append("""<text x="${svgNum(left - 6)}" y="${svgNum(y(v) + 4)}" text-anchor="end">${num(v)}</text>""").append('\n')
-                v += yStep
+            for ((v, label) in yAxis.ticks) {
+                val yy = y0 + ph - (v - yAxis.min) / (yAxis.max - yAxis.min) * ph
+                sb.append("""<line x1="${svgNum(left)}" x2="${svgNum(left + plotW)}" y1="${svgNum(yy)}" y2="${svgNum(yy)}" stroke="#ddd"/>""")
+                sb.append("""<text x="${svgNum(left - 6)}" y="${svgNum(yy + 4)}" text-anchor="end">$label</text>""").append('\n')
             }
-            val tStep = niceStep(span / 8)
-            var t = ceil(tMin / tStep) * tStep
-            while (t <= tMax + 1e-9) {
-                sb.append("""<line x1="${svgNum(x(t))}" x2="${svgNum(x(t))}" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="#eee"/>""")
-                sb.append("""<text x="${svgNum(x(t))}" y="${svgNum(y0 + ph + 16)}" text-anchor="middle">${num(t)}</text>""").append('\n')
-                t += tStep
+            for ((v, label) in xAxis.ticks) {
+                val xx = left + (v - xAxis.min) / (xAxis.max - xAxis.min) * plotW
+                sb.append("""<line x1="${svgNum(xx)}" x2="${svgNum(xx)}" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="#eee"/>""")
+                sb.append("""<text x="${svgNum(xx)}" y="${svgNum(y0 + ph + 16)}" text-anchor="middle">$label</text>""").append('\n')
             }
             sb.append("""<text transform="translate(18 ${svgNum(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${svgEsc(p.yLabel)}</text>""").append('\n')
-            for ((li, l) in p.lines.withIndex()) {
-                val pts = l.data.points()
+            sb.append("""<clipPath id="c$pi"><rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}"/></clipPath>""").append('\n')
+            for ((ci, c) in p.curves.withIndex()) {
                 val path = StringBuilder()
                 var prev = Double.NaN
-                for ((tt, vv) in pts) {
-                    val cmd = if (prev.isNaN() || (l.wraps && abs(vv - prev) > 180.0)) "M" else "L"
-                    path.append(cmd).append(svgNum(x(tt))).append(',').append(svgNum(y(vv.coerceIn(yMin, yMax)))).append(' ')
-                    prev = vv
+                for (i in c.x.indices) {
+                    if (!fits(xScale, c.x[i]) || !fits(p.yScale, c.y[i])) continue
+                    val cmd = if (prev.isNaN() || (c.wraps && abs(c.y[i] - prev) > 180.0)) "M" else "L"
+                    path.append(cmd).append(svgNum(x(c.x[i]))).append(',').append(svgNum(y(c.y[i]))).append(' ')
+                    prev = c.y[i]
                 }
-                sb.append("""<path d="${path.toString().trim()}" fill="none" stroke="${l.color}" stroke-width="1.2"/>""").append('\n')
-                val ly = y0 + 16 + li * 18
-                svgLegend(sb, left + plotW + 12, ly, l.color, "", l.label)
+                val dash = if (c.dashed) """ stroke-dasharray="6 4"""" else ""
+                sb.append("""<path d="${path.toString().trim()}" fill="none" stroke="${c.color}" stroke-width="${if (c.dashed) "1" else "1.2"}"$dash clip-path="url(#c$pi)"/>""").append('\n')
+                svgLegend(sb, left + plotW + 12, y0 + 16 + ci * 18, c.color, dash, c.label)
             }
             for (m in marks) {
-                if (m.t < tMin || m.t > tMax) continue
+                if (m.t < xAxis.min || m.t > xAxis.max) continue
                 val mx = svgNum(x(m.t))
                 sb.append("""<g class="marker"><title>${svgEsc(m.label)}</title>""")
                 sb.append("""<line x1="$mx" x2="$mx" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="$MARK_COLOR" stroke-width="1" stroke-dasharray="4 3"/>""")
@@ -159,29 +236,15 @@ internal class SvgFigure(private val title: String, private val tMin: Double, pr
             }
             sb.append("</g>\n")
         }
-        sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">time (s)</text>""").append('\n')
+        sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">${svgEsc(xLabel)}</text>""").append('\n')
         sb.append("</svg>\n")
         return sb.toString()
-    }
-
-    private fun niceStep(raw: Double): Double {
-        if (!(raw > 0)) return 1.0
-        val e = 10.0.pow(floor(log10(raw)))
-        val m = raw / e
-        return e * when {
-            m <= 1.0 -> 1.0
-            m <= 2.0 -> 2.0
-            m <= 5.0 -> 5.0
-            else -> 10.0
-        }
     }
 
     private companion object {
         const val MARK_COLOR = "#7b2cbf"
         const val SHOWN_CHARS = 40
     }
-
-    private fun num(v: Double): String = if (abs(v - Math.rint(v)) < 1e-9) String.format(Locale.ROOT, "%d", Math.rint(v).toLong()) else String.format(Locale.ROOT, "%.2f", v).trimEnd('0')
 }
 
 /** An SVG coordinate, one decimal. */
@@ -202,66 +265,3 @@ internal fun svgLegend(sb: StringBuilder, x: Double, y: Double, color: String, d
 
 /** Text escaped for SVG. */
 internal fun svgEsc(s: String): String = s.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
-
-/**
- * A hand-written SVG figure of panels with logarithmic x and y axes (decades gridded), each
- * holding curves drawn as lines and points and straight lines given by two end points.
- */
-internal class LogLogFigure(private val title: String, private val xLabel: String) {
-    class Curve(val label: String, val color: String, val x: DoubleArray, val y: DoubleArray, val dashed: Boolean = false)
-    class Panel(val yLabel: String, val curves: List<Curve>)
-
-    private val panels = ArrayList<Panel>()
-
-    fun panel(p: Panel) { panels += p }
-
-    fun render(): String {
-        val w = 1000.0
-        val ph = 360.0
-        val left = 80.0
-        val right = 230.0
-        val top = 40.0
-        val gap = 60.0
-        val h = top + panels.size * ph + (panels.size - 1) * gap + 50.0
-        val plotW = w - left - right
-        val sb = StringBuilder()
-        svgStart(sb, w, h, left, title)
-        fun finite(c: Curve) = c.x.indices.filter { c.x[it] > 0 && c.y[it] > 0 && c.x[it].isFinite() && c.y[it].isFinite() }
-        val xs = panels.flatMap { p -> p.curves.filter { !it.dashed }.flatMap { c -> finite(c).map { c.x[it] } } }
-        val xMin = floor(log10(xs.minOrNull() ?: 0.1))
-        val xMax = ceil(log10(xs.maxOrNull() ?: 10.0)).coerceAtLeast(xMin + 1)
-        fun x(v: Double) = left + (log10(v) - xMin) / (xMax - xMin) * plotW
-        for ((pi, p) in panels.withIndex()) {
-            val y0 = top + pi * (ph + gap)
-            val ys = p.curves.filter { !it.dashed }.flatMap { c -> finite(c).map { c.y[it] } }
-            val yMin = floor(log10(ys.minOrNull() ?: 0.1))
-            val yMax = ceil(log10(ys.maxOrNull() ?: 10.0)).coerceAtLeast(yMin + 1)
-            fun y(v: Double) = y0 + ph - (log10(v) - yMin) / (yMax - yMin) * ph
-            sb.append("<g>\n")
-            sb.append("""<rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}" fill="none" stroke="#444"/>""").append('\n')
-            for (e in yMin.toInt()..yMax.toInt()) {
-                val yy = y(10.0.pow(e))
-                sb.append("""<line x1="${svgNum(left)}" x2="${svgNum(left + plotW)}" y1="${svgNum(yy)}" y2="${svgNum(yy)}" stroke="#ddd"/>""")
-                sb.append("""<text x="${svgNum(left - 6)}" y="${svgNum(yy + 4)}" text-anchor="end">1e$e</text>""").append('\n')
-            }
-            for (e in xMin.toInt()..xMax.toInt()) {
-                val xx = x(10.0.pow(e))
-                sb.append("""<line x1="${svgNum(xx)}" x2="${svgNum(xx)}" y1="${svgNum(y0)}" y2="${svgNum(y0 + ph)}" stroke="#eee"/>""")
-                sb.append("""<text x="${svgNum(xx)}" y="${svgNum(y0 + ph + 16)}" text-anchor="middle">1e$e</text>""").append('\n')
-            }
-            sb.append("""<text transform="translate(18 ${svgNum(y0 + ph / 2)}) rotate(-90)" text-anchor="middle">${svgEsc(p.yLabel)}</text>""").append('\n')
-            sb.append("""<clipPath id="c$pi"><rect x="${svgNum(left)}" y="${svgNum(y0)}" width="${svgNum(plotW)}" height="${svgNum(ph)}"/></clipPath>""").append('\n')
-            for ((ci, c) in p.curves.withIndex()) {
-                val path = finite(c).joinToString(" ") { i -> "${if (i == finite(c).first()) "M" else "L"}${svgNum(x(c.x[i]))},${svgNum(y(c.y[i]))}" }
-                val dash = if (c.dashed) """ stroke-dasharray="6 4"""" else ""
-                sb.append("""<path d="$path" fill="none" stroke="${c.color}" stroke-width="${if (c.dashed) "1" else "1.5"}"$dash clip-path="url(#c$pi)"/>""").append('\n')
-                val ly = y0 + 16 + ci * 18
-                svgLegend(sb, left + plotW + 12, ly, c.color, dash, c.label)
-            }
-            sb.append("</g>\n")
-        }
-        sb.append("""<text x="${svgNum(left + plotW / 2)}" y="${svgNum(h - 10)}" text-anchor="middle">${svgEsc(xLabel)}</text>""").append('\n')
-        sb.append("</svg>\n")
-        return sb.toString()
-    }
-}
