@@ -5,7 +5,9 @@ import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.session.SessionWriter
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.stream.ClockPinger
 import dev.motionfusion.stream.StreamClient
+import dev.motionfusion.core.session.SessionClock
 import dev.motionfusion.stream.StreamEnd
 import java.io.PrintStream
 import java.net.URI
@@ -101,6 +103,8 @@ internal class ListenCommand(
         try {
             while (!receiver.done.await(FLUSH_POLL_MS, TimeUnit.MILLISECONDS)) {
                 if (client.awaitClose(0)) break
+                // Clock exchanges four times a second, where the phone answers them (docs/SYNC.md).
+                receiver.ping()?.let { client.send(it) }
                 // What was received is handed to the system at least once a second (as the app's recorder does).
                 if (nanoTime() - lastFlush >= FLUSH_INTERVAL_NS) {
                     receiver.flush()
@@ -150,18 +154,43 @@ internal class ListenCommand(
         private var finished = false
         private val angles = DoubleArray(6)
         private val q = DoubleArray(4)
+        private val pinger = ClockPinger(System::nanoTime, ::exchanged)
+        private var clockFile: java.io.Writer? = null
 
         @Synchronized
         fun begin(h: StreamMessage.Hello) {
             hello = h
             if (dir != null) {
-                writer = SessionWriter.create(dir, h.metadata.copy(source = "fusion listen $source", complete = false, streams = emptyMap()))
+                val link = if (h.clock) laptopClock() else null
+                writer = SessionWriter.create(dir, h.metadata.copy(source = "fusion listen $source", complete = false, streams = emptyMap(), clockLink = link))
+                if (h.clock) {
+                    clockFile = Files.newBufferedWriter(dir.resolve(SessionClock.FILE_NAME)).also { it.write(SessionClock.HEADER + "\n") }
+                }
             }
             if (csv) out.println("t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg")
         }
 
+        /** The next clock ping, when the phone answers them and the session is open. */
         @Synchronized
+        fun ping(): StreamMessage.Ping? = if (hello?.clock == true && !finished) pinger.ping() else null
+
+        /** A whole exchange: into clock.csv (the answer's arrival was stamped as it was read). */
+        @Synchronized
+        private fun exchanged(e: dev.motionfusion.core.sync.ClockExchange) {
+            if (!finished) clockFile?.write(SessionClock.row(e))
+        }
+
         fun take(m: StreamMessage) {
+            // The answer's arrival is stamped before any lock is waited for.
+            if (m is StreamMessage.Pong) {
+                pinger.pong(m)
+                return
+            }
+            takeLocked(m)
+        }
+
+        @Synchronized
+        private fun takeLocked(m: StreamMessage) {
             if (finished) return
             val t = when (m) {
                 is StreamMessage.Sample -> m.timestampNs
@@ -220,6 +249,7 @@ internal class ListenCommand(
         @Synchronized
         fun flush() {
             if (!finished) writer?.flush()
+            if (!finished) clockFile?.flush()
             out.flush()
         }
 
@@ -228,6 +258,7 @@ internal class ListenCommand(
         fun finish(reason: String): Boolean {
             if (finished) return false
             finished = true
+            clockFile?.let { f -> runCatching { f.close() } }
             writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
             out.flush()
             return true
@@ -254,6 +285,17 @@ internal class ListenCommand(
                     ),
                 )
             }
+            val clock = pinger.mapping()
+            when {
+                hello?.clock != true -> appendLine("  clock: this phone does not answer clock pings (an older app): fusion align can use its wall clock")
+                clock == null -> appendLine("  clock: fewer than two exchanges with the phone")
+                else -> appendLine(
+                    String.format(
+                        Locale.ROOT, "  clock: the phone's sensor clock is %.6f s ahead of this one, drifting %+.1f ppm, ±%.2f ms (%d exchanges, %d unanswered)",
+                        clock.offsetNs / 1e9, clock.driftPpm, clock.uncertaintyNs / 1e6, pinger.exchanges, pinger.unanswered,
+                    ),
+                )
+            }
             writer?.let { appendLine("  session written to ${it.directory}") }
             appendLine(end)
         }
@@ -261,8 +303,18 @@ internal class ListenCommand(
 
     private companion object {
         const val MAX_LATENCIES = 1_000_000
-        const val FLUSH_POLL_MS = 200L
+        /** The main loop's period: also the clock pings' (4 a second). */
+        const val FLUSH_POLL_MS = 250L
         const val FLUSH_INTERVAL_NS = 500_000_000L
+
+        /**
+         * This computer's monotonic clock (System.nanoTime), named so that sessions on the same clock can be told: the
+         * host and, on Linux, its boot (the clock restarts with it); elsewhere this process only.
+         */
+        fun laptopClock(): String {
+            val boot = runCatching { Files.readString(java.nio.file.Paths.get("/proc/sys/kernel/random/boot_id")).trim() }.getOrNull()?.takeIf { it.isNotEmpty() }
+            return "${hostName()} " + (boot?.let { "boot $it" } ?: "process ${ProcessHandle.current().pid()} started ${java.lang.management.ManagementFactory.getRuntimeMXBean().startTime}")
+        }
 
         /** This computer's name, for the phone's question to its user. */
         fun hostName(): String = listOf("HOSTNAME", "COMPUTERNAME").firstNotNullOfOrNull { System.getenv(it)?.takeIf(String::isNotBlank) }

@@ -173,6 +173,17 @@ public class StreamClient @JvmOverloads constructor(
         throw IOException("$uri: ${failure ?: "no hello"}")
     }
 
+    /**
+     * Sends a clock [ping] (docs/SYNC.md; only after a hello whose `clock` is true: older phones do not answer it); its
+     * [StreamMessage.Pong] reaches onMessage. Returns false when the connection is not open.
+     */
+    public fun send(ping: StreamMessage.Ping): Boolean = try {
+        socket.send(StreamCodec.encode(ping))
+        true
+    } catch (_: org.java_websocket.exceptions.WebsocketNotConnectedException) {
+        false
+    }
+
     /** Waits until the phone closes the connection or [timeoutMs] passes; true when it closed. */
     public fun awaitClose(timeoutMs: Long): Boolean = closedLatch.await(timeoutMs, TimeUnit.MILLISECONDS)
 

@@ -5,6 +5,7 @@ import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.stream.StreamCodec
 import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.core.sync.ClockExchange
 import org.java_websocket.WebSocket
 import org.java_websocket.WebSocketAdapter
 import org.java_websocket.WebSocketImpl
@@ -151,6 +152,10 @@ public class StreamServer @JvmOverloads constructor(
     private val onPairingCodeChanged: (String) -> Unit = {},
     private val onFailure: (String) -> Unit = {},
     private val onConfirmationRequested: ((StreamClientInfo) -> Unit)? = null,
+    /** The phone's sensor clock (elapsedRealtimeNanos on a phone), which [StreamMessage.Pong] reports (docs/SYNC.md). */
+    private val sensorClock: () -> Long = System::nanoTime,
+    /** Each whole clock exchange with a paired client (the client's ping, this answer, the client's receipt), on the connection's thread. */
+    private val onClockExchange: ((String, ClockExchange) -> Unit)? = null,
 ) {
     @Volatile private var code = pairingCode.toByteArray(Charsets.UTF_8)
     private val codeLock = Any()
@@ -216,8 +221,10 @@ public class StreamServer @JvmOverloads constructor(
         }
 
         override fun onMessage(conn: WebSocket, message: String) {
+            val received = sensorClock()
             val client = conn.getAttachment<Client>() ?: return
-            // Later requests are not part of schema 1; one waiting for the phone's answer has made its request.
+            // After the hello only pings are answered (docs/SYNC.md); one waiting for the phone's answer has made its request.
+            if (client.paired) return ping(client, message, received)
             if (client.accepted || client.awaiting != null) return
             pair(client, message)
         }
@@ -440,6 +447,31 @@ public class StreamServer @JvmOverloads constructor(
         client to request
     }
 
+    /**
+     * Answers a paired client's ping at once (outside the sample queue) with when it came and when the answer leaves,
+     * on [sensorClock]; at most one a [MIN_PING_INTERVAL_NS]: a faster client is not answered. Anything else is ignored.
+     */
+    private fun ping(client: Client, text: String, received: Long) {
+        if (!text.startsWith("{\"type\":\"ping\"")) return
+        val ping = try {
+            StreamCodec.decode(text, "client ${client.address}") as? StreamMessage.Ping ?: return
+        } catch (e: DataFormatException) {
+            return
+        }
+        val now = nanoTime()
+        if (client.lastPingNs != Long.MIN_VALUE && now - client.lastPingNs < MIN_PING_INTERVAL_NS) return
+        client.lastPingNs = now
+        val previous = client.lastPong
+        val previousT4 = ping.previousT4Ns
+        if (onClockExchange != null && previous != null && ping.previousId == previous.id && previousT4 != null) {
+            val exchange = ClockExchange(previous.t1Ns, previous.t2Ns, previous.t3Ns, previousT4)
+            if (exchange.delayNs >= 0) onClockExchange.invoke(client.address, exchange)
+        }
+        val pong = StreamMessage.Pong(ping.id, ping.t1Ns, received, sensorClock())
+        client.lastPong = pong
+        send(client, pong)
+    }
+
     private fun send(client: Client, m: StreamMessage) {
         try {
             client.conn.send(StreamCodec.encode(m))
@@ -470,7 +502,7 @@ public class StreamServer @JvmOverloads constructor(
             }
             if (room) {
                 client.subscribe(streams, request.rateHz)
-                client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz)))
+                client.conn.send(StreamCodec.encode(StreamMessage.Hello(offered.source, offered.metadata, streams, request.rateHz, clock = true)))
                 client.paired = true
             }
             room
@@ -606,6 +638,10 @@ public class StreamServer @JvmOverloads constructor(
 
         /** The hello is queued: the sender may send this client messages. */
         @Volatile var paired = false
+
+        /** When its last ping was answered, on [nanoTime]; the answer itself (the phone's half of the exchange). */
+        var lastPingNs = Long.MIN_VALUE
+        var lastPong: StreamMessage.Pong? = null
         @Volatile private var streams: List<SessionStream> = emptyList()
         @Volatile private var rateHz: Double? = null
         private val wanted = BooleanArray(SessionStream.entries.size)
@@ -684,6 +720,9 @@ public class StreamServer @JvmOverloads constructor(
     }
 
     public companion object {
+        /** A client's pings are answered at most once per 10 ms (a client pings 4 times a second). */
+        public const val MIN_PING_INTERVAL_NS: Long = 10_000_000
+
         /** Close codes (4000–4999 are the application's; docs/STREAMING.md): a refused request (wrong code, malformed, binary, too late). */
         public const val CLOSE_REFUSED: Int = 4001
 

@@ -58,12 +58,16 @@ public class Recording private constructor(
     private val open: () -> SensorEvents,
     private val closer: Closeable,
     private val readMarkers: () -> List<Marker> = { emptyList() },
+    private val readClock: () -> List<dev.motionfusion.core.sync.ClockExchange> = { emptyList() },
 ) : Closeable {
     /** The plausibility probe has passed (it runs once, before the first events). */
     private var probed = false
 
     /** The markers set while recording (a session's markers.csv); empty for other formats. */
     public fun markers(): List<Marker> = readMarkers()
+
+    /** The clock exchanges with a laptop (a session's clock.csv, on the laptop clock its meta.json names); empty otherwise. */
+    public fun clockExchanges(): List<dev.motionfusion.core.sync.ClockExchange> = readClock()
 
     /** The events of [which] streams (default all), merged by timestamp. */
     public fun events(which: Set<SessionStream> = streams): SensorEvents {
@@ -110,7 +114,7 @@ public class Recording private constructor(
             return when (kind) {
                 RecordingFormat.SESSION -> {
                     val r = SessionReader.open(files, dir)
-                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r, r::markers)
+                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r, r::markers, r::clockExchanges)
                 }
                 RecordingFormat.IMU_TABLE -> {
                     val table = files.find(dir, "input.csv.gz") ?: files.find(dir, "input.csv") ?: files.filesIn(dir).first { isTable(files, it) }

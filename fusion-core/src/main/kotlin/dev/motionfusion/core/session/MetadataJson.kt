@@ -98,6 +98,7 @@ internal object MetadataJson {
             )
         }
         m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
+        m.clockLink?.let { map["clock_link"] = it }
     }
 
     /**
@@ -181,6 +182,7 @@ internal object MetadataJson {
             continues = r.objOrNull("continues")?.let {
                 Continuation(it.string("session"), it.longOrNull("gap_start_elapsed_realtime_ns"), it.long("gap_end_elapsed_realtime_ns", 0L))
             },
+            clockLink = r.stringOrNull("clock_link"),
         )
     }
 

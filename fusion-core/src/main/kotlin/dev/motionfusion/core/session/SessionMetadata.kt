@@ -112,6 +112,7 @@ public data class StreamStats(
  * session follows; readers reject a newer major version.
  *
  * @property startAnchor wall clock and sensor clock read together when recording started.
+ * @property clockLink the laptop clock of the session's clock exchanges (clock.csv), when it was linked to one.
  * @property anchors later anchors (e.g. every minute), to detect wall-clock adjustments.
  * @property sensors every sensor recorded, with its registration.
  * @property filterSettings the settings of the live filter that wrote orientation.csv, if any.
@@ -148,6 +149,8 @@ public data class SessionMetadata(
     val calibration: SessionCalibration? = null,
     val stillRecording: Boolean = false,
     val continues: Continuation? = null,
+    /** The laptop clock the exchanges of clock.csv ([SessionClock]) are on (its host and boot), null without a link. */
+    val clockLink: String? = null,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */

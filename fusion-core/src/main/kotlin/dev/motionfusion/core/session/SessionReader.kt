@@ -75,6 +75,16 @@ public class SessionReader private constructor(
         return MarkerCursor(files.csv(dir + SessionMarkers.FILE_NAME), skipCutLastLine = !metadata.complete).use { it.readAll() }
     }
 
+    /**
+     * The clock exchanges of clock.csv with the laptop named in meta.json's `clock_link` (empty when the session has
+     * none); as for the streams, an unterminated last line of an interrupted session is skipped.
+     * @throws DataFormatException for a malformed row (`clock.csv:line:column: reason`).
+     */
+    public fun clockExchanges(): List<dev.motionfusion.core.sync.ClockExchange> {
+        if (!files.paths.contains(dir + SessionClock.FILE_NAME)) return emptyList()
+        return SessionClock.read(files.csv(dir + SessionClock.FILE_NAME), skipCutLastLine = !metadata.complete)
+    }
+
     private fun cursor(s: SessionStream): StreamCursor =
         SessionCsvCursor(s, files.csv(dir + s.fileName), skipCutLastLine = !metadata.complete)
 

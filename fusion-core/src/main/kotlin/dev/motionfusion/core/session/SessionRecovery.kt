@@ -329,8 +329,11 @@ public class SessionRecovery(private val files: FileOperations = FileOperations.
         internal const val UNREADABLE_META: String = "meta.json.unreadable"
 
         private const val NEWLINE = '\n'.code.toByte()
-        /** The files of a session: meta.json, the stream files, markers.csv (recovery touches no other; the zip holds no other). */
-        internal val SESSION_FILES: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName } + SessionMarkers.FILE_NAME
+        /**
+         * The files of a session: meta.json, the stream files, markers.csv, clock.csv (recovery touches no other, and
+         * leaves clock.csv as it is: its reader skips a cut last line; the zip holds no other).
+         */
+        internal val SESSION_FILES: List<String> = listOf(SessionMetadata.FILE_NAME) + SessionStream.entries.map { it.fileName } + SessionMarkers.FILE_NAME + SessionClock.FILE_NAME
 
         /**
          * True when [dir] holds a session that was never finished: meta.json says

@@ -70,10 +70,18 @@ public object StreamCodec {
                 sb.append("{\"type\":\"hello\",\"schema\":").append(m.schema).append(",\"source\":").append(Json.write(m.source).trim())
                 sb.append(",\"streams\":[").append(m.streams.joinToString(",") { "\"${it.key}\"" }).append("],\"rate_hz\":")
                 if (m.rateHz == null) sb.append("null") else double(sb, m.rateHz)
+                if (m.clock) sb.append(",\"clock\":true")
                 sb.append(",\"meta\":").append(Json.write(MetadataJson.toMap(m.metadata), indent = "").replace("\n", "")).append('}')
             }
             is StreamMessage.Error -> sb.append("{\"type\":\"error\",\"reason\":").append(Json.write(m.reason).trim()).append('}')
             is StreamMessage.Waiting -> sb.append("{\"type\":\"waiting\",\"reason\":").append(Json.write(m.reason).trim()).append('}')
+            is StreamMessage.Ping -> {
+                sb.append("{\"type\":\"ping\",\"id\":").append(m.id).append(",\"t1\":").append(m.t1Ns)
+                if (m.previousId != null && m.previousT4Ns != null) sb.append(",\"previous_id\":").append(m.previousId).append(",\"previous_t4\":").append(m.previousT4Ns)
+                sb.append('}')
+            }
+            is StreamMessage.Pong -> sb.append("{\"type\":\"pong\",\"id\":").append(m.id).append(",\"t1\":").append(m.t1Ns)
+                .append(",\"t2\":").append(m.t2Ns).append(",\"t3\":").append(m.t3Ns).append('}')
         }
     }
 
@@ -109,6 +117,8 @@ public object StreamCodec {
             "status" -> StreamMessage.Status(timestamp(o), o.long("sent", 0), o.long("dropped", 0), o.double("rate_hz"))
             "error" -> StreamMessage.Error(o.string("reason"))
             "waiting" -> StreamMessage.Waiting(o.string("reason"))
+            "ping" -> StreamMessage.Ping(required(o, "id"), required(o, "t1"), o.longOrNull("previous_id"), o.longOrNull("previous_t4"))
+            "pong" -> StreamMessage.Pong(required(o, "id"), required(o, "t1"), required(o, "t2"), required(o, "t3"))
             "pair" -> StreamMessage.Pair(
                 code = o.stringOrNull("code") ?: throw o.error("code", "missing: the pairing code shown on the phone"),
                 streams = streams(o),
@@ -124,11 +134,14 @@ public object StreamCodec {
                     streams = streams(o) ?: emptyList(),
                     rateHz = rate(o),
                     schema = schema(o),
+                    clock = o.raw("clock") == true,
                 )
             }
             else -> throw o.error("type", if (type.isEmpty()) "missing" else "unknown message type \"$type\"")
         }
     }
+
+    private fun required(o: JsonObject, key: String): Long = o.longOrNull(key) ?: throw o.error(key, "missing: an integer")
 
     private fun timestamp(o: JsonObject): Long = o.longOrNull("t") ?: throw o.error("t", "missing: the sensor timestamp in ns")
 

@@ -30,12 +30,14 @@ public sealed class StreamMessage {
      * ([metadata]: device, sensors, the clock anchor read when capture started, the live filter's
      * settings), the [streams] this client gets and its [rateHz] (null: every sample).
      */
-    public data class Hello(
+    public data class Hello @JvmOverloads constructor(
         val source: String,
         val metadata: SessionMetadata,
         val streams: List<SessionStream>,
         val rateHz: Double?,
         val schema: Int = StreamCodec.SCHEMA_VERSION,
+        /** Whether the phone answers [Ping] with [Pong] (phones before it ignore pings: a client pings only when true). */
+        val clock: Boolean = false,
     ) : StreamMessage()
 
     /**
@@ -79,4 +81,17 @@ public sealed class StreamMessage {
      * waits for ([reason]). The hello follows once allowed; a refusal is an [Error] and the close.
      */
     public data class Waiting(val reason: String) : StreamMessage()
+
+    /**
+     * Client → phone, after the hello, to put the phone's clock on the client's (docs/SYNC.md): exchange [id], sent
+     * at [t1Ns] on the client's monotonic clock. [previousId] and [previousT4Ns], when given, say when the answer to
+     * the client's previous ping arrived, so that the phone holds whole exchanges too.
+     */
+    public data class Ping @JvmOverloads constructor(val id: Long, val t1Ns: Long, val previousId: Long? = null, val previousT4Ns: Long? = null) : StreamMessage()
+
+    /**
+     * Phone → client, the answer to [Ping] [id]: its [t1Ns] back, and when the phone received it ([t2Ns]) and answered
+     * ([t3Ns]), on the phone's sensor clock (elapsedRealtimeNanos, the clock of every sample's timestamp).
+     */
+    public data class Pong(val id: Long, val t1Ns: Long, val t2Ns: Long, val t3Ns: Long) : StreamMessage()
 }

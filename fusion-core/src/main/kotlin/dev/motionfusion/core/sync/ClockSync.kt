@@ -323,6 +323,17 @@ public class ClockTimeline(exchanges: List<ClockExchange>, halfWindowNs: Long = 
     /** Phone time [phoneNs] on the laptop's clock, ns. */
     public fun toLaptop(phoneNs: Long): Long = phoneNs - Math.round(offsetAt(phoneNs))
 
+    /** Laptop time [laptopNs] on the phone's clock, ns (the inverse of [toLaptop] to within a nanosecond). */
+    public fun toPhone(laptopNs: Long): Long {
+        var p = laptopNs + Math.round(anchorsOffset[0])
+        repeat(3) { p = laptopNs + Math.round(offsetAt(p)) }
+        return p
+    }
+
+    /** The phone times the timeline spans (its first and last anchors). */
+    public val firstPhoneNs: Long get() = anchorsPhone.first()
+    public val lastPhoneNs: Long get() = anchorsPhone.last()
+
     private fun interpolate(values: DoubleArray, phoneNs: Long, extrapolate: Boolean = true): Double {
         val n = anchorsPhone.size
         var i = java.util.Arrays.binarySearch(anchorsPhone, phoneNs)
