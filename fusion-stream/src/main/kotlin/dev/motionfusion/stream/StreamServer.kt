@@ -281,6 +281,7 @@ public class StreamServer @JvmOverloads constructor(
         startError?.let { running = false; throw IOException("cannot listen on port ${server.address.port}: ${it.message}", it) }
         sender.start()
         pairingWatch.scheduleWithFixedDelay(::closeUnpaired, 1, 1, TimeUnit.SECONDS)
+        pairingWatch.scheduleWithFixedDelay({ for (c in clients) demandWrite(c) }, 1, 1, TimeUnit.SECONDS)
     }
 
     /**
@@ -470,6 +471,22 @@ public class StreamServer @JvmOverloads constructor(
         val pong = StreamMessage.Pong(ping.id, ping.t1Ns, received, sensorClock())
         client.lastPong = pong
         send(client, pong)
+        // A frame queued from a thread other than the library's selector can be left unsent when the selector, just
+        // done writing the previous one, turns its interest back to reading (Java-WebSocket's write demand races with
+        // it). The answer is asked to be written again shortly, when nothing else may follow it for a while.
+        pairingWatch.schedule({ demandWrite(client) }, 2, TimeUnit.MILLISECONDS)
+    }
+
+    /** Asks the library to write what [client]'s connection still holds (see [ping]); also once a second for every client. */
+    private fun demandWrite(client: Client) {
+        val conn = client.conn
+        if (conn.readyState == ReadyState.OPEN && conn.hasBufferedData()) {
+            try {
+                server.onWriteDemand(conn)
+            } catch (_: RuntimeException) {
+                // Closed meanwhile.
+            }
+        }
     }
 
     private fun send(client: Client, m: StreamMessage) {
