@@ -59,7 +59,13 @@ libraries() {
       expand_macros "$dir/res"
       if [ -d "$dir/res" ] && [ -n "$(ls -A "$dir/res")" ]; then aapt2 compile --dir "$dir/res" -o "$dir/res.zip"; fi
       for jar in "$dir/classes.jar" "$dir"/libs/*.jar; do
-        [ -f "$jar" ] && unzip -qqo "$jar" -d "$target/classes" -x 'META-INF/MANIFEST.MF'
+        [ -f "$jar" ] || continue
+        # The manifest left out only where there is one (unzip prints a caution for an exclusion that matches nothing).
+        if unzip -Z1 "$jar" META-INF/MANIFEST.MF >/dev/null 2>&1; then
+          unzip -qqo "$jar" -d "$target/classes" -x 'META-INF/MANIFEST.MF'
+        else
+          unzip -qqo "$jar" -d "$target/classes"
+        fi
       done
       touch "$dir/.done"
     fi
