@@ -5,6 +5,8 @@ plugins {
 
 kotlin {
     jvmToolchain(17)
+    // As -Xexplicit-api=strict in fusion-stream/pom.xml (main sources only).
+    explicitApi()
     compilerOptions {
         freeCompilerArgs.add("-Xjsr305=strict")
     }
@@ -27,10 +29,14 @@ dependencies {
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.slf4j.nop)
+    // StreamApiTest lists the API with fusion-core's PublicApi (as the test-jar in pom.xml).
+    testImplementation(project(":fusion-core").dependencyProject.sourceSets["test"].output)
     testRuntimeOnly(libs.junit.platform.launcher)
 }
 
 tasks.test {
     useJUnitPlatform()
     maxHeapSize = "2g"
+    // StreamApiTest lists the API from the compiled main classes (Maven: target/classes).
+    systemProperty("api.classes", sourceSets.main.get().output.classesDirs.asPath)
 }

@@ -18,9 +18,9 @@ import dev.motionfusion.app.settings.Setting
 import dev.motionfusion.app.settings.SettingsActivity
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterMode
-import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.filter.SettingKind
+import dev.motionfusion.core.settings.SettingKind
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
