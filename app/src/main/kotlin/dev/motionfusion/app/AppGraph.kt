@@ -10,8 +10,8 @@ import dev.motionfusion.app.calibration.CalibrationDependencies
 import dev.motionfusion.app.calibration.CalibrationSampleSource
 import dev.motionfusion.app.calibration.CalibrationStore
 import dev.motionfusion.app.calibration.CaptureSampleSource
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.platform.AppFiles
 import dev.motionfusion.app.platform.AppVersion
 import dev.motionfusion.app.platform.Clock

@@ -10,9 +10,9 @@ import android.widget.TextView
 import com.google.android.material.chip.Chip
 import com.google.android.material.chip.ChipGroup
 import com.google.android.material.slider.Slider
-import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.AngleConvention
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.settings.Setting
 import dev.motionfusion.app.settings.SettingsActivity

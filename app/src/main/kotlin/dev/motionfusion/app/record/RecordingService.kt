@@ -1,7 +1,7 @@
 package dev.motionfusion.app.record
 
 import dev.motionfusion.app.ui.Formats
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
 import android.app.NotificationManager
@@ -21,7 +21,7 @@ import androidx.core.app.NotificationCompat
 import androidx.core.app.ServiceCompat
 import androidx.core.content.ContextCompat
 import dev.motionfusion.app.R
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor

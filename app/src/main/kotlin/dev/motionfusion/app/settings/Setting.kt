@@ -1,8 +1,5 @@
 package dev.motionfusion.app.settings
 
-import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.settings.FilterSettingDescriptor
 import dev.motionfusion.core.settings.FilterSettingDescriptors

@@ -12,7 +12,6 @@ import com.google.android.material.chip.ChipGroup
 import com.google.android.material.R as MaterialR
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
-import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.settings.FilterSettingDescriptors

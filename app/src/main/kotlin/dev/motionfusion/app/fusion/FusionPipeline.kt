@@ -1,4 +1,4 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.RateMeter
 import dev.motionfusion.app.sensor.SensorKind
@@ -13,6 +13,7 @@ import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.sensormanager.SensorManagerMath
 import java.util.EnumMap
 import kotlin.math.sqrt
+import dev.motionfusion.app.settings.LiveSettings
 
 /**
  * The fusion of one stream of samples, free of Android threading (tested on the JVM).
