@@ -12,9 +12,18 @@ kotlin {
     }
 }
 
+// StreamApiTest lists the API with fusion-core's PublicApi: fusion-core's test classes on the test class path
+// (Maven: fusion-core's test-jar, scope test).
+evaluationDependsOn(":fusion-core")
+
 sourceSets {
     main { kotlin.srcDirs("src/main/kotlin") }
-    test { kotlin.srcDirs("src/test/kotlin") }
+    test {
+        kotlin.srcDirs("src/test/kotlin")
+        val coreTests = project(":fusion-core").the<SourceSetContainer>()["test"].output
+        compileClasspath += coreTests
+        runtimeClasspath += coreTests
+    }
 }
 
 dependencies {
@@ -29,8 +38,8 @@ dependencies {
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.slf4j.nop)
-    // StreamApiTest lists the API with fusion-core's PublicApi (as the test-jar in pom.xml).
-    testImplementation(project(":fusion-core").dependencyProject.sourceSets["test"].output)
+    // As fusion-core's test-jar in pom.xml; its test classes are added to the test source set above.
+    testImplementation(project(":fusion-core"))
     testRuntimeOnly(libs.junit.platform.launcher)
 }
 
