@@ -102,6 +102,24 @@ class ReplayCommandsTest {
     }
 
     @Test
+    fun `a raw magnetometer's hard-iron offset is named, and heading then is the gyroscope's as in IMU mode`() {
+        // A raw magnetometer as an iPhone's reads it: the earth's field plus a hard-iron offset of about 630 µT.
+        val raw = tableText().lines().mapIndexed { i, line ->
+            if (i == 0 || line.isEmpty()) line else line.split(',').let { c ->
+                (c.take(7) + listOf(c[7].toDouble() + 192.83, c[8].toDouble() + 180.18, c[9].toDouble() - 582.21).map { f(it) }).joinToString(",")
+            }
+        }.joinToString("\n")
+        Files.writeString(dir.resolve("raw.csv"), raw)
+        Files.writeString(dir.resolve("clean.csv"), tableText())
+        val r = fusion("replay", p("raw.csv"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(r.err.contains("warning: raw.csv: the magnetometer was left out in") && r.err.contains("fusion calibrate"), r.err)
+        assertFalse(fusion("replay", p("clean.csv")).err.contains("left out"))
+        // The orientation: IMU mode's, row for row.
+        assertSameReplay(fusion("replay", p("clean.csv"), "--mode", "imu").out, r.out, 0.0)
+    }
+
+    @Test
     fun `phyphox exports in two dialects and Sensor Logger exports replay like the table`() {
         Files.writeString(dir.resolve("t.csv"), tableText())
         val reference = fusion("replay", p("t.csv")).out
