@@ -5,6 +5,7 @@
 package dev.motionfusion.bench;
 
 import dev.motionfusion.core.filter.FilterMode;
+import dev.motionfusion.core.filter.FilterSettingDescriptors;
 import dev.motionfusion.core.filter.FilterSettings;
 import dev.motionfusion.core.filter.MadgwickFilter;
 import dev.motionfusion.core.sim.MotionSimulator;
@@ -32,8 +33,11 @@ import org.openjdk.jmh.annotations.Warmup;
 @Measurement(iterations = 5, time = 1)
 @Fork(1)
 public class FilterBenchmark {
-    /** report-marg: the report's MARG update with ζ; report-imu: its IMU update; defaults: FilterSettings(). */
-    @Param({"report-marg", "report-imu", "defaults"})
+    /**
+     * report-marg: the report's MARG update with ζ; report-imu: its IMU update; defaults: FilterSettings();
+     * trust: the defaults with the magnetic trust at its value for walks through buildings (magTrustSpread 0.01).
+     */
+    @Param({"report-marg", "report-imu", "defaults", "trust"})
     public String variant;
 
     private static final int N = 4096;
@@ -51,6 +55,7 @@ public class FilterBenchmark {
             case "report-marg": settings = FilterSettings.report(); break;
             case "report-imu": settings = FilterSettings.report(FilterMode.IMU); break;
             case "defaults": settings = new FilterSettings(); break;
+            case "trust": settings = FilterSettingDescriptors.apply(new FilterSettings(), "magTrustSpread=0.01"); break;
             default: throw new IllegalArgumentException(variant);
         }
         marg = settings.getMode() == FilterMode.MARG;

@@ -29,7 +29,9 @@ internal object FilterOptions {
         |  --max-gap S          longest accepted gap between samples, s (default 0.5)
         |  --report             start from the Madgwick report's own settings instead
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
-        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); names, units, defaults:
+        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); on a walk through
+        |                       buildings, --set magTrustSpread=0.01 holds heading where the field wanders
+        |                       (docs/ACCURACY.md, "Walks through buildings"); names, units, defaults:
         |${settingsTable()}
         |  --offline            the offline estimate: each orientation from the whole recording, the
         |                       samples after it as well as before (a forward and a backward pass

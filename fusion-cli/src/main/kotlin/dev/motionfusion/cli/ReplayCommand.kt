@@ -135,6 +135,17 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
                         "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero",
                 )
             }
+            // A raw magnetometer (a hard-iron offset of hundreds of µT) reads beyond any earth field, and the filter leaves it out.
+            replayer.filter.diagnostics().let { d ->
+                if (counts.magnetometer > 0 && d.magneticRejections * 2 > d.gyroscopeSteps) {
+                    err.println(
+                        "fusion replay: warning: ${rec.name}: the magnetometer was left out in ${d.magneticRejections} of ${d.gyroscopeSteps} steps " +
+                            "(a field stronger than any earth field, as an uncalibrated magnetometer reads, or a disturbed one): " +
+                            "heading there is the gyroscope's alone, as with --mode IMU; a hard-iron calibration makes the field usable " +
+                            "(fusion calibrate, then --calibration FILE; docs/CALIBRATION.md)",
+                    )
+                }
+            }
             // A session's meta.json counts each stream's samples on close: a stream file that holds another number lost rows or was replaced.
             rec.metadata?.takeIf { it.complete && calibration == null }?.streams?.let { listed ->
                 for ((stream, read) in listOf(SessionStream.GYROSCOPE to counts.gyroscope, SessionStream.ACCELEROMETER to counts.accelerometer, SessionStream.MAGNETOMETER to counts.magnetometer)) {

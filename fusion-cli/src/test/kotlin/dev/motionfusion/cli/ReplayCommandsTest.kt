@@ -102,6 +102,38 @@ class ReplayCommandsTest {
     }
 
     @Test
+    fun `a raw magnetometer's hard-iron offset is named, and heading then is the gyroscope's as in IMU mode`() {
+        // A raw magnetometer as an iPhone's reads it: the earth's field plus a hard-iron offset of about 630 µT.
+        val raw = tableText().lines().mapIndexed { i, line ->
+            if (i == 0 || line.isEmpty()) line else line.split(',').let { c ->
+                (c.take(7) + listOf(c[7].toDouble() + 192.83, c[8].toDouble() + 180.18, c[9].toDouble() - 582.21).map { f(it) }).joinToString(",")
+            }
+        }.joinToString("\n")
+        Files.writeString(dir.resolve("raw.csv"), raw)
+        Files.writeString(dir.resolve("clean.csv"), tableText())
+        val r = fusion("replay", p("raw.csv"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(r.err.contains("warning: raw.csv: the magnetometer was left out in") && r.err.contains("fusion calibrate"), r.err)
+        assertFalse(fusion("replay", p("clean.csv")).err.contains("left out"))
+        // The orientation: as IMU mode's, once both have started (the raw one waits maxGap for a usable field first):
+        // the same inclination, and a heading that differs by a constant (neither has a field to turn it by).
+        val imu = readRows(fusion("replay", p("clean.csv"), "--mode", "imu").out)
+        val rows = readRows(r.out)
+        assertEquals(imu.size, rows.size)
+        fun up(q: DoubleArray) = doubleArrayOf(2 * (q[2] * q[4] - q[1] * q[3]), 2 * (q[3] * q[4] + q[1] * q[2]), 1 - 2 * (q[2] * q[2] + q[3] * q[3]))
+        fun yaw(q: DoubleArray) = Math.toDegrees(kotlin.math.atan2(2 * (q[1] * q[4] + q[2] * q[3]), 1 - 2 * (q[3] * q[3] + q[4] * q[4])))
+        val after = rows.indices.filter { rows[it][0] >= 3.0 }
+        val offsets = after.map { i ->
+            val a = up(rows[i])
+            val b = up(imu[i])
+            val tilt = Math.toDegrees(kotlin.math.acos(minOf(1.0, a[0] * b[0] + a[1] * b[1] + a[2] * b[2])))
+            assertTrue(tilt < 0.5, "row $i: inclination ${tilt}° from IMU mode's")
+            (yaw(rows[i]) - yaw(imu[i]) + 540.0) % 360.0 - 180.0
+        }
+        assertTrue(offsets.max() - offsets.min() < 1.0, "heading offset to IMU mode's from ${offsets.min()}° to ${offsets.max()}°")
+    }
+
+    @Test
     fun `phyphox exports in two dialects and Sensor Logger exports replay like the table`() {
         Files.writeString(dir.resolve("t.csv"), tableText())
         val reference = fusion("replay", p("t.csv")).out

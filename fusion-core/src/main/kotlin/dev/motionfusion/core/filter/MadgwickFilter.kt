@@ -16,7 +16,8 @@
  *   SampleGate            validation, pairing and staleness, the start, gaps, the counts (SampleGate.kt)
  *   saturation            a clipped gyroscope reading: low-pass, inclination and heading start again
  *   GyroBiasEstimate      the bias ω_b at rest (RestDetector), then in motion after the heading step, and ζ
- *   checks                which readings enter: AccelerometerRejection, MagneticDisturbanceDetector (Check)
+ *   checks                which readings enter: AccelerometerRejection, MagneticDisturbanceDetector, and
+ *                         MagneticTrust, which weighs the heading gain (Check)
  *   InclinationRecovery   a still error arms it; then the step gain β
  *   AccelerometerLowPass  the accelerometer low-passed in a quasi-inertial frame, what the steps use
  *   MadgwickSteps         the report's MARG, IMU or gyroscope-only step (MadgwickSteps.kt), then
@@ -52,11 +53,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val heading = HeadingCorrection(settings)
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
+    private val magTrust = if (settings.magTrustSpread > 0.0) MagneticTrust(settings) else null
 
     /** Which readings enter each step, in this order (a new detector: one more line here). */
     private var checks: Array<Check<*>> = listOfNotNull<Check<*>>(
         accRejection,
         magDetector,
+        magTrust,
     ).toTypedArray()
 
     /** Adds [extra] checks after the filter's own, before its first sample (a detector tried out before it joins the list above). */
@@ -261,6 +264,9 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** Whether the inclination recovery acts (for tests that stop a run inside it). */
     internal val inclinationRecovering: Boolean get() = recovery.active
+
+    /** The magnetic trust's factor of the last step, 0…1 (1 without it). */
+    internal val magneticTrust: Double get() = magTrust?.trust ?: 1.0
 
     /** The magnetic disturbance detector's resume ramp, 0…1 (1 without the detector). */
     internal val magneticGainFactor: Double get() = magDetector?.gainFactor ?: 1.0

@@ -154,6 +154,8 @@ public object FilterSettingDescriptors {
         number("magRejectionFactor", "mag_rejection_factor", "", G.REJECTION, "Hold limited in time, paid back at", 0.0..10.0, off = true, { it.magRejectionFactor }, absent = 0.0) { s, v -> s.copy(magRejectionFactor = v) },
         number("magFirstFieldTime", "mag_first_field_time_s", "s", G.REJECTION, "First reference after a steady field of", 0.0..60.0, off = true, { it.magFirstFieldTime }, absent = 0.0) { s, v -> s.copy(magFirstFieldTime = v) },
         number("magUndisturbedTime", "mag_undisturbed_time_s", "s", G.REJECTION, "Disturbance ends after agreeing for", 0.0..10.0, off = true, { it.magUndisturbedTime }, absent = 0.0) { s, v -> s.copy(magUndisturbedTime = v) },
+        number("magTrustSpread", "mag_trust_spread", "", G.REJECTION, "Heading gain falls once the field wanders beyond", 0.0..0.2, off = true, { it.magTrustSpread }, absent = 0.0) { s, v -> s.copy(magTrustSpread = v) },
+        number("magTrustTime", "mag_trust_time_s", "s", G.REJECTION, "Field wander measured over", 1.0..120.0, off = false, { it.magTrustTime }) { s, v -> s.copy(magTrustTime = v) },
         flag("accRejection", "acc_rejection", G.REJECTION, "Ignore the accelerometer in strong acceleration", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
         number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", G.REJECTION, "Acceleration tolerance", 0.1..10.0, off = false, { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
         number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", G.REJECTION, "Angle from up tolerance", 0.01..1.0, off = false, { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },

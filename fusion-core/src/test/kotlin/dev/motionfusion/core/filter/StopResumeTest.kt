@@ -105,10 +105,17 @@ class StopResumeTest {
                 middle(s, 0.0) { it.diagnostics().magneticDisturbance && it.magneticGainFactor == 0.5 }
             }
         },
+        trusting.let { s ->
+            case("while the field wanders and the magnetic trust weighs the heading gain down", s) {
+                middle(s, 0.0) { it.magneticTrust > 0.1 && it.magneticTrust < 0.9 }
+            }
+        },
         margZeta.let { s -> case("the report's MARG gradient with ζ, the accelerometer rejected", s) { middle(s, 0.0) { it.diagnostics().accelerometerRejected } } },
     )
 
     private val budget = phone.copy(magRejectionFactor = 2.0, magMaxRejectionTime = 3.0, magFirstFieldTime = 2.0, magUndisturbedTime = 0.5)
+
+    private val trusting = FilterSettings(magTrustSpread = 0.01)
 
     private val margZeta = FilterSettings(headingGain = 0.0, zeta = 0.002, accRejection = true)
 

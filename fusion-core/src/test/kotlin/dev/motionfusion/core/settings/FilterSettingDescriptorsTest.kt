@@ -79,7 +79,7 @@ class FilterSettingDescriptorsTest {
             // "0 turns it off" needs 0 to be a value of the range, and 0 accepted.
             if (d.zeroDisables) assertEquals(0.0, r.start, d.name)
         }
-        assertEquals(setOf("zeta", "magNewFieldTime", "magNewFieldMinGyro", "magResumeTime", "magRejectionFactor", "magFirstFieldTime", "magUndisturbedTime", "inclinationRecoveryBeta", "recoveryAngle", "accLowPassTime", "gyroSaturation", "headingGain", "headingRecoveryTime", "motionBiasGain"),
+        assertEquals(setOf("zeta", "magNewFieldTime", "magNewFieldMinGyro", "magResumeTime", "magRejectionFactor", "magFirstFieldTime", "magUndisturbedTime", "magTrustSpread", "inclinationRecoveryBeta", "recoveryAngle", "accLowPassTime", "gyroSaturation", "headingGain", "headingRecoveryTime", "motionBiasGain"),
             FilterSettingDescriptors.all.filter { it.zeroDisables }.map { it.name }.toSet())
         assertEquals(SettingGroup.entries.toSet(), FilterSettingDescriptors.all.map { it.group }.toSet())
     }
