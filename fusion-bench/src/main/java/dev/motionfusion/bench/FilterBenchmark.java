@@ -5,9 +5,9 @@
 package dev.motionfusion.bench;
 
 import dev.motionfusion.core.filter.FilterMode;
-import dev.motionfusion.core.filter.FilterSettingDescriptors;
 import dev.motionfusion.core.filter.FilterSettings;
 import dev.motionfusion.core.filter.MadgwickFilter;
+import dev.motionfusion.core.settings.FilterSettingDescriptors;
 import dev.motionfusion.core.sim.MotionSimulator;
 import dev.motionfusion.core.sim.SimulatedSample;
 import dev.motionfusion.core.sim.SimulationSettings;
