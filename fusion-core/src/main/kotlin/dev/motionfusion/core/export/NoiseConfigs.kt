@@ -4,6 +4,8 @@ import dev.motionfusion.core.calib.AllanResult
 import dev.motionfusion.core.calib.DiscreteNoise
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.ZipFolder
+import java.io.OutputStream
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files
 import java.nio.file.Path
@@ -132,6 +134,23 @@ public object NoiseConfigs {
         val model = NoiseModel.of(result, source, rec.name)
         val rate = model.rateHz ?: throw DataFormatException(rec.name, 0, 0, "no sample rate for the noise configurations")
         return all(model, rate, source)
+    }
+
+    /**
+     * [fromStillRecording] written to [out] as a zip, the files inside the folder [name] (made first under
+     * [scratch] and removed again). Does not close [out].
+     */
+    @JvmStatic
+    @JvmOverloads
+    public fun writeZip(rec: Recording, generator: String, out: OutputStream, name: String, scratch: Path, progress: ((Long) -> Unit)? = null) {
+        val configs = fromStillRecording(rec, generator, progress)
+        val folder = Files.createTempDirectory(scratch, ".noise-")
+        try {
+            for ((file, text) in configs) Files.write(folder.resolve(file), text.toByteArray(StandardCharsets.UTF_8))
+            ZipFolder.write(folder, name, out)
+        } finally {
+            ZipFolder.removeTree(folder)
+        }
     }
 
     private fun num(v: Double) = NoiseModel.num(v)
