@@ -35,6 +35,7 @@ import org.robolectric.Robolectric
 import org.robolectric.RobolectricTestRunner
 import org.robolectric.RuntimeEnvironment
 import org.robolectric.Shadows.shadowOf
+import org.robolectric.annotation.Config
 import org.robolectric.annotation.GraphicsMode
 import java.io.ByteArrayInputStream
 import java.io.File
@@ -253,6 +254,21 @@ class SessionExportFormatsTest {
         a.findViewById<Button>(R.id.detail_share).performClick()
         graph.settle()
         assertEquals(a.getString(R.string.export_failed, a.getString(R.string.failure_noise_too_short)), a.findViewById<TextView>(R.id.detail_message).text.toString())
+    }
+
+    @Test
+    @Config(qualifiers = "de-w360dp-h640dp")
+    fun `in German on a small phone the formats wrap and the failure is said in German`() {
+        val dir = session("ruhe", 10.0, still = true)
+        val a = detail(dir)
+        assertEquals("Rauschmodell (VIO)", chip(a, R.string.export_format_noise).text.toString())
+        chip(a, R.string.export_format_noise).performClick()
+        graph.settle()
+        a.findViewById<Button>(R.id.detail_share).performClick()
+        graph.settle()
+        assertEquals("Export fehlgeschlagen: Rauschwerte brauchen eine Ruheaufnahme von mindestens 1 Minute (Stunden für den Random Walk)",
+            a.findViewById<TextView>(R.id.detail_message).text.toString())
+        Screenshots.capture(a, "session-detail-formats-de-small", width = 720, height = 1280)
     }
 
     /** The topics of an MCAP file's channels and each one's message log times, read record by record (opcode, u64 length, content). */
