@@ -86,9 +86,7 @@ class ExportReadersTest {
 
     @Test
     fun `kalibr read back as kalibr_bagcreater and kalibr parse it`() {
-        val noise = dir.resolve("noise.yaml")
-        Files.writeString(noise, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
-            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
+        val noise = noiseModel("noise.yaml")
         val out = dir.resolve("kalibr")
         val r = fusion("export", session.toString(), "--format", "kalibr", "--noise", noise.toString(), "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
@@ -174,9 +172,7 @@ class ExportReadersTest {
 
     @Test
     fun `ros2 covariances from a noise model, read back by mcap and rosbags`() {
-        val noise = dir.resolve("noise-ros2.yaml")
-        Files.writeString(noise, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
-            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
+        val noise = noiseModel("noise-ros2.yaml")
         val out = dir.resolve("walk-noise.mcap")
         val r = fusion("export", session.toString(), "--format", "ros2", "--noise", noise.toString(), "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
@@ -202,6 +198,12 @@ class ExportReadersTest {
             for (m in read.getValue("$reader:imu/mag")) for (c in 3 until 8) assertEquals(0.0, m[4 + c].toDouble())
         }
         println("ros2 covariances via mcap and rosbags: angular velocity $gyro rad²/s², linear acceleration $acc m²/s⁴ at f = $f Hz on every message")
+    }
+
+    /** A noise model as fusion allan writes it (N_a 0.0012, K_a 0.0003, N_g 0.00017, K_g 2.1e-05) in [name]. */
+    private fun noiseModel(name: String): Path = dir.resolve(name).also {
+        Files.writeString(it, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
+            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
     }
 
     /** Log time and header stamp of a message line both [ns]. */
