@@ -5,6 +5,8 @@ import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.calib.CalibrationSettings
 import dev.motionfusion.core.calib.Calibrator
 import dev.motionfusion.core.calib.EllipsoidModel
+import dev.motionfusion.core.export.NoiseConfigs
+import dev.motionfusion.core.export.NoiseModel
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.input.Recording
 import java.io.PrintStream
@@ -198,31 +200,21 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
             progress.finish()
             r to rec.name
         }
-        if ((result.gyroscope?.tau?.size ?: 0) < 3 && (result.accelerometer?.tau?.size ?: 0) < 3) {
-            throw DataFormatException(input, 0, 0, "too short for an Allan deviation: needs a gyroscope or accelerometer stream of at least a few hundred samples")
-        }
-        val seconds = listOfNotNull(result.gyroscope, result.accelerometer).maxOfOrNull { it.samples / it.rateHz } ?: 0.0
-        if (!(seconds >= MIN_ALLAN_S)) {
-            throw DataFormatException(input, 0, 0, "${"%.1f".format(java.util.Locale.ROOT, seconds)} s of samples is too short for noise figures: " +
-                "the noise density needs at least ${MIN_ALLAN_S.toInt()} s of still recording (the random walk and bias instability hours)")
-        }
+        val source = "fusion allan ${Cli.VERSION} from $name"
+        NoiseModel.checkLongEnough(result, input)
         if (!o.has("--quiet")) err.print(AllanPlot.table(result))
-        val yaml = result.kalibrYaml("fusion allan ${Cli.VERSION} from $name")
+        val yaml = result.kalibrYaml(source)
         if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
         if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
         if (configs != null) {
             val model = NoiseModel.parse(yaml, "the noise model of $input")
             val rate = model.rateHz ?: throw DataFormatException(input, 0, 0, "no sample rate for the noise configurations")
             val folder = outputs.folder(configs, listOf(input))
-            for ((file, text) in NoiseConfigs.all(model, rate, "fusion allan ${Cli.VERSION} from $name")) {
+            for ((file, text) in NoiseConfigs.all(model, rate, source)) {
                 Files.write(folder.resolve(file), text.toByteArray(StandardCharsets.UTF_8))
             }
         }
         return ExitCode.OK
     }
 
-    private companion object {
-        /** Shortest recording, s, whose Allan deviation gives a noise density (clusters of 1 s, enough of them). */
-        const val MIN_ALLAN_S = 60.0
-    }
 }

@@ -1,10 +1,8 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.io.DataFormatException
-import dev.motionfusion.core.replay.HeadingProbe
 import dev.motionfusion.core.replay.HeadingTare
+import dev.motionfusion.core.replay.HeadingTareSpec
 import dev.motionfusion.core.replay.ReplayListener
-import java.io.PrintStream
 import java.util.Locale
 
 /** The heading tare options of `fusion replay` and `fusion export` (docs/CONVENTIONS.md, "Heading tare"). */
@@ -20,43 +18,32 @@ internal object HeadingOptions {
         |                       The world is then ENU turned about up (z still up); the offset is printed.
         |""".trimMargin()
 
-    /** A tare: a fixed [offsetDeg], or the heading [headingDeg] at [atS] (null: the start). */
-    class Spec(val offsetDeg: Double?, val atS: Double?, val headingDeg: Double) {
-        /** How the metadata of an export names the output frame. */
-        fun describe(appliedDeg: Double): String =
-            "ENU turned about up (heading tare: every heading + ${fmt(appliedDeg)} deg${if (offsetDeg == null) ", so that it reads ${fmt(headingDeg)} deg at ${atS?.let { "t = ${fmt(it)} s" } ?: "the first orientation"}" else ""})"
-    }
-
-    fun spec(o: Options): Spec? {
+    fun spec(o: Options): HeadingTareSpec? {
         val offset = o.double("--heading-offset")
         val tare = o.value("--heading-tare")
         if (offset != null && tare != null) throw UsageException("--heading-offset and --heading-tare exclude each other")
-        if (offset != null) return Spec(offset, null, 0.0)
+        if (offset != null) return HeadingTareSpec.offset(offset)
         if (tare == null) return null
         val whenText = tare.substringBefore('=')
         val deg = if ('=' in tare) tare.substringAfter('=').toDoubleOrNull()?.takeIf { it.isFinite() }
             ?: throw UsageException("--heading-tare: '${tare.substringAfter('=')}' is not a heading in degrees") else 0.0
         val at = if (whenText == "start") null else whenText.toDoubleOrNull()?.takeIf { it.isFinite() }
             ?: throw UsageException("--heading-tare expects start or a time in s, optionally =DEG (e.g. start, 12.5, 12.5=90), got '$tare'")
-        return Spec(null, at, deg)
+        return HeadingTareSpec.at(at, deg)
     }
 
     /**
      * [inner] with the tare of [spec] applied (itself without one). A tare at a time takes the heading
      * there from a first replay, run by [probe] into the listener it is given.
      */
-    fun wrap(spec: Spec?, inner: ReplayListener, source: String, probe: (ReplayListener) -> Unit): HeadingTare? {
+    fun wrap(spec: HeadingTareSpec?, inner: ReplayListener, source: String, probe: (ReplayListener) -> Unit): HeadingTare? {
         spec ?: return null
-        if (spec.offsetDeg != null) return HeadingTare.offset(inner, Math.toRadians(spec.offsetDeg))
-        val at = spec.atS ?: return HeadingTare.atStart(inner, Math.toRadians(spec.headingDeg))
-        val p = HeadingProbe(at)
-        probe(p)
-        if (p.headingRad.isNaN()) throw DataFormatException(source, 0, 0, "--heading-tare ${fmt(at)}: the filter has no orientation at or after t = ${fmt(at)} s")
-        return HeadingTare.offset(inner, Math.toRadians(spec.headingDeg) - p.headingRad)
+        if (spec.offsetDeg == null && spec.atS == null) return HeadingTare.atStart(inner, Math.toRadians(spec.headingDeg))
+        return HeadingTare.offset(inner, spec.offsetRad(source, probe))
     }
 
     /** The note on what was applied. */
-    fun note(spec: Spec, tare: HeadingTare): String =
+    fun note(spec: HeadingTareSpec, tare: HeadingTare): String =
         "heading tare: every heading + ${fmt(Math.toDegrees(tare.offsetRad))} deg" +
             if (spec.offsetDeg == null) " (${fmt(spec.headingDeg)} deg at ${spec.atS?.let { "t = ${fmt(it)} s" } ?: "the first orientation"})" else ""
 

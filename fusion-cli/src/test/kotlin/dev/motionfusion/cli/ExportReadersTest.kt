@@ -7,6 +7,7 @@ import org.junit.jupiter.api.BeforeAll
 import org.junit.jupiter.api.Test
 import org.junit.jupiter.api.TestInstance
 import org.junit.jupiter.api.io.TempDir
+import dev.motionfusion.core.export.NoiseModel
 import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.Paths
@@ -55,7 +56,7 @@ class ExportReadersTest {
         val out = dir.resolve("euroc")
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
-        assertEquals(EurocWriter.IMU_HEADER, Files.readAllLines(out.resolve("mav0/imu0/data.csv"))[0])
+        assertEquals("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]", Files.readAllLines(out.resolve("mav0/imu0/data.csv"))[0])
         val read = python("euroc", out.resolve("mav0"), "evo")
         // Orientation: evo's trajectory (seconds as ns / 1e9, quaternion w x y z, position).
         val pose = read.getValue("pose_row")
@@ -85,14 +86,12 @@ class ExportReadersTest {
 
     @Test
     fun `kalibr read back as kalibr_bagcreater and kalibr parse it`() {
-        val noise = dir.resolve("noise.yaml")
-        Files.writeString(noise, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
-            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
+        val noise = noiseModel("noise.yaml")
         val out = dir.resolve("kalibr")
         val r = fusion("export", session.toString(), "--format", "kalibr", "--noise", noise.toString(), "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
         val read = python("kalibr", out, "yaml")
-        assertEquals(KalibrWriter.HEADER, read.getValue("header").single()[0])
+        assertEquals("timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z", read.getValue("header").single()[0])
         val imu = read.getValue("imu0_row")
         assertEquals(times.size, imu.size)
         for ((k, row) in imu.withIndex()) {
@@ -143,7 +142,7 @@ class ExportReadersTest {
                 assertEquals(times.size, messages.size, "$reader $topic messages")
                 for ((k, m) in messages.withIndex()) {
                     stamp(times[k], m, "$reader $topic $k")
-                    assertEquals(Ros2Writer.FRAME_ID, m[3])
+                    assertEquals("imu_link", m[3])
                     val v = m.drop(4).map { it.toDouble() }
                     if (topic == "imu/data") {
                         // The replay's CSV has the quaternion to 9 decimals; the message its full double.
@@ -154,7 +153,9 @@ class ExportReadersTest {
                     // Gyroscope and accelerometer: the recorded float, exactly.
                     for (c in 0 until 6) assertEquals(rows[k][c].toFloat().toDouble(), v[4 + c], "$reader $topic $k value $c")
                     assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0] (REP-145: -1 = not provided)")
+                    // No noise model: the covariances unknown, zeros.
                     assertEquals(0.0, v[11]); assertEquals(0.0, v[12]); assertEquals(0.0, v[13])
+                    for (c in 14 until 20) assertEquals(0.0, v[c], "$reader $topic $k covariance diagonal")
                 }
             }
             val mag = read.getValue("$reader:imu/mag")
@@ -167,6 +168,42 @@ class ExportReadersTest {
         }
         println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} imu/data_raw, ${times.size} imu/data, ${magnetometer.size} imu/mag messages each; " +
             "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals)")
+    }
+
+    @Test
+    fun `ros2 covariances from a noise model, read back by mcap and rosbags`() {
+        val noise = noiseModel("noise-ros2.yaml")
+        val out = dir.resolve("walk-noise.mcap")
+        val r = fusion("export", session.toString(), "--format", "ros2", "--noise", noise.toString(), "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel")
+        // One sample's white-noise variance N²·f at the gyroscope's mean rate f, on the diagonal.
+        val f = (times.size - 1) * 1e9 / (times.last() - times.first())
+        val gyro = 0.00017 * 0.00017 * f
+        val acc = 0.0012 * 0.0012 * f
+        assertTrue(gyro > 0 && acc > 0)
+        for (reader in listOf("mcap", "rosbags")) {
+            for (topic in listOf("imu/data_raw", "imu/data")) {
+                val messages = read.getValue("$reader:$topic")
+                assertEquals(times.size, messages.size, "$reader $topic messages")
+                for ((k, m) in messages.withIndex()) {
+                    val v = m.drop(4).map { it.toDouble() }
+                    assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0]")
+                    assertEquals(0.0, v[13], "$reader $topic $k off the diagonals")
+                    for (c in 14 until 17) assertEquals(gyro, v[c], "$reader $topic $k angular_velocity_covariance diagonal")
+                    for (c in 17 until 20) assertEquals(acc, v[c], "$reader $topic $k linear_acceleration_covariance diagonal")
+                }
+            }
+            // The magnetometer has no noise model: unknown.
+            for (m in read.getValue("$reader:imu/mag")) for (c in 3 until 8) assertEquals(0.0, m[4 + c].toDouble())
+        }
+        println("ros2 covariances via mcap and rosbags: angular velocity $gyro rad²/s², linear acceleration $acc m²/s⁴ at f = $f Hz on every message")
+    }
+
+    /** A noise model as fusion allan writes it (N_a 0.0012, K_a 0.0003, N_g 0.00017, K_g 2.1e-05) in [name]. */
+    private fun noiseModel(name: String): Path = dir.resolve(name).also {
+        Files.writeString(it, "accelerometer_noise_density: 0.0012\naccelerometer_random_walk: 0.0003\n" +
+            "gyroscope_noise_density: 0.00017\ngyroscope_random_walk: 2.1e-05\nrostopic: /imu0\nupdate_rate: 100\n")
     }
 
     /** Log time and header stamp of a message line both [ns]. */
@@ -205,9 +242,14 @@ class ExportReadersTest {
         fun value(file: String, key: String) = read.getValue(file).single { it[0] == key }[1].toDouble()
         fun close(expected: Double, actual: Double, what: String) = assertEquals(expected, actual, 1e-5 * expected, what)
         // kalibr and OpenVINS: continuous time, as they are.
-        for (k in NoiseModel.KEYS) {
-            close(model.figures.getValue(k), value("kalibr", k), "kalibr $k")
-            close(model.figures.getValue(k), value("kalibr_imu_chain.yaml", k), "OpenVINS $k")
+        val figures = mapOf(
+            "gyroscope_noise_density" to model.gyroscopeNoiseDensity, "gyroscope_random_walk" to model.gyroscopeRandomWalk,
+            "accelerometer_noise_density" to model.accelerometerNoiseDensity, "accelerometer_random_walk" to model.accelerometerRandomWalk,
+        )
+        assertEquals(NoiseModel.KEYS.toSet(), figures.keys)
+        for ((k, v) in figures) {
+            close(v, value("kalibr", k), "kalibr $k")
+            close(v, value("kalibr_imu_chain.yaml", k), "OpenVINS $k")
         }
         close(rate, value("kalibr_imu_chain.yaml", "update_rate"), "OpenVINS update_rate")
         assertEquals("kalibr", read.getValue("kalibr_imu_chain.yaml").single { it[0] == "model" }[1])
@@ -374,7 +416,7 @@ class ExportReadersTest {
             val r = fusion("export", folder.toString(), "--format", "euroc", "-o", out.toString(), "--default-settings")
             assertEquals(ExitCode.OK, r.code, r.err)
             val meta = Files.readString(out.resolve("mav0/imu0/sensor.yaml"))
-            assertTrue("Readings in ${About.AXES}" in meta, meta)
+            assertTrue("Readings in Android device axes: x right, y up (top edge), z out of the screen; right-handed" in meta, meta)
             exported[platform] = listOf("imu0", "mag0", "state_groundtruth_estimate0").flatMap { Files.readAllLines(out.resolve("mav0/$it/data.csv")) }
         }
         assertEquals(exported.getValue("android"), exported.getValue("ios"))

@@ -12,8 +12,8 @@ import java.io.File
 import java.io.FileNotFoundException
 
 /**
- * Serves exported session zips to the app another app was asked to share with: read-only,
- * `content://<package>.export/<file>.zip` for files in `cacheDir/exports/` and nothing else.
+ * Serves exported sessions (zips, MCAP and gcsv files) to the app another app was asked to share with: read-only,
+ * `content://<package>.export/<file>` for files in `cacheDir/exports/` and nothing else.
  * Not exported; readable only through a `FLAG_GRANT_READ_URI_PERMISSION` grant on the share
  * intent (the manifest sets `grantUriPermissions`). The framework's answer to AndroidX's
  * FileProvider for this one folder.
@@ -44,7 +44,10 @@ class ExportProvider : ContentProvider() {
         }
     }
 
-    override fun getType(uri: Uri): String = MIME_ZIP
+    override fun getType(uri: Uri): String {
+        val name = uri.lastPathSegment ?: return MIME_ZIP
+        return ExportKind.entries.filter { name.endsWith(it.suffix) }.maxByOrNull { it.suffix.length }?.mime ?: MIME_ZIP
+    }
 
     override fun insert(uri: Uri, values: ContentValues?): Uri? = throw UnsupportedOperationException("read-only")
 
@@ -55,6 +58,8 @@ class ExportProvider : ContentProvider() {
 
     internal companion object {
         const val MIME_ZIP = "application/zip"
+        const val MIME_BINARY = "application/octet-stream"
+        const val MIME_TEXT = "text/csv"
 
         fun authority(context: Context) = "${context.packageName}.export"
 

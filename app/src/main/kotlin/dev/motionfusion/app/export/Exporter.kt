@@ -14,17 +14,30 @@ import android.provider.DocumentsContract
 import android.provider.MediaStore
 import kotlinx.coroutines.CancellationException
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.NoiseTooShortException
+import dev.motionfusion.app.platform.NothingToExportException
+import dev.motionfusion.core.export.ExportOptions
+import dev.motionfusion.core.export.Exports
+import dev.motionfusion.core.export.NoiseConfigs
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.io.AtomicFiles
+import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.replay.HeadingTareSpec
 import dev.motionfusion.core.session.SessionArchive
 import dev.motionfusion.core.session.SessionReader
 import java.io.File
 import java.io.IOException
+import java.io.OutputStream
 
 /**
- * The three ways a session leaves app-private storage, each as one zip of the session format
- * ([SessionArchive.zip]: the folder's files inside a folder named after the session):
- * Downloads through MediaStore (API 29+, no permission), a document the user picks
- * (ACTION_CREATE_DOCUMENT), and a share sheet with a content:// URI from [ExportProvider].
+ * The three ways a session leaves app-private storage: Downloads through MediaStore (API 29+, no
+ * permission), a document the user picks (ACTION_CREATE_DOCUMENT), and a share sheet with a
+ * content:// URI from [ExportProvider]. Each writes one file as [ExportChoice] says ([write]): the
+ * session format's zip ([SessionArchive.zip]: the folder's files inside a folder named after the
+ * session), an export of fusion-core's [Exports] (what `fusion export` writes: replayed with the
+ * filter settings and calibration the session recorded; EuRoC and Kalibr zipped) or a still
+ * recording's noise configurations ([NoiseConfigs], as `fusion allan --configs`).
  * Blocking: call off the main thread. [Progress] gets the bytes of the session read so far and
  * their total; an exception it throws (a cancelled export's) stops the export, and what was begun
  * is removed (the zip aside, the pending Downloads entry, the picked document).
@@ -37,7 +50,53 @@ internal object Exporter {
 
     private val NONE = Progress { _, _ -> }
 
-    fun zipName(session: String): String = "$session.zip"
+    fun zipName(session: String): String = ExportKind.SESSION.fileName(session)
+
+    /** What the exports name as their maker. */
+    private const val GENERATOR = "Motion Fusion app"
+
+    /**
+     * Writes the session in [dir] as [choice] says to [out] (not closed); [scratch] holds the folder of a
+     * zipped format while it is written. A session without what the format needs, or a still recording
+     * too short for noise figures, fails with [NothingToExportException] / [NoiseTooShortException].
+     */
+    @Throws(IOException::class)
+    fun write(dir: File, choice: ExportChoice, out: OutputStream, scratch: File, progress: Progress = NONE) {
+        val kind = choice.kind
+        if (kind == ExportKind.SESSION) {
+            SessionArchive.zip(dir.toPath(), out, null, progress::update)
+            return
+        }
+        scratch.mkdirs()
+        try {
+            Recording.open(dir.toPath()).use { rec ->
+                // The replay's progress is in events read: their total is meta.json's per-stream count.
+                val total = rec.metadata?.streams?.values?.sumOf { it.samples } ?: 0L
+                val events: (Long) -> Unit = { n -> progress.update(n, maxOf(total, n)) }
+                progress.update(0L, total)
+                val name = kind.fileName(dir.name).removeSuffix(".zip")
+                if (kind == ExportKind.NOISE) {
+                    NoiseConfigs.writeZip(rec, GENERATOR, out, name, scratch.toPath(), events)
+                } else {
+                    val m = rec.metadata
+                    val options = ExportOptions(
+                        settings = m?.filterSettings ?: FilterSettings(),
+                        calibration = m?.calibration?.takeIf { it.appliedInLiveFilter }?.calibration,
+                        heading = if (choice.zeroHeading && kind.hasOrientation) HeadingTareSpec.at(null, 0.0) else null,
+                        generator = GENERATOR,
+                    )
+                    Exports.writeZip(rec, kind.format!!, out, name, scratch.toPath(), options, events)
+                }
+            }
+        } catch (e: DataFormatException) {
+            // Without a file position: what the recording lacks (no gyroscope, too short), else a damaged file.
+            throw when {
+                e.line != 0L -> UnreadableSessionException("${dir.name}: ${e.message}", e)
+                kind == ExportKind.NOISE -> NoiseTooShortException("${dir.name}: ${e.reason}", e)
+                else -> NothingToExportException("${dir.name}: ${e.reason}", e)
+            }
+        }
+    }
 
     /** Only a finished (or repaired) session leaves the app: never one being written. */
     @Throws(IOException::class)
@@ -50,12 +109,12 @@ internal object Exporter {
         if (!complete) throw SessionBusyException("${dir.name} is still being recorded")
     }
 
-    /** Writes the zip to [target] all-or-nothing (the project's [AtomicFiles]): a failed export leaves no partial zip. */
+    /** Writes the export to [target] all-or-nothing (the project's [AtomicFiles]): a failed export leaves no partial file. */
     @Throws(IOException::class)
-    fun writeZip(dir: File, target: File, progress: Progress = NONE) {
+    fun writeZip(dir: File, target: File, choice: ExportChoice = ExportChoice(), progress: Progress = NONE) {
         checkExportable(dir)
         target.parentFile?.mkdirs()
-        AtomicFiles().write(target.toPath()) { SessionArchive.zip(dir.toPath(), it, null, progress::update) }
+        AtomicFiles().write(target.toPath()) { write(dir, choice, it, target.parentFile ?: File("."), progress) }
     }
 
     /** MediaStore.Downloads needs API 29; before that, Save as… covers it without a storage permission. */
@@ -64,21 +123,21 @@ internal object Exporter {
     /** Saves to Downloads: inserted pending, written, then published. Returns the display name. */
     @RequiresApi(29)
     @Throws(IOException::class)
-    fun toDownloads(context: Context, dir: File, progress: Progress = NONE): String {
+    fun toDownloads(context: Context, dir: File, choice: ExportChoice = ExportChoice(), progress: Progress = NONE): String {
         check(downloadsAvailable) { "MediaStore.Downloads needs API 29" }
         checkExportable(dir)
         val resolver = context.contentResolver
-        val name = zipName(dir.name)
+        val name = choice.kind.fileName(dir.name)
         val values = ContentValues().apply {
             put(MediaStore.MediaColumns.DISPLAY_NAME, name)
-            put(MediaStore.MediaColumns.MIME_TYPE, ExportProvider.MIME_ZIP)
+            put(MediaStore.MediaColumns.MIME_TYPE, choice.kind.mime)
             put(MediaStore.MediaColumns.RELATIVE_PATH, Environment.DIRECTORY_DOWNLOADS)
             put(MediaStore.MediaColumns.IS_PENDING, 1)
         }
         val uri = resolver.insert(MediaStore.Downloads.EXTERNAL_CONTENT_URI, values)
             ?: throw IOException("Downloads refused the file")
         try {
-            resolver.openOutputStream(uri, "w")?.use { SessionArchive.zip(dir.toPath(), it, null, progress::update) } ?: throw IOException("cannot open $name")
+            resolver.openOutputStream(uri, "w")?.use { write(dir, choice, it, scratch(context), progress) } ?: throw IOException("cannot open $name")
             resolver.update(uri, ContentValues().apply { put(MediaStore.MediaColumns.IS_PENDING, 0) }, null, null)
         } catch (e: Exception) {
             resolver.delete(uri, null, null)
@@ -88,14 +147,15 @@ internal object Exporter {
         return name
     }
 
-    /** The intent that asks the user where to save the zip (result: a document URI for [toDocument]). */
+    /** Where the folder of a zipped format is written while it is zipped: the cache, never shared. */
+    private fun scratch(context: Context) = File(context.cacheDir, "export-scratch")
 
-    /** Writes the zip into the document the user created. */
+    /** Writes the export into the document the user created. */
     @Throws(IOException::class)
-    fun toDocument(context: Context, dir: File, document: Uri, progress: Progress = NONE) {
+    fun toDocument(context: Context, dir: File, document: Uri, choice: ExportChoice = ExportChoice(), progress: Progress = NONE) {
         checkExportable(dir)
         try {
-            context.contentResolver.openOutputStream(document, "wt")?.use { SessionArchive.zip(dir.toPath(), it, null, progress::update) }
+            context.contentResolver.openOutputStream(document, "wt")?.use { write(dir, choice, it, scratch(context), progress) }
                 ?: throw IOException("cannot open the document")
         } catch (e: Exception) {
             // The document the picker created holds a part of a zip: removed when its provider allows.
@@ -104,18 +164,20 @@ internal object Exporter {
         }
     }
 
-    /** Zips into the provider's folder and returns a chooser for ACTION_SEND with a read grant. */
+    /** Writes the export into the provider's folder and returns a chooser for ACTION_SEND with a read grant. */
     @Throws(IOException::class)
-    fun shareIntent(context: Context, dir: File, progress: Progress = NONE): Intent {
+    fun shareIntent(context: Context, dir: File, choice: ExportChoice = ExportChoice(), progress: Progress = NONE): Intent {
         val exports = ExportProvider.exportDir(context)
         // The cache is for handing over, not for keeping: zips shared a day ago are gone.
         val dayAgo = System.currentTimeMillis() - 24L * 3600 * 1000
         exports.listFiles()?.filter { it.lastModified() < dayAgo }?.forEach { it.delete() }
-        val zip = File(exports, zipName(dir.name))
-        writeZip(dir, zip, progress)
-        val uri = ExportProvider.uriFor(context, zip)
+        val file = File(exports, choice.kind.fileName(dir.name))
+        checkExportable(dir)
+        exports.mkdirs()
+        AtomicFiles().write(file.toPath()) { write(dir, choice, it, scratch(context), progress) }
+        val uri = ExportProvider.uriFor(context, file)
         val send = Intent(Intent.ACTION_SEND)
-            .setType(ExportProvider.MIME_ZIP)
+            .setType(choice.kind.mime)
             .putExtra(Intent.EXTRA_STREAM, uri)
             .putExtra(Intent.EXTRA_SUBJECT, dir.name)
             .addFlags(Intent.FLAG_GRANT_READ_URI_PERMISSION)

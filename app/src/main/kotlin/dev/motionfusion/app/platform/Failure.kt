@@ -11,6 +11,12 @@ import java.io.IOException
 /** The session is being recorded: it cannot be renamed, deleted or exported now. */
 internal class SessionBusyException(message: String) : IOException(message)
 
+/** The session lacks what the export format needs (no gyroscope, no accelerometer before it). */
+internal class NothingToExportException(message: String, cause: Throwable?) : IOException(message, cause)
+
+/** A still recording too short for noise figures. */
+internal class NoiseTooShortException(message: String, cause: Throwable?) : IOException(message, cause)
+
 /** The folder is not a session the app can read (its files damaged, or not a session at all). */
 internal class UnreadableSessionException(message: String, cause: Throwable?) : IOException(message, cause)
 
@@ -32,6 +38,12 @@ internal enum class Failure(@StringRes val text: Int) {
     /** No app on the phone handles the request (a document picker, a share target). */
     NO_APP(R.string.failure_no_app),
 
+    /** The session has no samples the chosen format needs. */
+    NOTHING_TO_EXPORT(R.string.failure_nothing_to_export),
+
+    /** The still recording is too short for noise figures. */
+    NOISE_TOO_SHORT(R.string.failure_noise_too_short),
+
     /** Any other storage or system error. */
     STORAGE(R.string.failure_storage),
     ;
@@ -44,6 +56,8 @@ internal enum class Failure(@StringRes val text: Int) {
                 chain.any { it is ActivityNotFoundException } -> NO_APP
                 chain.any { it is SessionBusyException } -> BEING_RECORDED
                 chain.any { it is UnreadableSessionException } -> UNREADABLE
+                chain.any { it is NothingToExportException } -> NOTHING_TO_EXPORT
+                chain.any { it is NoiseTooShortException } -> NOISE_TOO_SHORT
                 chain.any { (it is ErrnoException && it.errno == OsConstants.ENOSPC) || it.message?.contains("No space left") == true } -> STORAGE_FULL
                 else -> STORAGE
             }

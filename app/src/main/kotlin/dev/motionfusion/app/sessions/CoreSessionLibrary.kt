@@ -27,6 +27,7 @@ internal object CoreSessionLibrary : SessionLibrary {
             recovered = m.recovered,
             continues = m.continues?.previousSession,
             gapNs = m.continues?.gapNs,
+            stillRecording = m.stillRecording,
         )
     }
 

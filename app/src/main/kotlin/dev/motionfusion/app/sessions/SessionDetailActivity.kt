@@ -1,8 +1,17 @@
 package dev.motionfusion.app.sessions
 
+import android.app.Activity
 import android.content.ActivityNotFoundException
 import android.content.Context
 import android.content.Intent
+import android.net.Uri
+import android.widget.CheckBox
+import androidx.activity.result.contract.ActivityResultContract
+import com.google.android.material.R as MaterialR
+import com.google.android.material.chip.Chip
+import com.google.android.material.chip.ChipDrawable
+import com.google.android.material.chip.ChipGroup
+import dev.motionfusion.app.export.ExportKind
 import com.google.android.material.progressindicator.LinearProgressIndicator
 import android.os.Bundle
 import android.text.InputType
@@ -10,7 +19,6 @@ import android.view.View
 import android.widget.Button
 import android.widget.EditText
 import android.widget.TextView
-import androidx.activity.result.contract.ActivityResultContracts
 import androidx.appcompat.app.AlertDialog
 import androidx.appcompat.app.AppCompatActivity
 import androidx.activity.viewModels
@@ -21,7 +29,6 @@ import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Failure
 import dev.motionfusion.app.export.Exporter
-import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
@@ -33,7 +40,8 @@ import java.io.File
  * One session, from [SessionDetailViewModel]: its summary (start, duration, size, per-stream
  * samples and achieved rates), a plot of the fused orientation's angles with the session's
  * markers, each stream's rate over time, rename, delete (after confirmation) and export
- * (Downloads, Save as…, Share).
+ * (Downloads, Save as…, Share) in the format chosen on it ([ExportKind]: the session's zip or what
+ * `fusion export` writes, a still recording's noise model; the heading zeroed at the start on request).
  */
 class SessionDetailActivity : AppCompatActivity() {
     private val deps by lazy { (application as SessionsDependencies.Provider).sessionsDependencies }
@@ -59,17 +67,29 @@ class SessionDetailActivity : AppCompatActivity() {
         findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
         findViewById<Button>(R.id.detail_downloads).apply {
             visibility = if (Exporter.downloadsAvailable) View.VISIBLE else View.GONE
-            setOnClickListener { export { app, dir, progress -> app.getString(R.string.export_done_downloads, Exporter.toDownloads(app, dir, progress)) } }
+            setOnClickListener {
+                val choice = model.state.value.choice
+                export { app, dir, progress -> app.getString(R.string.export_done_downloads, Exporter.toDownloads(app, dir, choice, progress)) }
+            }
         }
         findViewById<Button>(R.id.detail_save_as).setOnClickListener {
             try {
-                saveAs.launch(Exporter.zipName(model.name))
+                val kind = model.state.value.choice.kind
+                saveAs.launch(kind.mime to kind.fileName(model.name))
             } catch (e: ActivityNotFoundException) {
                 model.message(getString(R.string.export_failed, getString(Failure.of(e, "opening another app").text)))
             }
         }
         findViewById<Button>(R.id.detail_share).setOnClickListener { share() }
         findViewById<Button>(R.id.detail_export_cancel).setOnClickListener { model.cancelExport() }
+        findViewById<ChipGroup>(R.id.detail_formats).setOnCheckedStateChangeListener { group, ids ->
+            if (showingChoice) return@setOnCheckedStateChangeListener
+            val kind = ids.firstOrNull()?.let { group.findViewById<Chip>(it) }?.tag as? ExportKind ?: return@setOnCheckedStateChangeListener
+            model.choose(model.state.value.choice.copy(kind = kind))
+        }
+        findViewById<CheckBox>(R.id.detail_zero_heading).setOnCheckedChangeListener { _, checked ->
+            if (!showingChoice) model.choose(model.state.value.choice.copy(zeroHeading = checked))
+        }
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
         }
@@ -77,7 +97,10 @@ class SessionDetailActivity : AppCompatActivity() {
         if (savedInstanceState == null && intent.getBooleanExtra(EXTRA_SHARE, false)) share()
     }
 
-    private fun share() = export { app, dir, progress -> Exporter.shareIntent(app, dir, progress) }
+    private fun share() {
+        val choice = model.state.value.choice
+        export { app, dir, progress -> Exporter.shareIntent(app, dir, choice, progress) }
+    }
 
     override fun onSupportNavigateUp(): Boolean {
         finish()
@@ -99,6 +122,7 @@ class SessionDetailActivity : AppCompatActivity() {
             text = state.message ?: ""
             visibility = if (state.message == null) View.GONE else View.VISIBLE
         }
+        showChoice(state)
         showExport(state)
         val whenText = findViewById<TextView>(R.id.detail_when)
         val s = state.summary
@@ -133,6 +157,48 @@ class SessionDetailActivity : AppCompatActivity() {
         model.export({ failure -> app.getString(R.string.export_failed, app.getString(failure.text)) }, getString(R.string.export_cancelled)) { dir, progress -> action(app, dir, progress) }
     }
 
+    /** The chips of the kinds shown (the noise model only for a still recording), while [showChoice] sets them. */
+    private var shownKinds: List<ExportKind> = emptyList()
+    private var showingChoice = false
+
+    /** The export format chips, what the chosen one holds, and the heading tare (orientation formats only). */
+    private fun showChoice(state: SessionDetailUiState) {
+        showingChoice = true
+        try {
+            val group = findViewById<ChipGroup>(R.id.detail_formats)
+            val kinds = ExportKind.entries.filter { it != ExportKind.NOISE || state.summary?.stillRecording == true || state.choice.kind == it }
+            if (kinds != shownKinds) {
+                group.removeAllViews()
+                for (k in kinds) {
+                    group.addView(Chip(this).apply {
+                        setChipDrawable(ChipDrawable.createFromAttributes(context, null, 0, MaterialR.style.Widget_Material3_Chip_Filter))
+                        id = View.generateViewId()
+                        tag = k
+                        text = getString(k.label)
+                        isCheckable = true
+                        minHeight = (48 * resources.displayMetrics.density).toInt()
+                    })
+                }
+                shownKinds = kinds
+            }
+            val choice = state.choice
+            for (i in 0 until group.childCount) {
+                val chip = group.getChildAt(i) as Chip
+                if (chip.tag == choice.kind && !chip.isChecked) group.check(chip.id)
+                chip.isEnabled = state.exporting == null
+            }
+            findViewById<TextView>(R.id.detail_format_about).setText(ABOUT.getValue(choice.kind))
+            val tare = choice.kind.hasOrientation
+            findViewById<CheckBox>(R.id.detail_zero_heading).apply {
+                isChecked = choice.zeroHeading && tare
+                isEnabled = tare && state.exporting == null
+            }
+            findViewById<TextView>(R.id.detail_zero_heading_hint).setText(if (tare) R.string.export_zero_heading_hint else R.string.export_zero_heading_na)
+        } finally {
+            showingChoice = false
+        }
+    }
+
     /** An export under way: its progress and Cancel, the export buttons off; a share's chooser started once. */
     private fun showExport(state: SessionDetailUiState) {
         val exporting = state.exporting
@@ -157,14 +223,23 @@ class SessionDetailActivity : AppCompatActivity() {
         }
     }
 
-    /** Save as…: the system's document picker creates the zip's document, then it is written there. */
-    private val saveAs = registerForActivityResult(ActivityResultContracts.CreateDocument(ExportProvider.MIME_ZIP)) { uri ->
+    /** Save as…: the system's document picker creates the export's document (its type and name), then it is written there. */
+    private val saveAs = registerForActivityResult(CreateExportDocument()) { uri ->
         if (uri != null) {
+            val choice = model.state.value.choice
             export { app, dir, progress ->
-                Exporter.toDocument(app, dir, uri, progress)
+                Exporter.toDocument(app, dir, uri, choice, progress)
                 app.getString(R.string.export_done_document)
             }
         }
+    }
+
+    /** ACTION_CREATE_DOCUMENT for (MIME type, file name). */
+    private class CreateExportDocument : ActivityResultContract<Pair<String, String>, Uri?>() {
+        override fun createIntent(context: Context, input: Pair<String, String>): Intent =
+            Intent(Intent.ACTION_CREATE_DOCUMENT).addCategory(Intent.CATEGORY_OPENABLE).setType(input.first).putExtra(Intent.EXTRA_TITLE, input.second)
+
+        override fun parseResult(resultCode: Int, intent: Intent?): Uri? = intent.takeIf { resultCode == Activity.RESULT_OK }?.data
     }
 
     private fun askRename() {
@@ -196,6 +271,16 @@ class SessionDetailActivity : AppCompatActivity() {
     internal companion object {
         const val EXTRA_SESSION = "dev.motionfusion.app.sessions.SESSION"
         const val EXTRA_SHARE = "dev.motionfusion.app.sessions.SHARE"
+
+        /** What each format holds, under the chips. */
+        val ABOUT = mapOf(
+            ExportKind.SESSION to R.string.export_about_session,
+            ExportKind.EUROC to R.string.export_about_euroc,
+            ExportKind.KALIBR to R.string.export_about_kalibr,
+            ExportKind.ROS2 to R.string.export_about_ros2,
+            ExportKind.GCSV to R.string.export_about_gcsv,
+            ExportKind.NOISE to R.string.export_about_noise,
+        )
 
         /** The detail of the session folder [name]; [share]: its Share started as it opens. */
         fun intent(context: Context, name: String, share: Boolean = false): Intent =

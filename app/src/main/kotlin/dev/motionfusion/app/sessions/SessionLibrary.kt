@@ -22,6 +22,8 @@ internal data class SessionSummary(
     /** The session this one continues after a killed recording resumed (meta.json `continues`), and the gap between them, ns. */
     val continues: String? = null,
     val gapNs: Long? = null,
+    /** Made by the still-recording mode (meta.json `still_recording`): its noise model can be exported. */
+    val stillRecording: Boolean = false,
 ) {
     val totalRows: Long get() = streams.sumOf { it.rows }
 }

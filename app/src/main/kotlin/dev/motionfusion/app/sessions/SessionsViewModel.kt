@@ -6,6 +6,7 @@ import androidx.lifecycle.ViewModelProvider
 import androidx.lifecycle.viewModelScope
 import dev.motionfusion.app.ui.PlotMarker
 import android.content.Intent
+import dev.motionfusion.app.export.ExportChoice
 import dev.motionfusion.app.export.Exporter
 import kotlinx.coroutines.CancellationException
 import kotlinx.coroutines.Job
@@ -105,6 +106,8 @@ internal data class SessionDetailUiState(
     val exporting: Float? = null,
     /** A share's zip is ready: the screen starts this chooser once ([SessionDetailViewModel.shareStarted]). */
     val share: Intent? = null,
+    /** The format Share, Downloads and Save as write, and the heading tare applied to it. */
+    val choice: ExportChoice = ExportChoice(),
 )
 
 /**
@@ -161,6 +164,11 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
                 flow.value.copy(message = failed(Failure.of(e, "deleting $name")))
             }
         }
+    }
+
+    /** The format (and heading tare) the next export writes. */
+    fun choose(choice: ExportChoice) {
+        flow.update { it.copy(choice = choice) }
     }
 
     /** Shows [text] as the result of an action (export). */

@@ -66,18 +66,23 @@ def ros2(path):
 
 
 def ros2_row(reader, topic, log_time, m):
-    """One message: log time, stamp, frame_id, the values, the covariances' first entry and largest magnitude."""
+    """One message: log time, stamp, frame_id, the values, the covariances' first entry, the largest magnitude
+    off their diagonals, then the diagonals of the angular velocity and linear acceleration covariances
+    (of the magnetic field's on imu/mag)."""
     if topic == "imu/mag":
         values = [m.magnetic_field.x, m.magnetic_field.y, m.magnetic_field.z]
         covariances = [list(m.magnetic_field_covariance)]
+        diagonals = [list(m.magnetic_field_covariance)]
     else:
         q, w, a = m.orientation, m.angular_velocity, m.linear_acceleration
         values = [q.w, q.x, q.y, q.z, w.x, w.y, w.z, a.x, a.y, a.z]
         covariances = [list(m.orientation_covariance), list(m.angular_velocity_covariance), list(m.linear_acceleration_covariance)]
+        diagonals = covariances[1:]
     first = [c[0] for c in covariances]
-    rest = max(abs(v) for c in covariances for v in c[1:])
+    off = max(abs(v) for c in covariances for i, v in enumerate(c) if i not in (0, 4, 8))
+    diagonal = [c[i] for c in diagonals for i in (0, 4, 8)]
     print(reader + ":" + topic, log_time, m.header.stamp.sec, m.header.stamp.nanosec, m.header.frame_id,
-          *(repr(float(v)) for v in values + first + [rest]))
+          *(repr(float(v)) for v in values + first + [off] + diagonal))
 
 
 def configs(folder):

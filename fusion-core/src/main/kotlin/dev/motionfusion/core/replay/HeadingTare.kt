@@ -114,3 +114,51 @@ public class HeadingProbe(private val atS: Double) : ReplayListener {
         }
     }
 }
+
+/**
+ * A heading tare as asked for: a fixed [offsetDeg] added to every heading, or the heading made
+ * [headingDeg] at [atS] (seconds of the output's t_s; null: the filter's first orientation).
+ * [offsetRad] turns it into the offset of [HeadingTare], by a first replay where it needs one.
+ */
+public class HeadingTareSpec private constructor(public val offsetDeg: Double?, public val atS: Double?, public val headingDeg: Double) {
+    /**
+     * The offset Δ, radians: [offsetDeg], else the one that makes the heading [headingDeg] at [atS], found by
+     * [replay] (a replay of the recording into the listener it is given). [source] names the recording in errors.
+     * @throws dev.motionfusion.core.io.DataFormatException when the filter has no orientation at or after [atS].
+     */
+    public fun offsetRad(source: String, replay: (ReplayListener) -> Unit): Double {
+        if (offsetDeg != null) return Math.toRadians(offsetDeg)
+        val probe = HeadingProbe(atS ?: Double.NEGATIVE_INFINITY)
+        replay(probe)
+        if (probe.headingRad.isNaN()) {
+            throw dev.motionfusion.core.io.DataFormatException(
+                source, 0, 0,
+                if (atS == null) "the filter gives no orientation: no heading to tare" else "heading tare at ${fmt(atS)} s: the filter has no orientation at or after t = ${fmt(atS)} s",
+            )
+        }
+        return Math.toRadians(headingDeg) - probe.headingRad
+    }
+
+    /** How an output names its frame once the tare [appliedDeg] is known. */
+    public fun describe(appliedDeg: Double): String =
+        "ENU turned about up (heading tare: every heading + ${fmt(appliedDeg)} deg${if (offsetDeg == null) ", so that it reads ${fmt(headingDeg)} deg at ${atS?.let { "t = ${fmt(it)} s" } ?: "the first orientation"}" else ""})"
+
+    public companion object {
+        /** Every heading grows by [deg]. */
+        @JvmStatic
+        public fun offset(deg: Double): HeadingTareSpec {
+            require(deg.isFinite()) { "heading offset must be finite" }
+            return HeadingTareSpec(deg, null, 0.0)
+        }
+
+        /** The heading reads [headingDeg] at [atS] s (null: the first orientation); zero at the start: `at(null, 0.0)`. */
+        @JvmStatic
+        public fun at(atS: Double?, headingDeg: Double): HeadingTareSpec {
+            require(headingDeg.isFinite() && (atS == null || atS.isFinite())) { "heading and time must be finite" }
+            return HeadingTareSpec(null, atS, headingDeg)
+        }
+
+        /** [v] with at most 4 decimals, no trailing zeros. */
+        internal fun fmt(v: Double): String = String.format(java.util.Locale.ROOT, "%.4f", v).trimEnd('0').trimEnd('.')
+    }
+}

@@ -8,12 +8,10 @@ import dev.motionfusion.core.io.AtomicFiles
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.FileSet
 import dev.motionfusion.core.io.InputLimits
-import java.io.BufferedOutputStream
+import dev.motionfusion.core.io.ZipFolder
 import java.io.OutputStream
 import java.nio.file.Files
 import java.nio.file.Path
-import java.util.zip.ZipEntry
-import java.util.zip.ZipOutputStream
 
 public object SessionArchive {
     /**
@@ -39,29 +37,8 @@ public object SessionArchive {
     @JvmOverloads
     public fun zip(dir: Path, out: OutputStream, entryTimeMs: Long? = null, progress: ((Long, Long) -> Unit)? = null) {
         val folder = dir.toAbsolutePath().normalize().fileName?.toString() ?: "session"
-        val z = ZipOutputStream(BufferedOutputStream(out, 1 shl 16))
         val files = SessionRecovery.SESSION_FILES.map { dir.resolve(it) }.filter { Files.isRegularFile(it) }
-        val total = files.sumOf { Files.size(it) }
-        var done = 0L
-        val buf = ByteArray(1 shl 16)
-        progress?.invoke(0L, total)
-        for (f in files) {
-            val e = ZipEntry("$folder/${f.fileName}")
-            e.time = entryTimeMs ?: Files.getLastModifiedTime(f).toMillis()
-            z.putNextEntry(e)
-            Files.newInputStream(f).use { input ->
-                while (true) {
-                    val n = input.read(buf)
-                    if (n < 0) break
-                    z.write(buf, 0, n)
-                    done += n
-                    progress?.invoke(done, maxOf(total, done))
-                }
-            }
-            z.closeEntry()
-        }
-        z.finish()
-        z.flush()
+        ZipFolder.write(files.map { "$folder/${it.fileName}" to it }, out, entryTimeMs, progress)
     }
 
     /**

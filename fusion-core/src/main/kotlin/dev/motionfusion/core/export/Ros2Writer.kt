@@ -1,4 +1,4 @@
-package dev.motionfusion.cli
+package dev.motionfusion.core.export
 
 import dev.motionfusion.core.replay.ReplayStep
 import java.io.BufferedOutputStream
@@ -10,13 +10,19 @@ import java.nio.charset.StandardCharsets
  * A ROS 2 recording as one MCAP file (the MCAP format, unchunked and without a summary section:
  * readers scan it from the start), messages CDR-encoded (little-endian, XCDR1):
  *  - `imu/data_raw` sensor_msgs/msg/Imu: gyroscope and accelerometer, orientation not provided
- *    (orientation_covariance[0] = −1), the other covariances unknown (zeros), as REP-145 says;
+ *    (orientation_covariance[0] = −1), as REP-145 says; the angular velocity and linear
+ *    acceleration covariances from the [noise] model when one is known: the variance of one
+ *    sample's white noise, σ² = N²·f (noise density N, the gyroscope's mean rate [rateHz] f), on the
+ *    diagonal; unknown (zeros) without one;
  *  - `imu/data` sensor_msgs/msg/Imu: the same with the replay's orientation (sensor → ENU, as
  *    REP-103's world), its covariance unknown (zeros); from the filter's first orientation on;
  *  - `imu/mag` sensor_msgs/msg/MagneticField: each magnetometer reading at its own time, tesla.
  * frame_id [FRAME_ID] for all; header stamps and log times in the recording's own clock.
  */
-internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boolean, about: About) : ExportWriter() {
+internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boolean, about: About, noise: NoiseModel? = null, rateHz: Double = Double.NaN) : ExportWriter() {
+    /** Per-sample white-noise variances (rad²/s², m²/s⁴); 0: unknown. */
+    private val gyroscopeVariance = if (noise != null && rateHz.isFinite()) noise.gyroscopeNoiseDensity * noise.gyroscopeNoiseDensity * rateHz else 0.0
+    private val accelerometerVariance = if (noise != null && rateHz.isFinite()) noise.accelerometerNoiseDensity * noise.accelerometerNoiseDensity * rateHz else 0.0
     private val out = BufferedOutputStream(stream, 1 shl 16)
     private val record = Bytes()
     private val cdr = Bytes()
@@ -30,6 +36,13 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
         val metadata = mapOf(
             "source" to about.source,
             "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (world: ${about.world}); stamps: ${About.TIME}",
+            "covariance" to if (gyroscopeVariance > 0.0 || accelerometerVariance > 0.0) {
+                "angular_velocity and linear_acceleration covariances: one sample's white-noise variance N^2 * f on the diagonal " +
+                    "(gyroscope N = ${NoiseModel.num(noise!!.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), accelerometer N = ${NoiseModel.num(noise.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), " +
+                    "f = ${NoiseModel.num(rateHz)} Hz, the gyroscope's mean rate); orientation and magnetic field covariances unknown (0)"
+            } else {
+                "unknown (0), no noise model given; orientation_covariance[0] = -1 on imu/data_raw (not provided)"
+            },
         )
         channel(IMU_RAW, 1, "imu/data_raw", metadata)
         channel(IMU, 1, "imu/data", metadata)
@@ -71,9 +84,9 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
         if (q == null) repeat(4) { f64(0.0) } else { f64(q[1]); f64(q[2]); f64(q[3]); f64(q[0]) }
         f64(if (q == null) -1.0 else 0.0); repeat(8) { f64(0.0) }
         for (k in 0 until 3) f64(step.angularVelocity[k].toFloat().toDouble())
-        repeat(9) { f64(0.0) }
+        for (k in 0 until 9) f64(if (k % 4 == 0) gyroscopeVariance else 0.0)
         for (k in 0 until 3) f64(step.specificForce[k].toFloat().toDouble())
-        repeat(9) { f64(0.0) }
+        for (k in 0 until 9) f64(if (k % 4 == 0) accelerometerVariance else 0.0)
     }
 
     /** std_msgs/msg/Header at [ns]; the clock's ns split as builtin_interfaces/Time does (nanosec in 0 until 10⁹). */
@@ -126,7 +139,7 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
         override fun reset() { super.reset(); origin = 0 }
     }
 
-    companion object {
+    internal companion object {
         const val FRAME_ID = "imu_link"
         private val MAGIC = byteArrayOf(0x89.toByte(), 'M'.code.toByte(), 'C'.code.toByte(), 'A'.code.toByte(), 'P'.code.toByte(), '0'.code.toByte(), '\r'.code.toByte(), '\n'.code.toByte())
         private const val OP_HEADER = 0x01

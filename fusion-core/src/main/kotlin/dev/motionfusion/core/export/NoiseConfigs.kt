@@ -1,7 +1,11 @@
-package dev.motionfusion.cli
+package dev.motionfusion.core.export
 
+import dev.motionfusion.core.calib.AllanResult
 import dev.motionfusion.core.calib.DiscreteNoise
+import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.io.DataFormatException
+import dev.motionfusion.core.io.ZipFolder
+import java.io.OutputStream
 import java.nio.charset.StandardCharsets
 import java.nio.file.Files
 import java.nio.file.Path
@@ -11,19 +15,60 @@ import java.util.Locale
  * The four continuous-time noise figures of kalibr's imu.yaml (as `fusion allan` writes it), the
  * rate it names (update_rate, Hz; null when it names none), and the file itself.
  */
-internal class NoiseModel(val text: String, val figures: Map<String, Double>, val rateHz: Double?) {
-    val gyroscopeNoiseDensity get() = figures.getValue("gyroscope_noise_density")
-    val gyroscopeRandomWalk get() = figures.getValue("gyroscope_random_walk")
-    val accelerometerNoiseDensity get() = figures.getValue("accelerometer_noise_density")
-    val accelerometerRandomWalk get() = figures.getValue("accelerometer_random_walk")
+public class NoiseModel private constructor(
+    /** The imu.yaml it was read from, as written. */
+    public val text: String,
+    internal val figures: Map<String, Double>,
+    /** The rate the file names (update_rate, Hz); null when it names none. */
+    public val rateHz: Double?,
+) {
+    /** rad/s/√Hz, continuous time. */
+    public val gyroscopeNoiseDensity: Double get() = figures.getValue("gyroscope_noise_density")
+    /** rad/s²/√Hz, continuous time. */
+    public val gyroscopeRandomWalk: Double get() = figures.getValue("gyroscope_random_walk")
+    /** m/s²/√Hz, continuous time. */
+    public val accelerometerNoiseDensity: Double get() = figures.getValue("accelerometer_noise_density")
+    /** m/s³/√Hz, continuous time. */
+    public val accelerometerRandomWalk: Double get() = figures.getValue("accelerometer_random_walk")
 
-    companion object {
-        val KEYS = listOf("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk")
+    public companion object {
+        /** The four keys of kalibr's imu.yaml. */
+        @JvmField
+        public val KEYS: List<String> = listOf("gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density", "accelerometer_random_walk")
 
-        fun read(path: Path): NoiseModel = parse(String(Files.readAllBytes(path), StandardCharsets.UTF_8), path.toString())
+        /** Shortest still recording, s, whose Allan deviation gives a noise density (clusters of 1 s, enough of them). */
+        public const val MIN_ALLAN_S: Double = 60.0
+
+        /** The noise model in the file [path] (kalibr's imu.yaml, as `fusion allan` writes it). */
+        @JvmStatic
+        public fun read(path: Path): NoiseModel = parse(String(Files.readAllBytes(path), StandardCharsets.UTF_8), path.toString())
+
+        /**
+         * The noise model of an Allan analysis of the still recording [input] (its kalibr imu.yaml, made by
+         * [source]). @throws DataFormatException when the recording is too short for noise figures ([checkLongEnough])
+         * or a figure could not be read off (a stream missing).
+         */
+        internal fun of(result: AllanResult, source: String, input: String): NoiseModel {
+            checkLongEnough(result, input)
+            return parse(result.kalibrYaml(source), "the noise model of $input")
+        }
+
+        /** @throws DataFormatException when [result] is too short for noise figures (under [MIN_ALLAN_S] s). */
+        @JvmStatic
+        public fun checkLongEnough(result: AllanResult, input: String) {
+            if ((result.gyroscope?.tau?.size ?: 0) < 3 && (result.accelerometer?.tau?.size ?: 0) < 3) {
+                throw DataFormatException(input, 0, 0, "too short for an Allan deviation: needs a gyroscope or accelerometer stream of at least a few hundred samples")
+            }
+            val seconds = listOfNotNull(result.gyroscope, result.accelerometer).maxOfOrNull { it.samples / it.rateHz } ?: 0.0
+            if (!(seconds >= MIN_ALLAN_S)) {
+                throw DataFormatException(input, 0, 0, "${String.format(Locale.ROOT, "%.1f", seconds)} s of samples is too short for noise figures: " +
+                    "the noise density needs at least ${MIN_ALLAN_S.toInt()} s of still recording (the random walk and bias instability hours)")
+            }
+        }
 
         /** The figures of [text] (kalibr's imu.yaml); [source] names it in errors. */
-        fun parse(text: String, source: String): NoiseModel {
+        @JvmStatic
+        public fun parse(text: String, source: String): NoiseModel {
             val figures = LinkedHashMap<String, Double>()
             var rate: Double? = null
             text.lines().forEachIndexed { i, raw ->
@@ -46,7 +91,7 @@ internal class NoiseModel(val text: String, val figures: Map<String, Double>, va
         }
 
         /** Six significant digits without trailing zeros. */
-        fun num(v: Double): String {
+        internal fun num(v: Double): String {
             if (!v.isFinite()) return ".nan"
             val s = String.format(Locale.ROOT, "%.6g", v)
             val e = s.indexOfAny(charArrayOf('e', 'E'))
@@ -63,14 +108,50 @@ internal class NoiseModel(val text: String, val figures: Map<String, Double>, va
  * and discretise them themselves, as does ORB-SLAM3 (with IMU.Frequency); VINS-Mono/Fusion take
  * per-sample figures at the IMU rate.
  */
-internal object NoiseConfigs {
-    /** File name → content of every configuration, from [m] at [rateHz]; [source] says where it came from. */
-    fun all(m: NoiseModel, rateHz: Double, source: String): Map<String, String> = linkedMapOf(
+public object NoiseConfigs {
+    /**
+     * File name → content of every configuration, from [m] at [rateHz]; [source] says where it came from:
+     * imu.yaml (kalibr), kalibr_imu_chain.yaml (OpenVINS), vins_imu.yaml (VINS-Mono/Fusion), orbslam3_imu.yaml.
+     */
+    @JvmStatic
+    public fun all(m: NoiseModel, rateHz: Double, source: String): Map<String, String> = linkedMapOf(
         "imu.yaml" to m.text,
         "kalibr_imu_chain.yaml" to openVins(m, rateHz, source),
         "vins_imu.yaml" to vins(m, rateHz, source),
         "orbslam3_imu.yaml" to orbSlam3(m, rateHz, source),
     )
+
+    /**
+     * Every configuration of [all] from the still recording [rec]: its Allan deviation, the noise model
+     * read off it and the configurations at the recording's rate; [generator] names what made them
+     * (e.g. "fusion allan 1.0"). @throws DataFormatException when [rec] is too short for noise figures.
+     */
+    @JvmStatic
+    @JvmOverloads
+    public fun fromStillRecording(rec: Recording, generator: String, progress: ((Long) -> Unit)? = null): Map<String, String> {
+        val result = rec.events().use { AllanResult.run(it, rec.streams, progress) }
+        val source = "$generator from ${rec.name}"
+        val model = NoiseModel.of(result, source, rec.name)
+        val rate = model.rateHz ?: throw DataFormatException(rec.name, 0, 0, "no sample rate for the noise configurations")
+        return all(model, rate, source)
+    }
+
+    /**
+     * [fromStillRecording] written to [out] as a zip, the files inside the folder [name] (made first under
+     * [scratch] and removed again). Does not close [out].
+     */
+    @JvmStatic
+    @JvmOverloads
+    public fun writeZip(rec: Recording, generator: String, out: OutputStream, name: String, scratch: Path, progress: ((Long) -> Unit)? = null) {
+        val configs = fromStillRecording(rec, generator, progress)
+        val folder = Files.createTempDirectory(scratch, ".noise-")
+        try {
+            for ((file, text) in configs) Files.write(folder.resolve(file), text.toByteArray(StandardCharsets.UTF_8))
+            ZipFolder.write(folder, name, out)
+        } finally {
+            ZipFolder.removeTree(folder)
+        }
+    }
 
     private fun num(v: Double) = NoiseModel.num(v)
 
@@ -82,7 +163,7 @@ internal object NoiseConfigs {
     }
 
     /** The discrete figures of kalibr's model at [rateHz], as comment lines. */
-    fun discreteComment(m: NoiseModel, rateHz: Double): String = buildString {
+    internal fun discreteComment(m: NoiseModel, rateHz: Double): String = buildString {
         appendLine("# Discrete time, per sample at f = ${num(rateHz)} Hz (dt = ${num(1.0 / rateHz)} s): white noise sigma_d = density * sqrt(f),")
         appendLine("# bias random walk sigma_bd = random_walk / sqrt(f) (kalibr's IMU noise model):")
         appendLine("#   accelerometer sigma_d ${num(DiscreteNoise.white(m.accelerometerNoiseDensity, rateHz))} m/s^2, sigma_bd ${num(DiscreteNoise.randomWalk(m.accelerometerRandomWalk, rateHz))} m/s^2")
@@ -90,7 +171,7 @@ internal object NoiseConfigs {
     }
 
     /** OpenVINS's kalibr_imu_chain.yaml (its EuRoC example's keys). */
-    fun openVins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+    internal fun openVins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
         appendLine("%YAML:1.0")
         appendLine("# $source")
         appendLine("# OpenVINS IMU configuration (kalibr_imu_chain.yaml). OpenVINS reads kalibr's CONTINUOUS-TIME figures")
@@ -113,7 +194,7 @@ internal object NoiseConfigs {
     }
 
     /** The imu parameters of a VINS-Mono / VINS-Fusion configuration. */
-    fun vins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+    internal fun vins(m: NoiseModel, rateHz: Double, source: String): String = buildString {
         val sf = kotlin.math.sqrt(rateHz)
         appendLine("%YAML:1.0")
         appendLine("# $source")
@@ -135,7 +216,7 @@ internal object NoiseConfigs {
     }
 
     /** The IMU entries of an ORB-SLAM3 settings file. */
-    fun orbSlam3(m: NoiseModel, rateHz: Double, source: String): String = buildString {
+    internal fun orbSlam3(m: NoiseModel, rateHz: Double, source: String): String = buildString {
         appendLine("%YAML:1.0")
         appendLine("# $source")
         appendLine("# IMU noise for ORB-SLAM3: the IMU entries of its settings file (add IMU.T_b_c1, the camera-to-IMU")
