@@ -11,6 +11,9 @@ import java.io.IOException
 /** The session is being recorded: it cannot be renamed, deleted or exported now. */
 internal class SessionBusyException(message: String) : IOException(message)
 
+/** A new name for a session that is not allowed (characters) or taken by another session. */
+internal class InvalidSessionNameException(message: String) : IOException(message)
+
 /** The folder is not a session the app can read (its files damaged, or not a session at all). */
 internal class UnreadableSessionException(message: String, cause: Throwable?) : IOException(message, cause)
 

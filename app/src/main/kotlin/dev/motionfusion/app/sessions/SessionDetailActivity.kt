@@ -26,6 +26,7 @@ import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.app.ui.fitToSystemBars
+import dev.motionfusion.app.ui.stackWhenCrowded
 import kotlinx.coroutines.launch
 import java.io.File
 
@@ -55,6 +56,8 @@ class SessionDetailActivity : AppCompatActivity() {
             finish()
             return
         }
+        stackWhenCrowded(findViewById(R.id.detail_save_row))
+        stackWhenCrowded(findViewById(R.id.detail_manage_row))
         findViewById<Button>(R.id.detail_rename).setOnClickListener { askRename() }
         findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
         findViewById<Button>(R.id.detail_downloads).apply {
@@ -107,7 +110,14 @@ class SessionDetailActivity : AppCompatActivity() {
             s == null -> whenText.setText(R.string.session_loading)
             else -> {
                 whenText.text = SessionsActivity.describe(this, s, state.recordingNow)
-                val lines = s.streams.map { getString(R.string.session_stream_line, SessionsActivity.streamName(this, it.name), it.rows, it.rateHz) } +
+                // A number in Arabic digits is isolated (LRI … PDI): two of them joined by separators would be reordered.
+                val locale = resources.configuration.locales[0]
+                fun number(format: String, v: Any) = String.format(locale, format, v).let { n ->
+                    if (n.any { Character.getDirectionality(it) == Character.DIRECTIONALITY_ARABIC_NUMBER }) "\u2066$n\u2069" else n
+                }
+                val lines = s.streams.map {
+                    getString(R.string.session_stream_line, SessionsActivity.streamName(this, it.name), number("%,d", it.rows), number("%.1f", it.rateHz))
+                } +
                     getString(R.string.session_fused_line, s.fusedRows)
                 findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
                 findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(this, it.name), it.rateHz) })
@@ -183,7 +193,8 @@ class SessionDetailActivity : AppCompatActivity() {
             .show()
     }
 
-    internal fun rename(newName: String) = model.rename(newName, getString(R.string.session_rename_invalid))
+    internal fun rename(newName: String) =
+        model.rename(newName, getString(R.string.session_rename_invalid)) { getString(R.string.session_rename_failed, getString(it.text)) }
 
     private fun askDelete() {
         dialog = MaterialAlertDialogBuilder(this)
