@@ -118,6 +118,15 @@ class ScaledScreensTest {
         }
     }
 
+    /**
+     * Numbers in Arabic digits stand isolated (LRI … PDI) in [text]: joined by separators and units they were
+     * reordered ("150,800 · 200.0 Hz" shown as "200.0 · 150,800 Hz", "50 Hz" as "Hz 50").
+     */
+    private fun assertNumbersIsolated(text: String) {
+        val outside = text.replace(Regex("\u2066[^\u2069]*\u2069"), "")
+        assertTrue("a number in Arabic digits not isolated: $text", outside.none { it in '\u0660'..'\u0669' })
+    }
+
     @Test
     fun `sessions list and session detail`() {
         val root = sessionsRoot()
@@ -130,12 +139,14 @@ class ScaledScreensTest {
             graph.settle()
             list.show(SessionsUiState.Loaded(items))
             render(list, "${v.prefix}-sessions-list")
+            assertNumbersIsolated(list.findViewById<android.widget.TextView>(R.id.session_line2).text.toString())
 
             val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, name)
             val detail = Robolectric.buildActivity(SessionDetailActivity::class.java, intent).setup().get()
             graph.settle()
             detail.show(SessionStates.detail(name))
             render(detail, "${v.prefix}-session-detail", whole = true)
+            assertNumbersIsolated(detail.findViewById<android.widget.TextView>(R.id.detail_streams).text.toString())
         }
     }
 
@@ -165,6 +176,11 @@ class ScaledScreensTest {
             graph.settle()
             assertTrue(graph.graph.stream.state.value.toString(), graph.graph.stream.state.value is StreamState.On)
             render(a, "${v.prefix}-stream-on", whole = true)
+            // The address as a laptop takes it: ASCII digits also on an Arabic phone.
+            val address = a.findViewById<android.widget.TextView>(R.id.stream_addresses).text.toString()
+            assertTrue("${v.prefix}: $address", Regex("""^ws://192\.168\.1\.23:[0-9]+$""").matches(address))
+            val usb = a.findViewById<android.widget.TextView>(R.id.stream_usb).text.toString()
+            assertTrue("${v.prefix}: $usb", Regex("""^adb forward tcp:([0-9]+) tcp:\1, then ws://127\.0\.0\.1:\1$""").matches(usb))
             graph.graph.stream.stop()
             graph.settle()
             assertEquals(StreamState.Off, graph.graph.stream.state.value)

@@ -23,6 +23,7 @@ import dev.motionfusion.app.platform.Failure
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.export.ExportProvider
 import dev.motionfusion.app.ui.AnglePlotView
+import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.app.ui.fitToSystemBars
@@ -110,15 +111,13 @@ class SessionDetailActivity : AppCompatActivity() {
             s == null -> whenText.setText(R.string.session_loading)
             else -> {
                 whenText.text = SessionsActivity.describe(this, s, state.recordingNow)
-                // A number in Arabic digits is isolated (LRI … PDI): two of them joined by separators would be reordered.
-                val locale = resources.configuration.locales[0]
-                fun number(format: String, v: Any) = String.format(locale, format, v).let { n ->
-                    if (n.any { Character.getDirectionality(it) == Character.DIRECTIONALITY_ARABIC_NUMBER }) "\u2066$n\u2069" else n
-                }
                 val lines = s.streams.map {
-                    getString(R.string.session_stream_line, SessionsActivity.streamName(this, it.name), number("%,d", it.rows), number("%.1f", it.rateHz))
+                    getString(
+                        R.string.session_stream_line, SessionsActivity.streamName(this, it.name),
+                        Formats.isolated(this, "%,d", it.rows), Formats.isolated(this, "%.1f", it.rateHz),
+                    )
                 } +
-                    getString(R.string.session_fused_line, s.fusedRows)
+                    getString(R.string.session_fused_line, Formats.isolated(this, "%,d", s.fusedRows))
                 findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
                 findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(this, it.name), it.rateHz) })
             }

@@ -100,8 +100,9 @@ class StreamActivity : AppCompatActivity() {
         findViewById<TextView>(R.id.stream_code).text = on.code
         findViewById<TextView>(R.id.stream_addresses).text =
             if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
-            else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port) }
-        findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port)
+            else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port.toString()) }
+        // The port as typed on a laptop: ASCII digits whatever the language (an Arabic phone formats %d in its own digits).
+        findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port.toString())
         showUdp(on.udp)
         val locale = resources.configuration.locales[0]
         val warning = getColor(R.color.warning)

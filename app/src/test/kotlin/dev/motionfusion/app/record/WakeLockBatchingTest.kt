@@ -37,11 +37,11 @@ class WakeLockBatchingTest {
     private lateinit var graph: TestGraph
 
     /** Each stream's default sensor (not wake-up) and, except for [withoutWakeUp], its wake-up variant; every one with a FIFO. */
-    private fun phone(withoutWakeUp: Set<SessionStream> = emptySet()): Map<SessionStream, Sensor> {
+    private fun phone(withoutWakeUp: Set<SessionStream> = emptySet(), wakeUpFifo: Int = 10_000): Map<SessionStream, Sensor> {
         val wakeUp = HashMap<SessionStream, Sensor>()
         for (s in SensorStreams.all) {
             fun sensor(wake: Boolean) = SensorBuilder.newBuilder().setType(s.androidType).setName(if (wake) "BMI260 ${s.name} Wakeup" else "BMI260 ${s.name}")
-                .setWakeUpFlag(wake).setFifoMaxEventCount(10_000).setFifoReservedEventCount(3_000).build()
+                .setWakeUpFlag(wake).setFifoMaxEventCount(if (wake) wakeUpFifo else 10_000).setFifoReservedEventCount(if (wake) wakeUpFifo / 4 else 3_000).build()
             sensors.addSensor(sensor(false)) // first: the default one
             if (s !in withoutWakeUp) wakeUp[s] = sensor(true).also(sensors::addSensor)
         }
@@ -104,6 +104,18 @@ class WakeLockBatchingTest {
         graph.clock.elapsedNs += 61_000_000_000L
         shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(61))
         assertTrue("renewed, still held", ShadowPowerManager.getLatestWakeLock().isHeld)
+        stop(c)
+        assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
+    }
+
+    @Test
+    fun `wake-up sensors whose FIFOs hold too little to batch - the lock is held`() {
+        phone(wakeUpFifo = 4) // a few events: no report latency worth batching
+        val c = start()
+        assertTrue(graph.graph.recordings.state.value is RecordingState.Active)
+        assertEquals(0, graph.capture.reportLatencyUs)
+        assertEquals(WakeLockNeed.FIFO_TOO_SMALL, graph.capture.wakeLockNeed)
+        assertTrue(ShadowPowerManager.getLatestWakeLock().isHeld)
         stop(c)
         assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
     }

@@ -160,7 +160,7 @@ class SessionsScreensTest {
         val streams = a.findViewById<TextView>(R.id.detail_streams).text.toString()
         assertTrue(streams, streams.contains("accelerometer\u00A0· 6,000\u00A0· 200.0\u00A0Hz"))
         assertTrue(streams, streams.contains("game rotation vector\u00A0· 6,000"))
-        assertTrue(streams, streams.contains("Fused orientation · 6,000 rows"))
+        assertTrue(streams, streams.contains("Fused orientation\u00A0· 6,000 rows"))
         val plot = a.findViewById<AnglePlotView>(R.id.detail_plot)
         assertEquals(a.getString(R.string.session_plot_title), plot.contentDescription)
         Screenshots.capture(a, "session-detail")
