@@ -93,9 +93,9 @@ internal interface SensorSource {
  * middle of a recording.
  */
 internal class SensorHub(private val sensorManager: SensorManager, private val ring: EventRing) : SensorSource {
-    /** The default sensor of each stream the device has. */
+    /** The default sensor of each stream the device has: its non-wake-up one, else whichever the device names its default. */
     override val sensors: Map<SessionStream, Sensor> = SensorStreams.all
-        .mapNotNull { s -> sensorManager.getDefaultSensor(s.androidType)?.let { s to it } }
+        .mapNotNull { s -> (sensorManager.getDefaultSensor(s.androidType, false) ?: sensorManager.getDefaultSensor(s.androidType))?.let { s to it } }
         .toMap()
 
     /**
