@@ -92,7 +92,7 @@ internal class AppGraph(
     streamControl: Executor = Executors.newSingleThreadExecutor { r -> Thread(r, "stream-control").apply { isDaemon = true } },
     streamSettings: StreamServerSettings = StreamServerSettings(),
     /** Starts the stream's foreground service (StreamService.start); returns why the system refused, or null. */
-    streamKeepAlive: () -> String? = { null },
+    streamKeepAlive: () -> Int? = { null },
     /** Where the UDP push's target is looked up (StreamController's lookup). */
     streamLookup: Executor = StreamController.LOOKUP,
     /** The Wi-Fi locks the stream's service holds (StreamService.systemWifiLocks; none by default). */
@@ -123,7 +123,8 @@ internal class AppGraph(
             RecordingMetadata.anchorNow(),
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
         )
-    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup)
+    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup,
+        log = { message, e -> android.util.Log.w("StreamController", message, e) })
     override val streamController: StreamController get() = stream
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }

@@ -8,6 +8,7 @@ import android.graphics.Rect
 import android.view.View
 import android.view.ViewGroup
 import android.widget.TextView
+import dev.motionfusion.app.ui.breaksInsideWord
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
@@ -153,8 +154,8 @@ object Screenshots {
     }
 
     /**
-     * Every text shown lies within the screen's width, is not cut short (no ellipsis) and
-     * overlaps no other text where it is seen.
+     * Every text shown lies within the screen's width, is not cut short (no ellipsis) nor broken
+     * inside a word ("St/op": too narrow a button) and overlaps no other text where it is seen.
      */
     fun assertLaidOut(activity: Activity, name: String) {
         val root = activity.window.decorView
@@ -179,6 +180,7 @@ object Screenshots {
             assertTrue("$what lies outside the screen's width: $r (width ${root.width})", r.left >= 0 && r.right <= root.width)
             val layout = v.layout
             if (layout != null) for (line in 0 until layout.lineCount) assertEquals("$what is cut short", 0, layout.getEllipsisCount(line))
+            assertFalse("$what breaks inside a word", v.breaksInsideWord())
         }
         // Buttons of a group (MaterialButtonToggleGroup) share their 1-dp border: that is no overlap.
         val border = Math.ceil(activity.resources.displayMetrics.density.toDouble()).toInt()

@@ -177,6 +177,51 @@ class SettingsActivityTest {
         assertEquals(LiveSettings(), stored())
     }
 
+    /** Back on [a]: the system's (or the app bar's Up, which goes the same way). */
+    private fun back(a: SettingsActivity) {
+        a.onBackPressedDispatcher.onBackPressed()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+    }
+
+    @Test
+    fun `Back with changes not applied asks - Apply, Discard or Cancel`() {
+        // Nothing changed: Back leaves at once.
+        val unchanged = start().get()
+        back(unchanged)
+        assertTrue(unchanged.isFinishing)
+        assertEquals(null, unchanged.dialog)
+
+        // Cancel: the screen stays with the change; Discard: it leaves, nothing stored.
+        val a = start().get()
+        a.slider("beta").value = 0.25f
+        back(a)
+        assertFalse("asked, not gone", a.isFinishing)
+        val ask = a.dialog!!
+        assertTrue(ask.isShowing)
+        assertEquals(a.getString(R.string.settings_leave_title), ask.findViewById<TextView>(androidx.appcompat.R.id.alertTitle)!!.text.toString())
+        ask.getButton(androidx.appcompat.app.AlertDialog.BUTTON_NEUTRAL).performClick()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertFalse(a.isFinishing)
+        assertEquals(0.25f, a.slider("beta").value, 1e-6f)
+        a.onSupportNavigateUp() // the app bar's Up asks as Back does
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertFalse(a.isFinishing)
+        a.dialog!!.getButton(androidx.appcompat.app.AlertDialog.BUTTON_NEGATIVE).performClick()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertTrue(a.isFinishing)
+        assertEquals(LiveSettings(), stored())
+
+        // Apply: stored and in force, then it leaves.
+        val b = start().get()
+        b.slider("beta").value = 0.25f
+        back(b)
+        b.dialog!!.getButton(androidx.appcompat.app.AlertDialog.BUTTON_POSITIVE).performClick()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertTrue(b.isFinishing)
+        assertEquals(0.25, stored().filter.beta, 1e-6)
+        assertEquals(0.25, graph!!.graph.settingsRepository.settings.value.filter.beta, 1e-6)
+    }
+
     @Test
     fun `a damaged or older settings file loses nothing it can read`() {
         val prefs = offMainThread { RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE) }

@@ -129,7 +129,7 @@ internal class TestGraph(
     streamAddresses: List<String> = listOf("192.168.1.23"),
     streamSettings: StreamServerSettings = StreamServerSettings(),
     /** Starts the stream's foreground service; Robolectric records the intent (the test creates the service from it). */
-    streamKeepAlive: () -> String? = { StreamService.start(RuntimeEnvironment.getApplication()) },
+    streamKeepAlive: () -> Int? = { StreamService.start(RuntimeEnvironment.getApplication()) },
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     private val locks = FolderLocks()

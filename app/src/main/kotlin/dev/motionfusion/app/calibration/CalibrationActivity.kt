@@ -19,6 +19,7 @@ import dev.motionfusion.app.platform.AppVersion
 import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.app.ui.fitToSystemBars
+import dev.motionfusion.app.ui.stackWhenCrowded
 import kotlinx.coroutines.delay
 import kotlinx.coroutines.flow.combine
 import kotlinx.coroutines.launch
@@ -71,6 +72,8 @@ class CalibrationActivity : AppCompatActivity() {
         primary = findViewById(R.id.primary_action)
         save = findViewById(R.id.save)
         stored = findViewById(R.id.stored)
+        stackWhenCrowded(steps)
+        stackWhenCrowded(findViewById(R.id.actions))
         // Only a change of step resets it: the toggle restored after a rotation re-checks the current one.
         steps.addOnButtonCheckedListener { _, id, checked ->
             if (checked && stepOf(id) != viewModel.state.value.step) viewModel.select(stepOf(id))

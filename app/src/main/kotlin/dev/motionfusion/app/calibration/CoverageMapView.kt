@@ -5,6 +5,9 @@ import android.content.Context
 import android.graphics.Canvas
 import android.graphics.Paint
 import android.graphics.RectF
+import android.text.Layout
+import android.text.StaticLayout
+import android.text.TextPaint
 import android.util.AttributeSet
 import android.view.View
 import com.google.android.material.color.MaterialColors
@@ -22,6 +25,17 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
     private val fill = Paint(Paint.ANTI_ALIAS_FLAG)
     private val grid = Paint(Paint.ANTI_ALIAS_FLAG).apply { style = Paint.Style.STROKE }
     private val text = Paint(Paint.ANTI_ALIAS_FLAG).apply { textAlign = Paint.Align.CENTER }
+    private val captionPaint = TextPaint(Paint.ANTI_ALIAS_FLAG)
+
+    /** The caption under the map, wrapped to [w] (at large font sizes it is wider than the screen). */
+    private fun caption(w: Int): StaticLayout {
+        captionPaint.textSize = labelSize()
+        val s = context.getString(R.string.calibration_map_bottom)
+        return StaticLayout.Builder.obtain(s, 0, s.length, captionPaint, w.coerceAtLeast(1)).setAlignment(Layout.Alignment.ALIGN_CENTER).build()
+    }
+
+    /** Below the map: the axis ticks, then the caption. */
+    private fun below(w: Int) = 1.6f * labelSize() + caption(w).height
     private val cell = RectF()
 
     init {
@@ -41,7 +55,7 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         // Twice as wide as high (the map of a sphere, 2π by 2 in longitude and z), plus the labels.
         val w = MeasureSpec.getSize(widthMeasureSpec)
-        val wanted = (w / 2 + 4.2f * labelSize()).toInt()
+        val wanted = (w / 2 + 1.4f * labelSize() + below(w)).toInt()
         setMeasuredDimension(w, resolveSize(wanted, heightMeasureSpec))
     }
 
@@ -51,7 +65,7 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
     private fun mapBounds(): FloatArray {
         val label = labelSize()
         val top = 1.4f * label
-        val mapH = minOf(height - 2.8f * label - top, width / 2f)
+        val mapH = minOf(height - below(width) - top, width / 2f)
         return floatArrayOf((width - 2 * mapH) / 2, top, 2 * mapH, mapH)
     }
 
@@ -92,7 +106,11 @@ class CoverageMapView @JvmOverloads constructor(context: Context, attrs: Attribu
             canvas.drawText(t, x, top + mapH + 1.2f * label, text)
         }
         text.textAlign = Paint.Align.CENTER
-        canvas.drawText(context.getString(dev.motionfusion.app.R.string.calibration_map_bottom), width / 2f, top + mapH + 2.5f * label, text)
+        captionPaint.color = text.color
+        canvas.save()
+        canvas.translate(0f, top + mapH + 1.5f * label)
+        caption(width).draw(canvas)
+        canvas.restore()
     }
 
     private fun blend(color: Int, alpha: Float): Int = (color and 0x00FFFFFF) or ((alpha * 255).toInt().coerceIn(0, 255) shl 24)

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.fusion
 
+import dev.motionfusion.app.sensor.WakeLockNeed
 import dev.motionfusion.app.sensor.EventRing
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.sensor.ReorderWindow
@@ -230,6 +231,9 @@ class Capture internal constructor(
 
     /** The report latency the sensors are registered with now (0: every event as it comes). */
     val reportLatencyUs: Int get() = hub.registeredLatencyUs
+
+    /** Whether the sensors registered now need the CPU held to lose nothing with the screen off. */
+    internal val wakeLockNeed: WakeLockNeed get() = hub.wakeLockNeed
 
     /** The report latency a recording of [streams] (null: all) at [rate] is registered with, for its meta.json. */
     internal fun reportLatencyUsFor(rate: SamplingRate, streams: Set<SessionStream>? = null): Int = hub.reportLatencyUs(rate, streams)

@@ -17,6 +17,9 @@ internal class NothingToExportException(message: String, cause: Throwable?) : IO
 /** A still recording too short for noise figures. */
 internal class NoiseTooShortException(message: String, cause: Throwable?) : IOException(message, cause)
 
+/** A new name for a session that is not allowed (characters) or taken by another session. */
+internal class InvalidSessionNameException(message: String) : IOException(message)
+
 /** The folder is not a session the app can read (its files damaged, or not a session at all). */
 internal class UnreadableSessionException(message: String, cause: Throwable?) : IOException(message, cause)
 

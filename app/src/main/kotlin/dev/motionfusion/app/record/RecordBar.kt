@@ -2,6 +2,7 @@ package dev.motionfusion.app.record
 
 import dev.motionfusion.app.ui.setTextIfChanged
 import dev.motionfusion.app.settings.RecordingLimits
+import dev.motionfusion.app.ui.stackWhenCrowded
 import android.content.Context
 import android.content.Intent
 import android.content.res.ColorStateList
@@ -69,6 +70,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     )
 
     init {
+        stackWhenCrowded(root.findViewById(R.id.record_buttons))
         toggle.setOnClickListener { onToggle() }
         markButton.setOnClickListener { mark("") }
         markButton.setOnLongClickListener {
@@ -172,7 +174,7 @@ internal class RecordBar private constructor(private val activity: ComponentActi
                 val markers = s.markers().size
                 val lines = listOfNotNull(
                     if (markers == 0) activity.getString(R.string.record_active, DateUtils.formatElapsedTime(elapsed), s.rows())
-                    else activity.getString(R.string.record_active_marked, DateUtils.formatElapsedTime(elapsed), s.rows(), markers),
+                    else activity.resources.getQuantityString(R.plurals.record_active_marked, markers, DateUtils.formatElapsedTime(elapsed), s.rows(), markers),
                     s.resumedLine(activity),
                     limitsText(s.limits),
                     if (notificationsAllowed()) null else activity.getString(R.string.record_notifications_off),

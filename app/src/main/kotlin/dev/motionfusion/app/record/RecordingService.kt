@@ -87,7 +87,7 @@ class RecordingService : Service() {
                 return
             }
             if (ticks++ % NOTIFICATION_UPDATE_TICKS == 0L) updateNotification()
-            wakeLock.renewIfDue()
+            keepWakeLockAsNeeded()
             main.postDelayed(this, 1_000)
         }
     }
@@ -366,12 +366,25 @@ class RecordingService : Service() {
             ),
         )
         deps.capture.attach(recorder, live, calibration, if (still) STILL_STREAMS else null)
+        keepWakeLockAsNeeded()
         main.post(tick)
         if (stopWhenReady) stopRecording()
     }
 
     /** The partial wake lock, from the press of Record (or the restart) to the end; renewed every minute while recording. */
     private fun holdWakeLock() = wakeLock.hold()
+
+    /**
+     * While recording, the wake lock only where the sensors registered cannot wake the phone for their batches
+     * themselves ([dev.motionfusion.app.sensor.WakeLockNeed]); renewed every minute while held.
+     */
+    private fun keepWakeLockAsNeeded() {
+        when {
+            !deps.capture.wakeLockNeed.held -> releaseWakeLock()
+            wakeLock.isHeld -> wakeLock.renewIfDue()
+            else -> holdWakeLock()
+        }
+    }
 
     private fun releaseWakeLock() = wakeLock.release()
 

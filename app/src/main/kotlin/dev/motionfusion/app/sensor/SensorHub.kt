@@ -59,6 +59,9 @@ internal interface SensorSource {
     /** The most events per second one registered sensor delivers (0 when stopped): what the reorder window must hold per second of batch. */
     val maxEventsPerSecond: Double
 
+    /** Whether the sensors registered now need the CPU held to lose nothing with the screen off ([WakeLockNeed]). */
+    val wakeLockNeed: WakeLockNeed get() = WakeLockNeed.NOT_WAKE_UP
+
     /**
      * [on]: a screen shows the events, so they are delivered as they come (report latency 0, in
      * force at once) and what the FIFOs hold is asked for ([flush]); off: batched again at
@@ -90,10 +93,19 @@ internal interface SensorSource {
  * middle of a recording.
  */
 internal class SensorHub(private val sensorManager: SensorManager, private val ring: EventRing) : SensorSource {
-    /** The default sensor of each stream the device has. */
+    /** The default sensor of each stream the device has: its non-wake-up one, else whichever the device names its default. */
     override val sensors: Map<SessionStream, Sensor> = SensorStreams.all
-        .mapNotNull { s -> sensorManager.getDefaultSensor(s.androidType)?.let { s to it } }
+        .mapNotNull { s -> (sensorManager.getDefaultSensor(s.androidType, false) ?: sensorManager.getDefaultSensor(s.androidType))?.let { s to it } }
         .toMap()
+
+    /**
+     * The sensor registered for each stream: its wake-up variant where the device has one that batches (a FIFO),
+     * which wakes the phone itself to deliver ([WakeLockNeed]); else the default one. Same type and values; the
+     * names shown and the calibration's device key stay those of [sensors].
+     */
+    private val registering: Map<SessionStream, Sensor> = sensors.mapValues { (stream, default) ->
+        sensorManager.getDefaultSensor(stream.androidType, true)?.takeIf { it.isWakeUpSensor && it.fifoMaxEventCount > 0 } ?: default
+    }
 
     /** The live screen's kinds the device has. */
     override val availableKinds: Set<SensorKind> = sensors.keys.mapNotNullTo(LinkedHashSet()) { SensorStreams.kindOf(it) }
@@ -144,7 +156,10 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
     }
 
     private fun wanted(streams: Set<SessionStream>?): List<Sensor> =
-        (if (streams == null) sensors else sensors.filterKeys { it in streams }).values.toList()
+        (if (streams == null) registering else registering.filterKeys { it in streams }).values.toList()
+
+    @Volatile override var wakeLockNeed: WakeLockNeed = WakeLockNeed.NOT_WAKE_UP
+        private set
 
     override fun reportLatencyUs(rate: SamplingRate, streams: Set<SessionStream>?): Int =
         ReportLatency.choose(wanted(streams).map { SensorFifo(it.fifoReservedEventCount, it.fifoMaxEventCount, ReportLatency.eventsPerSecond(rate, it.minDelay)) })
@@ -162,6 +177,7 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
         registered = wanted
         registeredLatencyUs = latency
         maxEventsPerSecond = wanted.maxOfOrNull { ReportLatency.eventsPerSecond(rate, it.minDelay) } ?: 0.0
+        wakeLockNeed = WakeLockNeed.of(wanted.map { it.isWakeUpSensor to it.fifoMaxEventCount }, latency)
         if (immediate) registerImmediate()
     }
 

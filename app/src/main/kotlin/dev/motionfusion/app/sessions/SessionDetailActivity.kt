@@ -30,9 +30,11 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Failure
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.ui.AnglePlotView
+import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
 import dev.motionfusion.app.ui.fitToSystemBars
+import dev.motionfusion.app.ui.stackWhenCrowded
 import kotlinx.coroutines.launch
 import java.io.File
 
@@ -63,6 +65,8 @@ class SessionDetailActivity : AppCompatActivity() {
             finish()
             return
         }
+        stackWhenCrowded(findViewById(R.id.detail_save_row))
+        stackWhenCrowded(findViewById(R.id.detail_manage_row))
         findViewById<Button>(R.id.detail_rename).setOnClickListener { askRename() }
         findViewById<Button>(R.id.detail_delete).setOnClickListener { askDelete() }
         findViewById<Button>(R.id.detail_downloads).apply {
@@ -131,8 +135,13 @@ class SessionDetailActivity : AppCompatActivity() {
             s == null -> whenText.setText(R.string.session_loading)
             else -> {
                 whenText.text = SessionsActivity.describe(this, s, state.recordingNow)
-                val lines = s.streams.map { getString(R.string.session_stream_line, SessionsActivity.streamName(this, it.name), it.rows, it.rateHz) } +
-                    getString(R.string.session_fused_line, s.fusedRows)
+                val lines = s.streams.map {
+                    getString(
+                        R.string.session_stream_line, SessionsActivity.streamName(this, it.name),
+                        Formats.isolated(this, "%,d", it.rows), Formats.isolated(this, "%.1f", it.rateHz),
+                    )
+                } +
+                    getString(R.string.session_fused_line, Formats.isolated(this, "%,d", s.fusedRows))
                 findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
                 findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(this, it.name), it.rateHz) })
             }
@@ -258,7 +267,8 @@ class SessionDetailActivity : AppCompatActivity() {
             .show()
     }
 
-    internal fun rename(newName: String) = model.rename(newName, getString(R.string.session_rename_invalid))
+    internal fun rename(newName: String) =
+        model.rename(newName, getString(R.string.session_rename_invalid)) { getString(R.string.session_rename_failed, getString(it.text)) }
 
     private fun askDelete() {
         dialog = MaterialAlertDialogBuilder(this)

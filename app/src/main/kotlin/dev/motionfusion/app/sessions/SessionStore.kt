@@ -1,5 +1,6 @@
 package dev.motionfusion.app.sessions
 
+import dev.motionfusion.app.platform.InvalidSessionNameException
 import dev.motionfusion.app.platform.SessionBusyException
 import dev.motionfusion.core.io.AtomicFiles
 import java.io.File
@@ -16,10 +17,10 @@ internal object SessionStore {
     @Throws(IOException::class)
     fun rename(sessions: SessionsRepository, dir: File, newName: String): File {
         val name = newName.trim()
-        if (!isValidName(name)) throw IOException("invalid name")
+        if (!isValidName(name)) throw InvalidSessionNameException("invalid name")
         if (sessions.isRecording(dir)) throw SessionBusyException("the session is being recorded")
         val target = File(dir.parentFile, name)
-        if (target.exists()) throw IOException("a session called $name exists")
+        if (target.exists()) throw InvalidSessionNameException("a session called $name exists")
         AtomicFiles().rename(dir.toPath(), target.toPath()) // one atomic step, then the folder synced
         return target
     }

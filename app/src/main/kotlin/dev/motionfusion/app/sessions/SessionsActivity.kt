@@ -93,7 +93,7 @@ class SessionsActivity : AppCompatActivity() {
             } else {
                 line1.text = describe(this@SessionsActivity, s, item.recordingNow)
                 // A stream's name and rate never split over two lines (no-break spaces).
-                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { getString(R.string.session_list_rate, shortName(this@SessionsActivity, it.name), it.rateHz) }
+                line2.text = s.streams.filter { it.rows > 0 }.joinToString("   ") { getString(R.string.session_list_rate, shortName(this@SessionsActivity, it.name), Formats.isolated(this@SessionsActivity, "%.0f", it.rateHz)) }
             }
             line2.visibility = if (line2.text.isEmpty()) View.GONE else View.VISIBLE
             return v

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import dev.motionfusion.app.platform.Failure
+import dev.motionfusion.app.platform.InvalidSessionNameException
 import androidx.lifecycle.ViewModel
 import androidx.lifecycle.ViewModelProvider
 import androidx.lifecycle.viewModelScope
@@ -141,15 +142,17 @@ internal class SessionDetailViewModel(private val deps: SessionsDependencies, na
         }
     }
 
-    /** Renames the session; [refused] is the message when the name is not allowed. */
-    fun rename(newName: String, refused: String) {
+    /** Renames the session; [refused] is the message when the name is not allowed or taken, [failed] makes that of another failure. */
+    fun rename(newName: String, refused: String, failed: (Failure) -> String) {
         viewModelScope.launch {
             try {
                 val renamed = withContext(deps.io) { folder().let { old -> deps.sessions.locks.withFolder(old) { SessionStore.rename(deps.sessions, old, newName) } } }
                 flow.value = flow.value.copy(name = renamed.name, message = null)
                 load()
-            } catch (e: Exception) {
+            } catch (e: InvalidSessionNameException) {
                 flow.value = flow.value.copy(message = refused)
+            } catch (e: Exception) {
+                flow.value = flow.value.copy(message = failed(Failure.of(e, "renaming $name")))
             }
         }
     }

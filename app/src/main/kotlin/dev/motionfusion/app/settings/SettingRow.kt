@@ -5,6 +5,7 @@ import android.view.View
 import android.view.ViewGroup
 import android.widget.Button
 import android.widget.CompoundButton
+import android.widget.LinearLayout
 import android.widget.TextView
 import com.google.android.material.chip.Chip
 import com.google.android.material.chip.ChipDrawable
@@ -12,6 +13,7 @@ import com.google.android.material.chip.ChipGroup
 import com.google.android.material.R as MaterialR
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
+import dev.motionfusion.app.ui.stackWhenCrowded
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.settings.FilterSettingDescriptors
@@ -55,6 +57,7 @@ internal class SettingRow(
 
     init {
         view.tag = setting.key
+        view.findViewById<LinearLayout>(R.id.setting_head)?.let(::stackWhenCrowded)
         // Every row has the same view ids: the draft in the ViewModel, not view state, survives a rotation.
         view.isSaveFromParentEnabled = false
         val title = SettingText.title(context, setting)

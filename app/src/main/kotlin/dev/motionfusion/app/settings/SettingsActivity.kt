@@ -5,12 +5,15 @@ import android.view.LayoutInflater
 import android.view.View
 import android.widget.LinearLayout
 import android.widget.TextView
+import androidx.activity.OnBackPressedCallback
 import androidx.activity.viewModels
+import androidx.appcompat.app.AlertDialog
 import androidx.appcompat.app.AppCompatActivity
 import androidx.lifecycle.Lifecycle
 import androidx.lifecycle.lifecycleScope
 import androidx.lifecycle.repeatOnLifecycle
 import dev.motionfusion.app.R
+import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.ui.fitToSystemBars
 import kotlinx.coroutines.launch
 
@@ -19,7 +22,8 @@ import kotlinx.coroutines.launch
  * few): a card per [Section], in two columns in landscape and on tablets. Edits change the
  * [SettingsViewModel]'s draft (kept across rotation); "Apply" persists it and hands it to the live
  * filter and the recorder at once (a recording keeps its own until it ends); "Defaults" puts every
- * value back to its default, each row's "Reset" its own.
+ * value back to its default, each row's "Reset" its own. Leaving (Back, the app bar's Up) with
+ * changes not applied asks first: Apply, Discard, or Cancel (stay) ([askBeforeLeaving]).
  */
 class SettingsActivity : AppCompatActivity() {
     private val model: SettingsViewModel by viewModels {
@@ -27,6 +31,15 @@ class SettingsActivity : AppCompatActivity() {
     }
     private val rows = ArrayList<SettingRow>()
     private lateinit var message: TextView
+
+    /** Back while the draft differs from the settings in force: asks instead of dropping the changes. */
+    private val leaving = object : OnBackPressedCallback(false) {
+        override fun handleOnBackPressed() = askBeforeLeaving()
+    }
+
+    /** The question on screen, for tests. */
+    internal var dialog: AlertDialog? = null
+        private set
 
     override fun onCreate(savedInstanceState: Bundle?) {
         super.onCreate(savedInstanceState)
@@ -38,6 +51,7 @@ class SettingsActivity : AppCompatActivity() {
         buildSections(findViewById(R.id.settings_sections), resources.getBoolean(R.bool.settings_two_columns))
         findViewById<View>(R.id.apply).setOnClickListener { model.apply() }
         findViewById<View>(R.id.reset).setOnClickListener { model.resetAll() }
+        onBackPressedDispatcher.addCallback(this, leaving)
         show(model.state.value)
         lifecycleScope.launch {
             repeatOnLifecycle(Lifecycle.State.STARTED) { model.state.collect { show(it) } }
@@ -45,8 +59,25 @@ class SettingsActivity : AppCompatActivity() {
     }
 
     override fun onSupportNavigateUp(): Boolean {
-        finish()
+        onBackPressedDispatcher.onBackPressed()
         return true
+    }
+
+    /** Apply (then leave), Discard (then leave), or Cancel (stay, the changes kept). */
+    private fun askBeforeLeaving() {
+        dialog = MaterialAlertDialogBuilder(this)
+            .setTitle(R.string.settings_leave_title)
+            .setMessage(R.string.settings_leave_text)
+            .setPositiveButton(R.string.settings_apply) { _, _ ->
+                model.apply()
+                finish()
+            }
+            .setNegativeButton(R.string.settings_leave_discard) { _, _ ->
+                model.discard()
+                finish()
+            }
+            .setNeutralButton(R.string.settings_leave_cancel, null)
+            .show()
     }
 
     /** The row of the setting stored under [key], for tests. */
@@ -86,6 +117,7 @@ class SettingsActivity : AppCompatActivity() {
             else -> ""
         }
         findViewById<View>(R.id.apply).isEnabled = state.changed
+        leaving.isEnabled = state.changed
     }
 
     private fun title(s: Section): Int = when (s) {

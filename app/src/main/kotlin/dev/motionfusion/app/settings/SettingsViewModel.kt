@@ -79,6 +79,11 @@ class SettingsViewModel(private val repository: SettingsRepository) : ViewModel(
         flow.value = flow.value.copy(draft = LiveSettings(), errors = emptyMap(), justApplied = false)
     }
 
+    /** The draft back to the settings in force (the changes dropped). */
+    fun discard() {
+        flow.value = flow.value.let { it.copy(draft = it.applied, errors = emptyMap(), justApplied = false) }
+    }
+
     /** Persists and applies the draft. */
     fun apply() {
         val s = flow.value

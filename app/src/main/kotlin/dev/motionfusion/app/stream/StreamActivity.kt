@@ -84,7 +84,7 @@ class StreamActivity : AppCompatActivity() {
         switch.isEnabled = state != StreamState.Starting && state != StreamState.Stopping
         findViewById<TextView>(R.id.stream_message).let {
             val message = when (state) {
-                is StreamState.Failed -> getString(R.string.stream_failed, state.reason)
+                is StreamState.Failed -> getString(R.string.stream_failed, getString(state.text))
                 StreamState.Starting -> getString(R.string.stream_starting)
                 StreamState.Stopping -> getString(R.string.stream_stopping)
                 else -> null
@@ -100,8 +100,9 @@ class StreamActivity : AppCompatActivity() {
         findViewById<TextView>(R.id.stream_code).text = on.code
         findViewById<TextView>(R.id.stream_addresses).text =
             if (on.addresses.isEmpty()) getString(R.string.stream_no_address)
-            else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port) }
-        findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port)
+            else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port.toString()) }
+        // The port as typed on a laptop: ASCII digits whatever the language (an Arabic phone formats %d in its own digits).
+        findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port.toString())
         showUdp(on.udp)
         val locale = resources.configuration.locales[0]
         val warning = getColor(R.color.warning)
@@ -146,7 +147,7 @@ class StreamActivity : AppCompatActivity() {
                 null -> ""
                 is UdpView.Starting -> getString(R.string.stream_udp_starting, udp.target)
                 is UdpView.Pushing -> getString(R.string.stream_udp_pushing, udp.target, udp.sent, udp.dropped)
-                is UdpView.Failed -> udp.reason?.let { r -> getString(R.string.stream_udp_failed, r) } ?: getString(R.string.stream_udp_invalid)
+                is UdpView.Failed -> udp.text?.let { r -> getString(R.string.stream_udp_failed, getString(r)) } ?: getString(R.string.stream_udp_invalid)
             }
             it.visibility = if (udp == null) View.GONE else View.VISIBLE
             it.setTextAppearance(if (udp is UdpView.Failed) R.style.Warning else R.style.Body)

@@ -1,5 +1,6 @@
 package dev.motionfusion.app.stream
 
+import androidx.annotation.StringRes
 import dev.motionfusion.app.fusion.Capture
 import dev.motionfusion.app.fusion.OrientationListener
 import dev.motionfusion.app.fusion.RawListener
@@ -50,8 +51,12 @@ internal sealed interface StreamState {
     /** The server is closing its connections, off the main thread. */
     data object Stopping : StreamState
 
-    /** The server could not start (the port taken), or the system refused the foreground service that keeps it going. */
-    data class Failed(val reason: String) : StreamState
+    /**
+     * The server could not start (the port taken), stopped by itself, or the system refused the foreground service
+     * that keeps it going: [text], a string resource saying what failed and what to do ([StreamFailure], a
+     * foreground refusal's); the technical detail is in the log.
+     */
+    data class Failed(@StringRes val text: Int) : StreamState
 }
 
 /** The UDP push (docs/STREAMING.md, "UDP push") as the Stream screen shows it. */
@@ -64,8 +69,8 @@ internal sealed interface UdpView {
     /** Pushing: messages [sent], and [dropped] (its queue full, or a datagram the system would not send). */
     data class Pushing(override val target: String, val sent: Long, val dropped: Long) : UdpView
 
-    /** Not started: [reason], or null when [target] is not `host:port`. */
-    data class Failed(override val target: String, val reason: String?) : UdpView
+    /** Not started: [text] says why ([StreamFailure]), or null when [target] is not `host:port`. */
+    data class Failed(override val target: String, @StringRes val text: Int?) : UdpView
 }
 
 /**
@@ -99,10 +104,12 @@ internal class StreamController(
     /** Where the server binds its socket and closes its connections (up to [STOP_TIMEOUT_MS]); one thread, in order. */
     private val control: Executor = Executors.newSingleThreadExecutor { r -> Thread(r, "stream-control").apply { isDaemon = true } },
     private val serverSettings: StreamServerSettings = StreamServerSettings(),
-    /** Starts the foreground service that keeps the stream going; returns why the system refused, or null. */
-    private val keepAlive: () -> String? = { null },
+    /** Starts the foreground service that keeps the stream going; returns why the system refused (a string resource), or null. */
+    private val keepAlive: () -> Int? = { null },
     /** Where a UDP push's target is looked up and its socket opened: a thread of its own for each push. */
     private val lookup: Executor = LOOKUP,
+    /** Where the technical detail of a failure goes (the app's log); the screen shows a [StreamFailure]'s text. */
+    private val log: (String, Throwable?) -> Unit = { _, _ -> },
 ) {
     private val stateFlow = MutableStateFlow<StreamState>(StreamState.Off)
     val state: StateFlow<StreamState> = stateFlow.asStateFlow()
@@ -140,7 +147,14 @@ internal class StreamController(
             // After too many wrong codes the server makes a new one: shown at once.
             onPairingCodeChanged = { scope.launch { if (running?.server === server) showNow() } },
             // A server that died (out of memory, say) is not shown as on.
-            onFailure = { reason -> scope.launch { if (running?.server === server) stop(failure = reason) } },
+            onFailure = { reason ->
+                scope.launch {
+                    if (running?.server === server) {
+                        log("the stream server stopped: $reason", null)
+                        stop(failure = StreamFailure.SERVER_STOPPED.text)
+                    }
+                }
+            },
             // A laptop with the right code asks to connect: shown at once (screen and notification) for the user to answer.
             onConfirmationRequested = { scope.launch { if (running?.server === server) showNow() } },
         )
@@ -156,14 +170,15 @@ internal class StreamController(
                 server.start()
                 null
             } catch (e: IOException) {
-                e.message ?: e.javaClass.simpleName
+                log("cannot start the stream server", e)
+                StreamFailure.of(e).text
             }
             scope.launch { started(server, failure) }
         }
     }
 
     /** Back on the main thread: the server listens (or could not). Given up meanwhile ([stop]): nothing more to do here. */
-    private fun started(server: StreamServer, failure: String?) {
+    private fun started(server: StreamServer, @StringRes failure: Int?) {
         if (starting !== server) return
         starting = null
         if (failure != null) {
@@ -239,12 +254,20 @@ internal class StreamController(
         udpView = UdpView.Starting(text)
         showNow()
         lookup.execute {
-            val result = runCatching {
+            val result: Any = try {
                 // The name is looked up here, off the main thread.
-                UdpPush(InetSocketAddress(hostPort.first, hostPort.second), offerNow).also { it.start() }
+                val address = InetSocketAddress(hostPort.first, hostPort.second)
+                when {
+                    address.isUnresolved -> StreamFailure.HOST_UNKNOWN
+                    !StreamServer.isLocalNetwork(address.address) -> StreamFailure.NOT_LOCAL
+                    else -> UdpPush(address, offerNow).also { it.start() }
+                }
+            } catch (e: Exception) {
+                log("cannot push to $text", e)
+                StreamFailure.of(e)
             }
             scope.launch {
-                val push = result.getOrNull()
+                val push = result as? UdpPush
                 if (running !== r || request != udpRequest) {
                     push?.let { control.execute { it.stop() } }
                     return@launch
@@ -253,8 +276,7 @@ internal class StreamController(
                     udp = push
                     udpView = null
                 } else {
-                    val e = result.exceptionOrNull()
-                    udpView = UdpView.Failed(text, e?.message ?: e?.javaClass?.simpleName)
+                    udpView = UdpView.Failed(text, (result as StreamFailure).text)
                 }
                 showNow()
             }
@@ -275,7 +297,7 @@ internal class StreamController(
      * Stops streaming: the capture is let go at once, the server closed on [control]; then [StreamState.Off],
      * or [StreamState.Failed] with [failure] (the foreground service was refused).
      */
-    fun stop(failure: String? = null) {
+    fun stop(@StringRes failure: Int? = null) {
         if (running != null) stopUdp()
         val server = running?.let { r ->
             running = null

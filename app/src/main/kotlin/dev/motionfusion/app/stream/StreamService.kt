@@ -1,5 +1,7 @@
 package dev.motionfusion.app.stream
 
+import android.util.Log
+import androidx.annotation.StringRes
 import android.app.Notification
 import android.app.PendingIntent
 import android.app.Service
@@ -107,7 +109,7 @@ class StreamService : Service() {
         Foreground.createChannels(this)
         val controller = deps.streamController
         Foreground.enter(this, NOTIFICATION_ID, notification(controller.state.value), FOREGROUND_SERVICE_TYPE, deps::startForeground)?.let { refusal ->
-            controller.stop(failure = getString(refusal.text))
+            controller.stop(failure = refusal.text)
             end()
             return
         }
@@ -271,13 +273,15 @@ class StreamService : Service() {
 
         /**
          * Starts the service (from [StreamController.start], a user's action: Android 12+ forbids a start from
-         * the background). Returns why the system refused, or null.
+         * the background). Returns why the system refused (a string resource; the exception goes to the log), or null.
          */
-        fun start(context: Context): String? = try {
+        @StringRes
+        fun start(context: Context): Int? = try {
             ContextCompat.startForegroundService(context, Intent(context, StreamService::class.java).setAction(ACTION_START))
             null
         } catch (e: IllegalStateException) {
-            e.message ?: e.javaClass.simpleName
+            Log.w("StreamService", "the system refused to start the stream's service", e)
+            Foreground.Refusal.BACKGROUND.text
         }
     }
 }

@@ -269,6 +269,8 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
             }
             canvas.drawPath(path, if (s < 3) lines[s] else ghostLines[s - 3])
         }
+        // Where each row of labels is taken: a label that would overlap one before it goes a row lower.
+        val taken = ArrayList<MutableList<ClosedFloatingPointRange<Float>>>()
         for (m in markers) {
             if (m.timestampNs < start || m.timestampNs > newest) continue
             val x = xOf(m.timestampNs)
@@ -276,7 +278,12 @@ class AnglePlotView @JvmOverloads constructor(context: Context, attrs: Attribute
             val w = markerText.measureText(m.text)
             // The label to the right of its line, or to its left near the right edge.
             val tx = if (x + 4 * density + w <= right) x + 4 * density else x - 4 * density - w
-            canvas.drawText(m.text, tx, top + textPx, markerText)
+            val span = (tx - 2 * density)..(tx + w + 2 * density)
+            val rows = ((bottom - top) / (1.2f * textPx)).toInt().coerceAtLeast(1)
+            var row = taken.indexOfFirst { r -> r.none { it.start < span.endInclusive && span.start < it.endInclusive } }
+            if (row < 0) row = if (taken.size < rows) taken.size.also { taken.add(ArrayList()) } else taken.size - 1
+            taken[row] += span
+            canvas.drawText(m.text, tx, top + textPx * (1 + 1.2f * row), markerText)
         }
         canvas.restore()
     }

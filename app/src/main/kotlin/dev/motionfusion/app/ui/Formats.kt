@@ -18,6 +18,15 @@ internal object Formats {
         roundingMode = RoundingMode.HALF_EVEN
     }.format(v)
 
+    /**
+     * [format] of [v] in the locale of [c], kept in place among separators and units: a number in Arabic digits
+     * is isolated (LRI … PDI), as the bidirectional algorithm would otherwise reorder two of them joined by a
+     * separator ("150,800 · 200.0" shown as "200.0 · 150,800"); in Latin digits it is left as it is.
+     */
+    fun isolated(c: Context, format: String, v: Any): String = String.format(locale(c), format, v).let { n ->
+        if (n.any { Character.getDirectionality(it) == Character.DIRECTIONALITY_ARABIC_NUMBER }) "\u2066$n\u2069" else n
+    }
+
     /** A gap between a recording's parts, "0:42" (unknown: "—"). */
     fun gap(gapNs: Long?): String = gapNs?.let { android.text.format.DateUtils.formatElapsedTime((it / 1_000_000_000L).coerceAtLeast(0)) } ?: "—"
 }

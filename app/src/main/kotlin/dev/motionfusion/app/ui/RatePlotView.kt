@@ -81,7 +81,13 @@ class RatePlotView @JvmOverloads constructor(context: Context, attrs: AttributeS
         val end = context.getString(R.string.axis_seconds, bins * binSeconds)
         canvas.drawText(context.getString(R.string.axis_seconds, 0.0), left, y, axis)
         val bin = if (binSeconds % 1.0 == 0.0) context.getString(R.string.rate_bins, binSeconds) else context.getString(R.string.rate_bins_fraction, binSeconds)
-        canvas.drawText(bin, (left + right) / 2 - axis.measureText(bin) / 2, y, axis)
+        // The bin width between the two ends where it fits beside them (not with large text on a narrow screen).
+        val gap = 8 * density
+        val binW = axis.measureText(bin)
+        val binX = (left + right) / 2 - binW / 2
+        if (binX >= left + axis.measureText(context.getString(R.string.axis_seconds, 0.0)) + gap && binX + binW <= right - axis.measureText(end) - gap) {
+            canvas.drawText(bin, binX, y, axis)
+        }
         canvas.drawText(end, right - axis.measureText(end), y, axis)
     }
 

@@ -279,7 +279,7 @@ class RecordingAsExpectedTest {
         assertEquals(RecordingEnd.BatteryLow(10), ended.result.end)
         SessionReader.open(ended.session!!.toPath()).use { assertEquals("battery_low", it.metadata.endReason) }
         val message = RecordingService.endMessage(app, ended.result)
-        assertTrue(message, message.contains("battery is at 10 %"))
+        assertTrue(message, message.contains("battery is at 10\u00A0%"))
     }
 
     @Test

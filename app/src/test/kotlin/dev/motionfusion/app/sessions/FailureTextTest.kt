@@ -39,7 +39,7 @@ class FailureTextTest {
 
     @Test
     @Config(qualifiers = "de")
-    fun `in German, a session being recorded is not deleted and an unreadable one not shared, each said in German`() {
+    fun `in German, a session being recorded is not deleted nor renamed and an unreadable one not shared, each said in German`() {
         // A session that is being recorded (its folder made, nothing written yet).
         val dir = offMainThread { graph.graph.sessions.newRecording(1_795_684_500_000L) }
         val intent = Intent(app, SessionDetailActivity::class.java).putExtra(SessionDetailActivity.EXTRA_SESSION, dir.name)
@@ -49,13 +49,17 @@ class FailureTextTest {
 
         a.findViewById<Button>(R.id.detail_share).performClick()
         graph.settle()
-        assertEquals("Export fehlgeschlagen: die Dateien der Sitzung sind nicht lesbar", message())
+        assertEquals("Export fehlgeschlagen: die Dateien der Sitzung sind nicht lesbar: sie sind vielleicht beschädigt (die Sitzungsliste nennt die fehlerhafte Datei)", message())
 
         a.findViewById<Button>(R.id.detail_delete).performClick()
         (ShadowDialog.getLatestDialog() as AlertDialog).getButton(AlertDialog.BUTTON_POSITIVE).performClick()
         graph.settle()
-        assertEquals("Nicht gelöscht: die Sitzung wird gerade aufgenommen", message())
+        assertEquals("Nicht gelöscht: die Sitzung wird gerade aufgenommen: zuerst die Aufnahme beenden", message())
         assertTrue("kept", offMainThread { dir.isDirectory })
+        // Renamed while it is being recorded: that is said, not that the name is wrong.
+        a.rename("Morgenrunde")
+        graph.settle()
+        assertEquals("Nicht umbenannt: die Sitzung wird gerade aufgenommen: zuerst die Aufnahme beenden", message())
         // The system's words are in the log.
         assertTrue(ShadowLog.getLogsForTag("Failure").any { it.throwable?.message == "the session is being recorded" })
     }

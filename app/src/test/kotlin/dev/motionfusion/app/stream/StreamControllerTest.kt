@@ -1,5 +1,6 @@
 package dev.motionfusion.app.stream
 
+import dev.motionfusion.app.R
 import dev.motionfusion.app.live.TestCapture
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.ClockAnchor
@@ -61,7 +62,7 @@ class StreamControllerTest {
     }
 
     private val queued = Queued()
-    private var refusal: String? = null
+    private var refusal: Int? = null
     /** The UDP push's lookups of [held], apart from its control tasks. */
     private val lookups = Queued()
     private val held = StreamController(
@@ -228,7 +229,7 @@ class StreamControllerTest {
             runCatching { client.connect(5_000) }
             client.close()
             runBlocking { withTimeoutOrNull(10_000) { dying.state.first { it is StreamState.Failed } } } ?: error("not shown as failed: ${dying.state.value}")
-            assertEquals(StreamState.Failed("the stream server stopped: OutOfMemoryError: simulated"), dying.state.value)
+            assertEquals(StreamState.Failed(R.string.stream_failure_server_stopped), dying.state.value)
         } finally {
             dying.stop()
         }
@@ -305,15 +306,15 @@ class StreamControllerTest {
             onTaken.start()
             assertEquals(StreamState.Starting, onTaken.state.value)
             queued.runAll()
-            val failed = onTaken.state.value as StreamState.Failed
-            assertTrue(failed.reason.contains("${taken.localPort}"), failed.reason)
+            // The user's words (what failed, what to do), not the system's.
+            assertEquals(StreamState.Failed(R.string.stream_failure_port_in_use), onTaken.state.value)
             assertFalse(onTaken.isOn)
             assertFalse(c.capture.isRunning)
         }
 
-        refusal = "startForegroundService() not allowed"
+        refusal = R.string.foreground_refused_background
         held.start()
-        assertEquals(StreamState.Failed("startForegroundService() not allowed"), held.state.value)
+        assertEquals(StreamState.Failed(R.string.foreground_refused_background), held.state.value)
         assertEquals(0, queued.pending)
 
         // The service refused later (as StreamService does): the stream stops and says why.
@@ -321,9 +322,9 @@ class StreamControllerTest {
         held.start()
         queued.runAll()
         assertTrue(held.state.value is StreamState.On)
-        held.stop(failure = "no permission")
+        held.stop(failure = R.string.foreground_refused_permission)
         queued.runAll()
-        assertEquals(StreamState.Failed("no permission"), held.state.value)
+        assertEquals(StreamState.Failed(R.string.foreground_refused_permission), held.state.value)
         assertFalse(c.capture.isRunning)
     }
 
@@ -360,8 +361,7 @@ class StreamControllerTest {
             controller.pushUdp("laptop")
             assertEquals(UdpView.Failed("laptop", null), (controller.state.value as StreamState.On).udp)
             controller.pushUdp("8.8.8.8:9000")
-            val refused = (controller.state.value as StreamState.On).udp as UdpView.Failed
-            assertTrue(refused.reason!!.contains("not on the local network"), refused.reason)
+            assertEquals(UdpView.Failed("8.8.8.8:9000", R.string.stream_failure_not_local), (controller.state.value as StreamState.On).udp)
         }
     }
 

@@ -237,7 +237,7 @@ class StreamServiceTest {
         refusal = IllegalStateException("startForeground() not allowed")
         val c = startStreaming()
         // In the user's words, not the system's (the system's go to the log).
-        assertEquals(StreamState.Failed(app.getString(dev.motionfusion.app.R.string.foreground_refused_background)), controller.state.value)
+        assertEquals(StreamState.Failed(dev.motionfusion.app.R.string.foreground_refused_background), controller.state.value)
         assertTrue(shadowOf(c.get()).isStoppedBySelf)
         assertEquals(emptyList<Int>(), graph.wifiLocks.held.toList())
         assertFalse(graph.capture.isRunning)
