@@ -160,18 +160,16 @@ internal class ListenCommand(
         private var finished = false
         private val angles = DoubleArray(6)
         private val q = DoubleArray(4)
-        private val pinger = ClockPinger(System::nanoTime, ::exchanged)
-        private var clockFile: java.io.Writer? = null
+        private val link = laptopClock()
+        private val pinger = ClockPinger(System::nanoTime, ::exchanged, link)
 
         @Synchronized
         fun begin(h: StreamMessage.Hello) {
             hello = h
             if (dir != null) {
-                val link = if (h.clock) laptopClock() else null
-                writer = SessionWriter.create(dir, h.metadata.copy(source = "fusion listen $source$sourceNote", complete = false, streams = emptyMap(), clockLink = link))
-                if (h.clock) {
-                    clockFile = Files.newBufferedWriter(dir.resolve(SessionClock.FILE_NAME)).also { it.write(SessionClock.HEADER + "\n") }
-                }
+                writer = SessionWriter.create(
+                    dir, h.metadata.copy(source = "fusion listen $source$sourceNote", complete = false, streams = emptyMap(), clockLink = if (h.clock) link else null),
+                )
             }
             if (csv) out.println("t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg")
         }
@@ -183,7 +181,7 @@ internal class ListenCommand(
         /** A whole exchange: into clock.csv (the answer's arrival was stamped as it was read). */
         @Synchronized
         private fun exchanged(e: dev.motionfusion.core.sync.ClockExchange) {
-            if (!finished) clockFile?.write(SessionClock.row(e))
+            if (!finished) writer?.clockExchange(e, link)
         }
 
         fun take(m: StreamMessage) {
@@ -271,7 +269,6 @@ internal class ListenCommand(
         @Synchronized
         fun flush() {
             if (!finished) writer?.flush()
-            if (!finished) clockFile?.flush()
             out.flush()
         }
 
@@ -280,7 +277,6 @@ internal class ListenCommand(
         fun finish(reason: String): Boolean {
             if (finished) return false
             finished = true
-            clockFile?.let { f -> runCatching { f.close() } }
             writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
             out.flush()
             return true

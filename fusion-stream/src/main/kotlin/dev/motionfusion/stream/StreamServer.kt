@@ -116,6 +116,8 @@ public data class StreamClientInfo(
     val name: String? = null,
     /** Its code was right and the phone's user has not answered yet: [StreamServer.allow] or [StreamServer.deny]. */
     val awaitingConfirmation: Boolean = false,
+    /** The clock its pings name (as meta.json's `clock_link`), once one did. */
+    val laptopClock: String? = null,
 )
 
 /** What a [RemoteControl] made of a command: done ([reason] null), else why not; [session] names the recording concerned. */
@@ -173,8 +175,11 @@ public class StreamServer @JvmOverloads constructor(
     private val onConfirmationRequested: ((StreamClientInfo) -> Unit)? = null,
     /** The phone's sensor clock (elapsedRealtimeNanos on a phone), which [StreamMessage.Pong] reports (docs/SYNC.md). */
     private val sensorClock: () -> Long = System::nanoTime,
-    /** Each whole clock exchange with a paired client (the client's ping, this answer, the client's receipt), on the connection's thread. */
-    private val onClockExchange: ((String, ClockExchange) -> Unit)? = null,
+    /**
+     * Each whole clock exchange with a paired client (the client's ping, this answer, the client's receipt), on the
+     * connection's thread, with the client (its [StreamClientInfo.laptopClock] the clock its pings name).
+     */
+    private val onClockExchange: ((StreamClientInfo, ClockExchange) -> Unit)? = null,
     /** What the phone does with remote-control commands; null: refused, as while [RemoteControl.allowed] is false. */
     private val remoteControl: RemoteControl? = null,
 ) {
@@ -485,11 +490,12 @@ public class StreamServer @JvmOverloads constructor(
         val now = nanoTime()
         if (client.lastPingNs != Long.MIN_VALUE && now - client.lastPingNs < MIN_PING_INTERVAL_NS) return
         client.lastPingNs = now
+        ping.laptopClock?.let { client.laptopClock = it.take(MAX_CLOCK_NAME) }
         val previous = client.lastPong
         val previousT4 = ping.previousT4Ns
         if (onClockExchange != null && previous != null && ping.previousId == previous.id && previousT4 != null) {
             val exchange = ClockExchange(previous.t1Ns, previous.t2Ns, previous.t3Ns, previousT4)
-            if (exchange.delayNs >= 0) onClockExchange.invoke(client.address, exchange)
+            if (exchange.delayNs >= 0) onClockExchange.invoke(client.info(), exchange)
         }
         val pong = StreamMessage.Pong(ping.id, ping.t1Ns, received, sensorClock())
         client.lastPong = pong
@@ -704,6 +710,9 @@ public class StreamServer @JvmOverloads constructor(
         /** The hello is queued: the sender may send this client messages. */
         @Volatile var paired = false
 
+        /** The clock its pings name. */
+        @Volatile var laptopClock: String? = null
+
         /** When its last ping was answered, on [nanoTime]; the answer itself (the phone's half of the exchange). */
         var lastPingNs = Long.MIN_VALUE
         var lastPong: StreamMessage.Pong? = null
@@ -780,7 +789,7 @@ public class StreamServer @JvmOverloads constructor(
         fun info() = StreamClientInfo(
             address, accepted, streams, rateHz, sent, dropped, achievedRateHz,
             stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
-            id = id, name = name, awaitingConfirmation = awaiting != null,
+            id = id, name = name, awaitingConfirmation = awaiting != null, laptopClock = laptopClock,
         )
     }
 
@@ -817,6 +826,9 @@ public class StreamServer @JvmOverloads constructor(
 
         /** The refusal of a command while remote control is off. */
         public const val REMOTE_CONTROL_OFF: String = "remote control is off on the phone (the Stream screen's switch)"
+
+        /** The longest clock name taken from a ping. */
+        private const val MAX_CLOCK_NAME = 200
 
         private const val CONTROL_PREFIX = "{\"type\":\"control\""
 

@@ -78,6 +78,7 @@ public object StreamCodec {
             is StreamMessage.Ping -> {
                 sb.append("{\"type\":\"ping\",\"id\":").append(m.id).append(",\"t1\":").append(m.t1Ns)
                 if (m.previousId != null && m.previousT4Ns != null) sb.append(",\"previous_id\":").append(m.previousId).append(",\"previous_t4\":").append(m.previousT4Ns)
+                m.laptopClock?.let { sb.append(",\"clock\":").append(Json.write(it).trim()) }
                 sb.append('}')
             }
             is StreamMessage.Control -> {
@@ -130,7 +131,7 @@ public object StreamCodec {
             "status" -> StreamMessage.Status(timestamp(o), o.long("sent", 0), o.long("dropped", 0), o.double("rate_hz"))
             "error" -> StreamMessage.Error(o.string("reason"))
             "waiting" -> StreamMessage.Waiting(o.string("reason"))
-            "ping" -> StreamMessage.Ping(required(o, "id"), required(o, "t1"), o.longOrNull("previous_id"), o.longOrNull("previous_t4"))
+            "ping" -> StreamMessage.Ping(required(o, "id"), required(o, "t1"), o.longOrNull("previous_id"), o.longOrNull("previous_t4"), o.stringOrNull("clock"))
             "pong" -> StreamMessage.Pong(required(o, "id"), required(o, "t1"), required(o, "t2"), required(o, "t3"))
             "control" -> {
                 val name = o.string("command")

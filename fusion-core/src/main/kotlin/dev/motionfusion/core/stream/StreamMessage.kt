@@ -85,9 +85,16 @@ public sealed class StreamMessage {
     /**
      * Client → phone, after the hello, to put the phone's clock on the client's (docs/SYNC.md): exchange [id], sent
      * at [t1Ns] on the client's monotonic clock. [previousId] and [previousT4Ns], when given, say when the answer to
-     * the client's previous ping arrived, so that the phone holds whole exchanges too.
+     * the client's previous ping arrived, so that the phone holds whole exchanges too. [laptopClock], when given, names
+     * the client's clock (as meta.json's `clock_link`), so that a phone recording while linked names it in its session.
      */
-    public data class Ping @JvmOverloads constructor(val id: Long, val t1Ns: Long, val previousId: Long? = null, val previousT4Ns: Long? = null) : StreamMessage()
+    public data class Ping @JvmOverloads constructor(
+        val id: Long,
+        val t1Ns: Long,
+        val previousId: Long? = null,
+        val previousT4Ns: Long? = null,
+        val laptopClock: String? = null,
+    ) : StreamMessage()
 
     /**
      * Phone → client, the answer to [Ping] [id]: its [t1Ns] back, and when the phone received it ([t2Ns]) and answered
