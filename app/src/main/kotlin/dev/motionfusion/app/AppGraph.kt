@@ -34,6 +34,7 @@ import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
+import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.stream.StreamController
 import dev.motionfusion.app.stream.StreamDependencies
 import dev.motionfusion.app.stream.StreamService
@@ -96,6 +97,10 @@ internal class AppGraph(
     streamLookup: Executor = StreamController.LOOKUP,
     /** The Wi-Fi locks the stream's service holds (StreamService.systemWifiLocks; none by default). */
     override val wifiLocks: WifiLocks = WifiLocks { _, _ -> null },
+    /** A laptop's remote start: the recording service started as Record does (RecordingService.startRemote); why refused, or null. */
+    remoteRecordStart: (dev.motionfusion.core.session.RemoteStart) -> String? = { "recording is not available" },
+    /** A laptop's remote stop (RecordingService.stop). */
+    remoteRecordStop: () -> Unit = {},
 ) : RecordingDependencies, SessionsDependencies, CalibrationDependencies, StreamDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
@@ -123,7 +128,8 @@ internal class AppGraph(
             RecordingMetadata.anchorNow(),
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
         )
-    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup)
+    }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup,
+        recording = dev.motionfusion.app.stream.RecordingRemote(recordings, remoteRecordStart, remoteRecordStop), sensorClock = clock::elapsedRealtimeNanos)
     override val streamController: StreamController get() = stream
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }
@@ -153,6 +159,8 @@ internal class AppGraph(
             appVersion = { context.packageManager.getPackageInfo(context.packageName, 0).versionName ?: "" },
             streamKeepAlive = { StreamService.start(context) },
             wifiLocks = StreamService.systemWifiLocks(context),
+            remoteRecordStart = { start -> RecordingService.startRemote(context, start)?.let { context.getString(it.text) } },
+            remoteRecordStop = { RecordingService.stop(context) },
         )
     }
 }
