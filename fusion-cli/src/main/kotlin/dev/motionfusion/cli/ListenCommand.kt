@@ -33,6 +33,13 @@ internal class ListenCommand(
     override val summary = "receive a phone's live stream: print the orientation, write a session (-o DIR) or CSV"
     override val help = """
         |Usage: fusion listen ws://HOST:PORT --code CODE [-o DIR | --csv] [--streams NAME,...] [--rate HZ] [--duration S]
+        |       fusion listen ws://HOST:PORT ws://HOST:PORT... --code CODE[,CODE...] -o DIR [...]
+        |
+        |Several phones: one session folder each in DIR, named after the address (HOST-PORT), each with its clock exchanges
+        |against this computer's clock (fusion align puts them on one timeline); --code gives one code for all or one per
+        |address. Every 5 s a table of the phones (state, messages/s, dropped, clock uncertainty) goes to standard error. A
+        |phone that leaves is connected to again every second, into a linked session beside the first (HOST-PORT.2, ...);
+        |one that refuses or denies this laptop is given up (exit code 3 or 5 at the end). Ends at --duration or Ctrl-C.
         |
         |Connects to the app's stream (Stream switch on the phone; over USB: adb forward tcp:PORT tcp:PORT and
         |ws://127.0.0.1:PORT) with the pairing code the phone shows, and until the phone stops streaming, --duration S
