@@ -5,14 +5,25 @@ plugins {
 
 kotlin {
     jvmToolchain(17)
+    // As -Xexplicit-api=strict in fusion-stream/pom.xml (main sources only).
+    explicitApi()
     compilerOptions {
         freeCompilerArgs.add("-Xjsr305=strict")
     }
 }
 
+// StreamApiTest lists the API with fusion-core's PublicApi: fusion-core's test classes on the test class path
+// (Maven: fusion-core's test-jar, scope test).
+evaluationDependsOn(":fusion-core")
+
 sourceSets {
     main { kotlin.srcDirs("src/main/kotlin") }
-    test { kotlin.srcDirs("src/test/kotlin") }
+    test {
+        kotlin.srcDirs("src/test/kotlin")
+        val coreTests = project(":fusion-core").the<SourceSetContainer>()["test"].output
+        compileClasspath += coreTests
+        runtimeClasspath += coreTests
+    }
 }
 
 dependencies {
@@ -27,10 +38,14 @@ dependencies {
     testImplementation(platform(libs.junit.bom))
     testImplementation(libs.junit.jupiter)
     testImplementation(libs.slf4j.nop)
+    // As fusion-core's test-jar in pom.xml; its test classes are added to the test source set above.
+    testImplementation(project(":fusion-core"))
     testRuntimeOnly(libs.junit.platform.launcher)
 }
 
 tasks.test {
     useJUnitPlatform()
     maxHeapSize = "2g"
+    // StreamApiTest lists the API from the compiled main classes (Maven: target/classes).
+    systemProperty("api.classes", sourceSets.main.get().output.classesDirs.asPath)
 }

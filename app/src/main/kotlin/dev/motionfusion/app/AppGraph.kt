@@ -10,9 +10,10 @@ import dev.motionfusion.app.calibration.CalibrationDependencies
 import dev.motionfusion.app.calibration.CalibrationSampleSource
 import dev.motionfusion.app.calibration.CalibrationStore
 import dev.motionfusion.app.calibration.CaptureSampleSource
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.platform.AppFiles
+import dev.motionfusion.app.platform.AppVersion
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.platform.FolderLocks
@@ -119,11 +120,10 @@ internal class AppGraph(
 
     /** The live stream; its hello carries the metadata a recording started now would write (RecordingMetadata, as the service builds it). */
     val stream = StreamController(capture, {
-        val rate = settings.value.rate
         val stored = calibrationStore.sessionCalibration()
         RecordingMetadata.create(
             appVersion(),
-            capture.sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, 0) },
+            capture.sensors, settings.value.rate, 0,
             capture.filterSettingsInUse(),
             RecordingMetadata.anchorNow(),
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
@@ -156,7 +156,7 @@ internal class AppGraph(
             SettingsStore(context),
             { context.getSharedPreferences(CalibrationStore.PREFS, Context.MODE_PRIVATE) },
             battery = StickyBattery(context),
-            appVersion = { context.packageManager.getPackageInfo(context.packageName, 0).versionName ?: "" },
+            appVersion = { AppVersion.of(context) },
             streamKeepAlive = { StreamService.start(context) },
             wifiLocks = StreamService.systemWifiLocks(context),
             remoteRecordStart = { start -> RecordingService.startRemote(context, start)?.let { context.getString(it.text) } },

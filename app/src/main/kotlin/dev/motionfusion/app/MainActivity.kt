@@ -16,7 +16,7 @@ import androidx.lifecycle.repeatOnLifecycle
 import androidx.activity.viewModels
 import dev.motionfusion.app.calibration.CalibrationActivity
 import dev.motionfusion.app.stream.StreamActivity
-import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.fusion.FusionState
 import dev.motionfusion.app.live.LiveViewModel
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.settings.SettingsActivity

@@ -1,13 +1,13 @@
 package dev.motionfusion.app
 
 import android.hardware.SensorManager
-import dev.motionfusion.app.live.EffectiveMode
-import dev.motionfusion.app.live.FusionMode
-import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.fusion.EffectiveMode
+import dev.motionfusion.app.fusion.FusionMode
+import dev.motionfusion.app.fusion.FusionState
 import dev.motionfusion.app.live.LiveScreen
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.ModeReason
-import dev.motionfusion.app.live.SensorStats
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.fusion.ModeReason
+import dev.motionfusion.app.fusion.SensorStats
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.core.Quaternion

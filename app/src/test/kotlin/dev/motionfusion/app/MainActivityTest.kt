@@ -9,9 +9,9 @@ import android.os.Looper
 import android.view.Surface
 import android.view.View
 import android.widget.TextView
-import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.settings.AngleConvention
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.app.sensor.SensorKind

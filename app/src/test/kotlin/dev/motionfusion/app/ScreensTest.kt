@@ -11,14 +11,14 @@ import com.google.android.material.slider.Slider
 import androidx.core.graphics.ColorUtils
 import com.google.android.material.R as MaterialR
 import com.google.android.material.color.MaterialColors
-import dev.motionfusion.app.live.EffectiveMode
-import dev.motionfusion.app.live.FusionMode
-import dev.motionfusion.app.live.FusionState
+import dev.motionfusion.app.fusion.EffectiveMode
+import dev.motionfusion.app.fusion.FusionMode
+import dev.motionfusion.app.fusion.FusionState
 import dev.motionfusion.app.live.LiveScreen
 import dev.motionfusion.app.record.RecordingState
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.ModeReason
-import dev.motionfusion.app.live.SensorStats
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.fusion.ModeReason
+import dev.motionfusion.app.fusion.SensorStats
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sessions.AngleSeries
 import dev.motionfusion.app.sessions.RateSeries

@@ -16,7 +16,7 @@
  */
 package dev.motionfusion.bench;
 
-import dev.motionfusion.app.live.Capture;
+import dev.motionfusion.app.fusion.Capture;
 import dev.motionfusion.app.record.CoreSessionFormat;
 import dev.motionfusion.app.record.Recorder;
 import dev.motionfusion.app.sensor.EventRing;

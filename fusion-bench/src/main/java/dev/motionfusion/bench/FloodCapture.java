@@ -1,14 +1,14 @@
 /*
- * The app's capture (dev.motionfusion.app.live.Capture) set up for the benchmarks: sensors that
+ * The app's capture (dev.motionfusion.app.fusion.Capture) set up for the benchmarks: sensors that
  * are only a set of kinds (the benchmark is the sensor thread and offers into the ring), the
  * default settings, and Java names for the capture's module-internal calls (Kotlin gives
  * internal members a "$app" suffix).
  */
 package dev.motionfusion.bench;
 
-import dev.motionfusion.app.live.Capture;
-import dev.motionfusion.app.live.CaptureTap;
-import dev.motionfusion.app.live.LiveSettings;
+import dev.motionfusion.app.fusion.Capture;
+import dev.motionfusion.app.fusion.CaptureTap;
+import dev.motionfusion.app.settings.LiveSettings;
 import dev.motionfusion.app.sensor.EventRing;
 import dev.motionfusion.app.sensor.SamplingRate;
 import dev.motionfusion.app.sensor.SensorInfo;

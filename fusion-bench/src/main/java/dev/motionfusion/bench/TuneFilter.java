@@ -3,7 +3,7 @@ package dev.motionfusion.bench;
 import dev.motionfusion.core.eval.BroadMetric;
 import dev.motionfusion.core.eval.ErrorRmse;
 import dev.motionfusion.core.eval.Evaluation;
-import dev.motionfusion.core.filter.FilterSettingDescriptors;
+import dev.motionfusion.core.settings.FilterSettingDescriptors;
 import dev.motionfusion.core.eval.Trial;
 import dev.motionfusion.core.filter.FilterMode;
 import dev.motionfusion.core.filter.FilterSettings;

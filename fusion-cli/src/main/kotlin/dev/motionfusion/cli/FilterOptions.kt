@@ -1,10 +1,10 @@
 package dev.motionfusion.cli
 
 import dev.motionfusion.core.filter.FilterMode
-import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
-import dev.motionfusion.core.filter.SettingKind
+import dev.motionfusion.core.settings.SettingKind
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.filter.offline.OfflineSettings
 import java.io.PrintStream

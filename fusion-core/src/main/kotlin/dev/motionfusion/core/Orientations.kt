@@ -69,7 +69,7 @@ public object Orientations {
     /** The azimuth of [q] ([w, x, y, z], sensor → ENU): the heading of the device's y axis, east of north. */
     @JvmStatic
     public fun azimuth(q: DoubleArray): Double =
-        atan2(2 * (q[1] * q[2] - q[0] * q[3]), 1 - 2 * (q[1] * q[1] + q[3] * q[3]))
+        unitQuaternionToMatrix(q, 0) { _, r01, _, _, r11, _, _, _, _ -> atan2(r01, r11) }
 
     /** The aerospace yaw, pitch, roll of the phone as an aircraft (see the file header) for [q] (sensor → ENU). */
     @JvmStatic
@@ -89,18 +89,12 @@ public object Orientations {
 
     /** As [androidAndAerospaceAngles] with q at q[qAt..qAt+3]. */
     @JvmStatic
-    public fun androidAndAerospaceAngles(q: DoubleArray, qAt: Int, out: DoubleArray, offset: Int) {
-        val w = q[qAt]
-        val x = q[qAt + 1]
-        val y = q[qAt + 2]
-        val z = q[qAt + 3]
-        val r00 = 1 - 2 * (y * y + z * z)
-        val r01 = 2 * (x * y - w * z)
-        val r10 = 2 * (x * y + w * z)
-        val r11 = 1 - 2 * (x * x + z * z)
-        val r20 = 2 * (x * z - w * y)
-        val r21 = 2 * (y * z + w * x)
-        val r22 = 1 - 2 * (x * x + y * y)
+    public fun androidAndAerospaceAngles(q: DoubleArray, qAt: Int, out: DoubleArray, offset: Int): Unit =
+        unitQuaternionToMatrix(q, qAt) { r00, r01, _, r10, r11, _, r20, r21, r22 -> anglesOf(r00, r01, r10, r11, r20, r21, r22, out, offset) }
+
+    /** [androidAndAerospaceAngles] from the elements of the rotation matrix it needs. */
+    @Suppress("NOTHING_TO_INLINE")
+    private inline fun anglesOf(r00: Double, r01: Double, r10: Double, r11: Double, r20: Double, r21: Double, r22: Double, out: DoubleArray, offset: Int) {
         // Fdlibm's asin and atan2 are exactly Math's, faster on the JVM (Fdlibm.kt).
         val azimuth = Fdlibm.atan2(r01, r11)
         val pitch = Fdlibm.asin((-r21).coerceIn(-1.0, 1.0))

@@ -148,6 +148,41 @@ internal inline fun <T> quaternionToMatrix(
 }
 
 /**
+ * The rotation matrix of the unit quaternion [w, x, y, z] (|q| = 1 taken as given, not normalised),
+ * handed to [build] row-major: R = [1 − 2(y² + z²), 2(xy − wz), 2(xz + wy); 2(xy + wz), 1 − 2(x² + z²),
+ * 2(yz − wx); 2(xz − wy), 2(yz + wx), 1 − 2(x² + y²)]. The per-sample code's one copy of these terms
+ * (angles, linear acceleration, the heading of a field); a caller that needs a few elements takes
+ * them and the compiler drops the rest. [quaternionToMatrix] is the normalising form.
+ */
+internal inline fun <T> unitQuaternionToMatrix(
+    w: Double, x: Double, y: Double, z: Double,
+    build: (Double, Double, Double, Double, Double, Double, Double, Double, Double) -> T,
+): T = unitQuaternionUp(w, x, y, z) { r20, r21, r22 ->
+    build(
+        1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - w * z), 2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - w * x),
+        r20, r21, r22,
+    )
+}
+
+/**
+ * Up (the world's z axis) in the sensor frame for the unit quaternion [w, x, y, z] (sensor → world),
+ * handed to [build]: the third row of [unitQuaternionToMatrix], q* ⊗ [0, 0, 0, 1] ⊗ q.
+ */
+internal inline fun <T> unitQuaternionUp(w: Double, x: Double, y: Double, z: Double, build: (Double, Double, Double) -> T): T =
+    build(2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y))
+
+/** [unitQuaternionToMatrix] of the quaternion at [q][[at]..[at] + 3]. */
+internal inline fun <T> unitQuaternionToMatrix(
+    q: DoubleArray, at: Int,
+    build: (Double, Double, Double, Double, Double, Double, Double, Double, Double) -> T,
+): T = unitQuaternionToMatrix(q[at], q[at + 1], q[at + 2], q[at + 3], build)
+
+/** [unitQuaternionUp] of the quaternion at [q][[at]..[at] + 3]. */
+internal inline fun <T> unitQuaternionUp(q: DoubleArray, at: Int, build: (Double, Double, Double) -> T): T =
+    unitQuaternionUp(q[at], q[at + 1], q[at + 2], q[at + 3], build)
+
+/**
  * Shepperd's method: the unit quaternion (w ≥ 0) of a rotation matrix, handed to [build].
  * 4w² = 1 + tr, 4x² = 1 + m00 − m11 − m22, 4y² = 1 − m00 + m11 − m22, 4z² = 1 − m00 − m11 + m22;
  * the largest is the pivot p, its component is √(4p²)/2 and the others come from the

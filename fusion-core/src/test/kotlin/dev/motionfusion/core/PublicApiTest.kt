@@ -14,9 +14,9 @@ import java.lang.reflect.Modifier
  * with the committed listing `api/fusion-core.api`, so that every change of the API is a visible
  * diff in review. After an intended change, regenerate the listing with
  *
- *     mvn -B -pl fusion-core -am test -Dtest=PublicApiTest -Dsurefire.failIfNoSpecifiedTests=false -Dapi.update=true
+ *     mvn -B -pl fusion-core test -Dtest=PublicApiTest -Dsurefire.failIfNoSpecifiedTests=false -Dapi.update=true
  *
- * and commit it. What is listed: every class whose Kotlin visibility is public or protected (read
+ * and commit it (fusion-stream's listing likewise: `-pl fusion-core,fusion-stream`, `-Dtest=StreamApiTest`). What is listed: every class whose Kotlin visibility is public or protected (read
  * from its @Metadata, since `internal` is public to the JVM), and its public and protected
  * constructors, methods and fields, except synthetic ones, members mangled by Kotlin for
  * `internal` (their JVM names carry `$`), `internal` top-level functions and constants, and
@@ -27,37 +27,11 @@ import java.lang.reflect.Modifier
  * without it, or with no compiled classes there, fails rather than skipping the check.
  */
 class PublicApiTest {
-    private val classes: File = run {
-        val given = System.getProperty("api.classes")
-        assertTrue(!given.isNullOrEmpty(), "system property api.classes not set (the build sets it: fusion-core/pom.xml, fusion-core/build.gradle.kts)")
-        val dirs = given.split(File.pathSeparatorChar).filter { it.isNotEmpty() }.map(::File)
-        dirs.firstOrNull { File(it, "dev/motionfusion/core").isDirectory }
-            ?: throw AssertionError("no compiled classes of fusion-core in api.classes=$given")
-    }
-    private val listing = File("api/fusion-core.api")
+    private val classes: File = PublicApi.classesOf("dev/motionfusion/core")
 
     @Test
     fun `the public API equals the committed listing`() {
-        val actual = PublicApi.listing(classes)
-        if (System.getProperty("api.update") == "true") {
-            listing.parentFile.mkdirs()
-            listing.writeText(actual)
-            return
-        }
-        val expected = if (listing.isFile) listing.readText() else ""
-        if (expected == actual) return
-        val e = expected.lines().toSet()
-        val a = actual.lines().toSet()
-        val diff = buildString {
-            for (line in expected.lines()) if (line !in a) appendLine("- $line")
-            for (line in actual.lines()) if (line !in e) appendLine("+ $line")
-        }
-        assertTrue(
-            false,
-            "The public API of fusion-core differs from ${listing.path} (- listed, + compiled):\n$diff\n" +
-                "If the change is intended, regenerate the listing and commit it:\n" +
-                "  mvn -B -pl fusion-core -am test -Dtest=PublicApiTest -Dsurefire.failIfNoSpecifiedTests=false -Dapi.update=true",
-        )
+        PublicApi.check(classes, File("api/fusion-core.api"), "fusion-core")
     }
 
     @Test
@@ -72,8 +46,51 @@ class PublicApiTest {
     }
 }
 
-/** Builds the listing from compiled classes (see PublicApiTest). */
-internal object PublicApi {
+/**
+ * Builds the listing from compiled classes and compares it with a module's committed one (see
+ * PublicApiTest; fusion-stream's StreamApiTest uses it through fusion-core's test jar).
+ */
+object PublicApi {
+    /**
+     * The folder of the compiled main classes the build names in the system property `api.classes`
+     * (several separated by the path separator), the one that holds [packageDir]; fails without it.
+     */
+    fun classesOf(packageDir: String): File {
+        val given = System.getProperty("api.classes")
+        assertTrue(!given.isNullOrEmpty(), "system property api.classes not set (the build sets it: the module's pom.xml and build.gradle.kts)")
+        val dirs = given.split(File.pathSeparatorChar).filter { it.isNotEmpty() }.map(::File)
+        return dirs.firstOrNull { File(it, packageDir).isDirectory }
+            ?: throw AssertionError("no compiled classes of $packageDir in api.classes=$given")
+    }
+
+    /**
+     * Fails, with the differing lines, when the listing of [classesDir] differs from [listing];
+     * with the system property `api.update=true` it writes [listing] instead.
+     */
+    fun check(classesDir: File, listing: File, module: String) {
+        val actual = listing(classesDir)
+        if (System.getProperty("api.update") == "true") {
+            listing.parentFile.mkdirs()
+            listing.writeText(actual)
+            return
+        }
+        val expected = if (listing.isFile) listing.readText() else ""
+        if (expected == actual) return
+        val e = expected.lines().toSet()
+        val a = actual.lines().toSet()
+        val diff = buildString {
+            for (line in expected.lines()) if (line !in a) appendLine("- $line")
+            for (line in actual.lines()) if (line !in e) appendLine("+ $line")
+        }
+        val modules = if (module == "fusion-core") module else "fusion-core,$module"
+        val update = "mvn -B -pl $modules test -Dtest=PublicApiTest,StreamApiTest -Dsurefire.failIfNoSpecifiedTests=false -Dapi.update=true"
+        assertTrue(
+            false,
+            "The public API of $module differs from ${listing.path} (- listed, + compiled):\n$diff\n" +
+                "If the change is intended, regenerate the listing and commit it:\n  $update",
+        )
+    }
+
     fun listing(classesDir: File): String {
         val loader = Thread.currentThread().contextClassLoader
         val names = classesDir.walk().filter { it.isFile && it.name.endsWith(".class") }

@@ -1,6 +1,5 @@
 package dev.motionfusion.app.calibration
 
-import android.content.pm.PackageManager
 import android.os.Bundle
 import android.view.View
 import android.view.WindowManager
@@ -16,6 +15,7 @@ import com.google.android.material.button.MaterialButtonToggleGroup
 import com.google.android.material.materialswitch.MaterialSwitch
 import com.google.android.material.progressindicator.LinearProgressIndicator
 import dev.motionfusion.app.R
+import dev.motionfusion.app.platform.AppVersion
 import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.app.ui.fitToSystemBars
@@ -55,7 +55,7 @@ class CalibrationActivity : AppCompatActivity() {
         supportActionBar?.setDisplayHomeAsUpEnabled(true)
         deps = (application as CalibrationDependencies.Provider).calibrationDependencies
         store = deps.calibrationStore
-        val made = "Motion Fusion ${appVersion()} guided calibration"
+        val made = "Motion Fusion ${AppVersion.of(this)} guided calibration"
         viewModel = ViewModelProvider(this, object : ViewModelProvider.Factory {
             @Suppress("UNCHECKED_CAST")
             override fun <T : ViewModel> create(modelClass: Class<T>): T =
@@ -187,11 +187,5 @@ class CalibrationActivity : AppCompatActivity() {
         result.text = t.result
         primary.isEnabled = !t.busy
         primary.text = getString(if (t.recording) R.string.calibration_still_stop else R.string.calibration_still_start)
-    }
-
-    private fun appVersion(): String = try {
-        packageManager.getPackageInfo(packageName, 0).versionName ?: ""
-    } catch (e: PackageManager.NameNotFoundException) {
-        ""
     }
 }

@@ -1,7 +1,7 @@
 package dev.motionfusion.app.calibration
 
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.RawListener
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.fusion.RawListener
 import dev.motionfusion.core.calib.Calibrator
 import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.Dispatchers

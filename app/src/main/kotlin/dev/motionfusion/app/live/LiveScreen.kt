@@ -18,6 +18,11 @@ import dev.motionfusion.app.ui.PhoneModelView
 import dev.motionfusion.app.ui.PlotMarker
 import dev.motionfusion.app.ui.setTextIfChanged
 import java.util.EnumMap
+import dev.motionfusion.app.settings.AngleConvention
+import dev.motionfusion.app.fusion.EffectiveMode
+import dev.motionfusion.app.fusion.FusionMode
+import dev.motionfusion.app.fusion.FusionState
+import dev.motionfusion.app.fusion.ModeReason
 
 /**
  * Binds the views of activity_main (any of its layouts: they share the ids) to one frame's

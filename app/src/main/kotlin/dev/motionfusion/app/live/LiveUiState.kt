@@ -2,6 +2,9 @@ package dev.motionfusion.app.live
 
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.core.Quaternion
+import dev.motionfusion.app.settings.AngleConvention
+import dev.motionfusion.app.fusion.FusionMode
+import dev.motionfusion.app.fusion.FusionState
 
 /** Why the heading may be wrong. */
 enum class MagWarning {

@@ -6,6 +6,8 @@ import dev.motionfusion.app.sensor.SensorInfo
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.ui.AngleTrace
 import kotlinx.coroutines.flow.StateFlow
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.fusion.FusionState
 
 /**
  * The live screen's state: the application's [Capture], which survives configuration changes

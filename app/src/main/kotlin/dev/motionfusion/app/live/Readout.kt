@@ -6,6 +6,7 @@ import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationMatrix
 import dev.motionfusion.core.sensormanager.androidOrientation
 import dev.motionfusion.core.sensormanager.remapForDisplayRotation
+import dev.motionfusion.app.settings.AngleConvention
 
 /**
  * Three angles in degrees as shown: [yaw] (Android azimuth or aerospace yaw, 0..360),

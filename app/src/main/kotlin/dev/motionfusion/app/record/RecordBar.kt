@@ -1,7 +1,7 @@
 package dev.motionfusion.app.record
 
 import dev.motionfusion.app.ui.setTextIfChanged
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import android.content.Context
 import android.content.Intent
 import android.content.res.ColorStateList

@@ -1,7 +1,7 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.app.live.CaptureTap
-import dev.motionfusion.app.live.TapEnd
+import dev.motionfusion.app.fusion.CaptureTap
+import dev.motionfusion.app.fusion.TapEnd
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.event.SessionStream

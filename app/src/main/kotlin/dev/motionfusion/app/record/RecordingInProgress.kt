@@ -1,6 +1,6 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.app.platform.MainThreadPolicy
 import dev.motionfusion.core.io.AtomicFiles
 import java.io.File

@@ -10,6 +10,7 @@ import dev.motionfusion.core.session.SensorInfo
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.app.sensor.SamplingRate
 
 /** The metadata of a session about to be recorded (docs/SESSION_FORMAT.md, meta.json). */
 internal object RecordingMetadata {
@@ -39,15 +40,19 @@ internal object RecordingMetadata {
         maxReportLatencyUs = maxReportLatencyUs,
     )
 
+    /**
+     * The one place the app builds a session's metadata: a recording's meta.json (RecordingService)
+     * and the live stream's hello (AppGraph), of [sensors] requested at [rate] with [maxReportLatencyUs].
+     */
     fun create(
-        appVersion: String, sensors: List<SensorInfo>, settings: FilterSettings, anchor: ClockAnchor,
-        calibration: SessionCalibration? = null, still: Boolean = false,
+        appVersion: String, sensors: Map<SessionStream, Sensor>, rate: SamplingRate, maxReportLatencyUs: Int,
+        settings: FilterSettings, anchor: ClockAnchor, calibration: SessionCalibration? = null, still: Boolean = false,
     ) = SessionMetadata(
         appVersion = appVersion,
         source = "Motion Fusion $appVersion",
         device = DeviceInfo(Build.MANUFACTURER ?: "", Build.MODEL ?: "", Build.VERSION.RELEASE ?: "", Build.VERSION.SDK_INT),
         startAnchor = anchor,
-        sensors = sensors,
+        sensors = sensors.map { (stream, s) -> sensorInfo(stream, s, rate.nominalPeriodUs, maxReportLatencyUs) },
         filterSettings = settings,
         calibration = calibration,
         stillRecording = still,

@@ -1,7 +1,7 @@
 package dev.motionfusion.app.record
 
 import dev.motionfusion.app.ui.Formats
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.core.event.SessionStream
 import android.app.Notification
 import android.app.NotificationManager
@@ -13,6 +13,7 @@ import android.content.pm.ServiceInfo
 import android.os.Handler
 import android.os.IBinder
 import android.os.Looper
+import dev.motionfusion.app.platform.AppVersion
 import dev.motionfusion.app.platform.Foreground
 import dev.motionfusion.app.platform.RenewedWakeLock
 import android.text.format.DateUtils
@@ -20,7 +21,7 @@ import androidx.core.app.NotificationCompat
 import androidx.core.app.ServiceCompat
 import androidx.core.content.ContextCompat
 import dev.motionfusion.app.R
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor
@@ -316,7 +317,7 @@ class RecordingService : Service() {
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
         val anchor = ClockAnchor(nowWallMs, deps.clock.elapsedRealtimeNanos())
-        val version = appVersion()
+        val version = AppVersion.of(this)
         val entry = { dir: File -> RecordingInProgress.Entry(dir.name, still, startedWallMs, startedElapsedMs, limits) }
         deps.recordingDisk.execute(null) {
             val sessions = deps.sessions
@@ -327,7 +328,7 @@ class RecordingService : Service() {
                 dir = d
                 val metadata = RecordingMetadata.create(
                     version,
-                    sensors.map { (stream, s) -> RecordingMetadata.sensorInfo(stream, s, rate.nominalPeriodUs, latencyUs) },
+                    sensors, rate, latencyUs,
                     filterSettings,
                     anchor,
                     calibration,
@@ -519,12 +520,6 @@ class RecordingService : Service() {
         PendingIntent.FLAG_IMMUTABLE,
     )
 
-    private fun appVersion(): String =
-        try {
-            packageManager.getPackageInfo(packageName, 0).versionName ?: ""
-        } catch (_: Exception) {
-            ""
-        }
 
     companion object {
         internal const val ACTION_START = "dev.motionfusion.app.record.START"

@@ -1,13 +1,13 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import android.app.Notification
 import android.app.Service
 import android.content.Context
 import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Foreground
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.DiskExecutor
 import dev.motionfusion.app.sessions.SessionsRepository

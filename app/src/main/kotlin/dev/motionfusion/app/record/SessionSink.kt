@@ -1,6 +1,6 @@
 package dev.motionfusion.app.record
 
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.sync.ClockExchange

@@ -1,13 +1,10 @@
 package dev.motionfusion.app.settings
 
-import dev.motionfusion.app.live.AngleConvention
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.RecordingLimits
 import dev.motionfusion.app.sensor.SamplingRate
-import dev.motionfusion.core.filter.FilterSettingDescriptor
-import dev.motionfusion.core.filter.FilterSettingDescriptors
-import dev.motionfusion.core.filter.SettingGroup
-import dev.motionfusion.core.filter.SettingKind
+import dev.motionfusion.core.settings.FilterSettingDescriptor
+import dev.motionfusion.core.settings.FilterSettingDescriptors
+import dev.motionfusion.core.settings.SettingGroup
+import dev.motionfusion.core.settings.SettingKind
 
 /** The settings screen's sections, in the order shown; an empty one is not shown. */
 enum class Section {

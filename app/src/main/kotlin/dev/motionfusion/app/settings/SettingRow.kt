@@ -12,11 +12,10 @@ import com.google.android.material.chip.ChipGroup
 import com.google.android.material.R as MaterialR
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
-import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.ui.Formats
-import dev.motionfusion.core.filter.FilterSettingDescriptors
-import dev.motionfusion.core.filter.SettingKind
+import dev.motionfusion.core.settings.FilterSettingDescriptors
+import dev.motionfusion.core.settings.SettingKind
 import java.math.BigDecimal
 import java.math.RoundingMode
 import kotlin.math.ceil

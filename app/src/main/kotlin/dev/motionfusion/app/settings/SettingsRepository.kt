@@ -1,6 +1,5 @@
 package dev.motionfusion.app.settings
 
-import dev.motionfusion.app.live.LiveSettings
 import kotlinx.coroutines.CoroutineDispatcher
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Job

@@ -2,7 +2,6 @@ package dev.motionfusion.app.settings
 
 import android.content.Context
 import android.content.SharedPreferences
-import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.platform.MainThreadPolicy
 
 /**

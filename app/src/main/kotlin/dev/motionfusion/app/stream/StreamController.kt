@@ -1,8 +1,8 @@
 package dev.motionfusion.app.stream
 
-import dev.motionfusion.app.live.Capture
-import dev.motionfusion.app.live.OrientationListener
-import dev.motionfusion.app.live.RawListener
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.fusion.OrientationListener
+import dev.motionfusion.app.fusion.RawListener
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.RemoteStart
 import dev.motionfusion.core.session.SessionMetadata

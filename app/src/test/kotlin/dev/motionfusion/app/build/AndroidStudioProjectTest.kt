@@ -250,7 +250,7 @@ class AndroidStudioProjectTest {
 
     @Test
     fun `PublicApiTest reading Maven's target folder`() = reports("PublicApiTest.kt reads \"target/classes\"") {
-        edit("fusion-core/src/test/kotlin/dev/motionfusion/core/PublicApiTest.kt", "private val classes: File = run {", "private val old = File(\"target/classes\")\n    private val classes: File = run {")
+        edit("fusion-core/src/test/kotlin/dev/motionfusion/core/PublicApiTest.kt", "private val classes: File = PublicApi.classesOf(", "private val old = File(\"target/classes\")\n    private val classes: File = PublicApi.classesOf(")
     }
 
     @Test

@@ -8,8 +8,8 @@ import java.io.File
 /**
  * Packages follow the data flow, in the app and in fusion-core: no two import each other, directly or through
  * others. Read from the import lines of each module's src/main (the app's generated resource
- * class R aside). In the app (sensor → live → record → sessions …) the root package (the
- * application, its object graph, the live screen) uses the others, none of them uses it; in
+ * class R aside). In the app (sensor → settings → fusion, the capture engine → record → sessions …; live is the
+ * live screen alone) the root package (the application, its object graph, the main activity) uses the others, none of them uses it; in
  * fusion-core the codecs (`io`) and the event stream (`event`, with the streams it names) use no
  * other package, and the formats, the filter's drivers and the calibration build on them.
  */

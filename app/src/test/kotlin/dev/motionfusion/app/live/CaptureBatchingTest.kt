@@ -9,6 +9,10 @@ import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import dev.motionfusion.app.fusion.Capture
+import dev.motionfusion.app.fusion.CaptureTap
+import dev.motionfusion.app.fusion.RawListener
+import dev.motionfusion.app.fusion.TapEnd
 
 /**
  * Hardware batching while nothing is on screen: the capture's reorder window follows the report

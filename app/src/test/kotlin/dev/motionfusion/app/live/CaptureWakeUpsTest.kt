@@ -6,6 +6,7 @@ import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import dev.motionfusion.app.fusion.Capture
 
 /**
  * The capture thread sleeps until there is work: after a batch it waits the interval that lets the

@@ -14,6 +14,13 @@ import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertSame
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import dev.motionfusion.app.settings.AngleConvention
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.fusion.EffectiveMode
+import dev.motionfusion.app.fusion.FusionMode
+import dev.motionfusion.app.fusion.FusionPipeline
+import dev.motionfusion.app.fusion.ModeReason
+import dev.motionfusion.app.fusion.effectiveMode
 
 /** The fusion pipeline without Android: pairing, fallbacks, references, statistics. */
 class FusionPipelineTest {

@@ -9,6 +9,8 @@ import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertNull
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Test
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.fusion.FusionPipeline
 
 /** One frame's UI state from a fusion state: warnings, heading quality, the comparison. */
 class LiveUiStateTest {

@@ -5,6 +5,7 @@ import dev.motionfusion.core.Vector3
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Test
 import kotlin.math.abs
+import dev.motionfusion.app.settings.AngleConvention
 
 /**
  * Angles of known orientations (device → ENU) in both conventions and for each display

@@ -13,6 +13,8 @@ import dev.motionfusion.core.event.SessionStream
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
 import kotlinx.coroutines.flow.MutableStateFlow
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.fusion.Capture
 
 /**
  * Sensors that are only a set of kinds: the test offers their events into the ring itself (it is the

@@ -4,7 +4,7 @@ import android.content.Context
 import android.os.Looper
 import android.system.Os
 import dev.motionfusion.app.AppGraph
-import dev.motionfusion.app.live.LiveSettings
+import dev.motionfusion.app.settings.LiveSettings
 import dev.motionfusion.app.offMainThread
 import dev.motionfusion.app.settings.SettingsStore
 import dev.motionfusion.core.filter.FilterSettings

@@ -179,7 +179,7 @@ class CoreRecordingTest {
     private fun replaysAsLive(latencyUs: Int) {
         val dir = File(tmp, "session_motion")
         val (_, c) = recordSimulated(dir, 20.0, latencyUs = latencyUs)
-        if (latencyUs > 0) assertEquals(dev.motionfusion.app.live.Capture.windowFor(latencyUs), c.capture.reorderWindowNs)
+        if (latencyUs > 0) assertEquals(dev.motionfusion.app.fusion.Capture.windowFor(latencyUs), c.capture.reorderWindowNs)
         val zip = File(tmp, "out/session_motion.zip")
         Exporter.writeZip(dir, zip)
         SessionReader.open(zip.toPath()).use { r ->

@@ -3,8 +3,8 @@ package dev.motionfusion.app.record
 import dev.motionfusion.app.platform.Sdks
 import org.robolectric.annotation.Config
 import dev.motionfusion.app.offMainThread
-import dev.motionfusion.app.live.LiveSettings
-import dev.motionfusion.app.live.RecordingLimits
+import dev.motionfusion.app.settings.LiveSettings
+import dev.motionfusion.app.settings.RecordingLimits
 import android.Manifest
 import android.app.Activity
 import android.content.Intent

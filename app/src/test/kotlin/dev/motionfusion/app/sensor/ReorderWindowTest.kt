@@ -120,8 +120,8 @@ class ReorderWindowTest {
             assertEquals(events.size, out.size)
             return w
         }
-        val window = dev.motionfusion.app.live.Capture.windowFor(latencyUs)
-        val set = run(ReorderWindow(windowNs = window).apply { ensureCapacity(dev.motionfusion.app.live.Capture.capacityFor(400.0, window)) })
+        val window = dev.motionfusion.app.fusion.Capture.windowFor(latencyUs)
+        val set = run(ReorderWindow(windowNs = window).apply { ensureCapacity(dev.motionfusion.app.fusion.Capture.capacityFor(400.0, window)) })
         assertEquals(0L, set.late, "no event passed on out of order")
         val key = compareBy<Out>({ it.t }, { it.stream.ordinal })
         assertEquals(out.sortedWith(key).map { it.t to it.stream }, out.map { it.t to it.stream })

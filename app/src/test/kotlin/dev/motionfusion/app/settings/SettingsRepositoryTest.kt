@@ -2,7 +2,6 @@ package dev.motionfusion.app.settings
 
 import android.os.Looper
 import dev.motionfusion.app.HeldDispatcher
-import dev.motionfusion.app.live.LiveSettings
 import dev.motionfusion.app.offMainThread
 import dev.motionfusion.core.filter.FilterSettings
 import kotlinx.coroutines.CoroutineScope

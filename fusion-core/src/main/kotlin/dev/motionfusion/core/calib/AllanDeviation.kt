@@ -17,7 +17,7 @@ import kotlin.math.pow
 import kotlin.math.sqrt
 
 /** Feed samples with [add]; read the curve with [curve] once done. */
-public class AllanAccumulator {
+internal class AllanAccumulator {
     private val levels = Array(MAX_LEVELS) { Level(it) }
     private var count = 0L
     private val first = DoubleArray(3)
@@ -34,7 +34,7 @@ public class AllanAccumulator {
     private var splits = 0L
 
     /** Samples added. */
-    public val samples: Long get() = count
+    val samples: Long get() = count
 
     /**
      * Adds one sample at [timestampNs]. The samples are taken as evenly spaced at the mean
@@ -43,7 +43,7 @@ public class AllanAccumulator {
      * samples that exist. Gaps, timestamps that stall or step back, and non-finite samples
      * (replaced by the previous sample) are counted in [AllanCurve.gaps].
      */
-    public fun add(timestampNs: Long, vx: Double, vy: Double, vz: Double) {
+    fun add(timestampNs: Long, vx: Double, vy: Double, vz: Double) {
         if (!(vx.isFinite() && vy.isFinite() && vz.isFinite())) {
             // Hold the previous sample, so the samples stay on their time grid.
             gaps++
@@ -83,7 +83,7 @@ public class AllanAccumulator {
     }
 
     /** The Allan deviation from what was added; τ from the mean sample interval. */
-    public fun curve(): AllanCurve {
+    fun curve(): AllanCurve {
         val tau0 = if (intervals > 0) intervalSumNs * 1e-9 / intervals else Double.NaN
         val ms = ArrayList<Long>()
         val dev = Array(3) { ArrayList<Double>() }

@@ -57,12 +57,12 @@ public object BroadMetric {
     }
 
     /** The circular mean of the signed heading errors of the samples [add]ed (first pass of a 6D score). */
-    public class HeadingOffset {
+    internal class HeadingOffset {
         private val e = DoubleArray(4)
         private var s = 0.0
         private var c = 0.0
 
-        public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
+        fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
             if (!errorQuaternion(estimate, truth, scored, e)) return
             val psi = Orientations.signedHeading(e)
             s += sin(psi)
@@ -70,11 +70,11 @@ public object BroadMetric {
         }
 
         /** The offset, rad (0 before any sample). */
-        public val offsetRad: Double get() = atan2(s, c)
+        val offsetRad: Double get() = atan2(s, c)
     }
 
     /** Streams samples into the three RMSEs, with a constant heading offset [headingOffsetRad] removed first. */
-    public class Accumulator(private val headingOffsetRad: Double = 0.0) {
+    internal class Accumulator(private val headingOffsetRad: Double = 0.0) {
         private val e = DoubleArray(4)
         private val split = DoubleArray(3)
         private var total = 0.0
@@ -82,7 +82,7 @@ public object BroadMetric {
         private var incl = 0.0
         private var count = 0
 
-        public fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
+        fun add(estimate: DoubleArray, truth: DoubleArray, scored: Boolean) {
             if (!errorQuaternion(estimate, truth, scored, e)) return
             if (headingOffsetRad != 0.0) Orientations.removeHeading(e, headingOffsetRad)
             Orientations.splitError(e, split, 0)
@@ -92,7 +92,7 @@ public object BroadMetric {
             count++
         }
 
-        public fun result(): ErrorRmse {
+        fun result(): ErrorRmse {
             val deg = 180.0 / Math.PI
             return ErrorRmse(sqrt(total / count) * deg, sqrt(heading / count) * deg, sqrt(incl / count) * deg, count)
         }

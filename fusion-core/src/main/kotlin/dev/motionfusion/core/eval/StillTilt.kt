@@ -2,6 +2,7 @@ package dev.motionfusion.core.eval
 
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.replay.ErrorStatistics
+import dev.motionfusion.core.unitQuaternionUp
 import kotlin.math.abs
 import kotlin.math.acos
 import kotlin.math.sqrt
@@ -45,11 +46,7 @@ public class StillTilt @JvmOverloads constructor(public val fromS: Double = Doub
         stillFor = if (steady && dt.isFinite() && dt >= 0) stillFor + dt else 0.0
         prevT = timeS
         a.copyInto(prevA)
-        val q = orientation
-        val ux = 2 * (q[1] * q[3] - q[0] * q[2])
-        val uy = 2 * (q[2] * q[3] + q[0] * q[1])
-        val uz = 1 - 2 * (q[1] * q[1] + q[2] * q[2])
-        val deg = Math.toDegrees(acos(((ux * a[0] + uy * a[1] + uz * a[2]) / n).coerceIn(-1.0, 1.0)))
+        val deg = unitQuaternionUp(orientation, 0) { ux, uy, uz -> Math.toDegrees(acos(((ux * a[0] + uy * a[1] + uz * a[2]) / n).coerceIn(-1.0, 1.0))) }
         if (!deg.isFinite()) return
         if (timeS >= fromS && timeS < toS && abs(n - STANDARD_GRAVITY) < MAX_FORCE_ERROR) afterMotion.add(deg)
         if (stillFor >= HOLD_S && timeS - firstT >= SETTLE_S) still.add(deg)

@@ -28,6 +28,7 @@
 package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.WorldFrame
 
@@ -143,6 +144,19 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         lowPass.restart()
         recovery.arm()
         heading.restart()
+    }
+
+    /**
+     * A reading of [stream] at [timestampNs], in its SI unit: the gyroscope's, accelerometer's or
+     * magnetometer's update; any other stream is no input of the filter. The one dispatch from a
+     * stream to the filter (the replay of a recording and the app's live pipeline use it). True for
+     * a gyroscope reading, the one that steps the filter.
+     */
+    public fun update(stream: SessionStream, timestampNs: Long, x: Double, y: Double, z: Double): Boolean = when (stream) {
+        SessionStream.GYROSCOPE -> { updateGyroscope(timestampNs, x, y, z); true }
+        SessionStream.ACCELEROMETER -> { updateAccelerometer(timestampNs, x, y, z); false }
+        SessionStream.MAGNETOMETER -> { updateMagnetometer(timestampNs, x, y, z); false }
+        else -> false
     }
 
     /**

@@ -14,6 +14,7 @@
  */
 package dev.motionfusion.core.filter
 
+import dev.motionfusion.core.unitQuaternionUp
 import kotlin.math.sqrt
 
 internal class MadgwickSteps(private val bias: GyroBiasEstimate) : Stage<MadgwickSteps.State> {
@@ -36,9 +37,9 @@ internal class MadgwickSteps(private val bias: GyroBiasEstimate) : Stage<Madgwic
         private set
 
     // Estimated up in the sensor frame, q̂* ⊗ [0, 0, 0, 1] ⊗ q̂ (the terms of eq. 25).
-    fun upX() = 2.0 * (q2 * q4 - q1 * q3)
-    fun upY() = 2.0 * (q1 * q2 + q3 * q4)
-    fun upZ() = 1.0 - 2.0 * (q2 * q2 + q3 * q3)
+    fun upX() = unitQuaternionUp(q1, q2, q3, q4) { x, _, _ -> x }
+    fun upY() = unitQuaternionUp(q1, q2, q3, q4) { _, y, _ -> y }
+    fun upZ() = unitQuaternionUp(q1, q2, q3, q4) { _, _, z -> z }
 
     /** The start from one reading (Initialisation.FIRST_SAMPLE): inclination from [s]'s accelerometer, heading from its magnetometer if [Step.magOk]. */
     fun startFrom(s: Step) {

@@ -16,6 +16,7 @@ package dev.motionfusion.core.replay
 import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.STANDARD_GRAVITY
 import dev.motionfusion.core.io.AsciiNumbers
+import dev.motionfusion.core.unitQuaternionToMatrix
 import java.io.Closeable
 import java.io.Flushable
 import java.io.OutputStream
@@ -235,27 +236,16 @@ public class ReplayCsvWriter @JvmOverloads constructor(
         public fun derived(q: DoubleArray, a: DoubleArray, out: DoubleArray): Unit = derived(q, 0, a, 0, out)
 
         private fun derived(q: DoubleArray, qAt: Int, a: DoubleArray, aAt: Int, out: DoubleArray) {
-            val w = q[qAt]
-            val x = q[qAt + 1]
-            val y = q[qAt + 2]
-            val z = q[qAt + 3]
             Orientations.androidAndAerospaceAngles(q, qAt, out, 0)
             for (k in 0 until 6) out[k] *= DEG
-            val r00 = 1 - 2 * (y * y + z * z)
-            val r01 = 2 * (x * y - w * z)
-            val r02 = 2 * (x * z + w * y)
-            val r10 = 2 * (x * y + w * z)
-            val r11 = 1 - 2 * (x * x + z * z)
-            val r12 = 2 * (y * z - w * x)
-            val r20 = 2 * (x * z - w * y)
-            val r21 = 2 * (y * z + w * x)
-            val r22 = 1 - 2 * (x * x + y * y)
             val ax = a[aAt]
             val ay = a[aAt + 1]
             val az = a[aAt + 2]
-            out[6] = r00 * ax + r01 * ay + r02 * az
-            out[7] = r10 * ax + r11 * ay + r12 * az
-            out[8] = r20 * ax + r21 * ay + r22 * az - STANDARD_GRAVITY
+            unitQuaternionToMatrix(q, qAt) { r00, r01, r02, r10, r11, r12, r20, r21, r22 ->
+                out[6] = r00 * ax + r01 * ay + r02 * az
+                out[7] = r10 * ax + r11 * ay + r12 * az
+                out[8] = r20 * ax + r21 * ay + r22 * az - STANDARD_GRAVITY
+            }
         }
     }
 }

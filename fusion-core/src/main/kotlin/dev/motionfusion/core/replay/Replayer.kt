@@ -163,32 +163,15 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             last = t
             n++
             if (progress != null && (n and 0xFFFF) == 0L) progress(n)
-            when (events.stream) {
-                SessionStream.GYROSCOPE -> {
-                    gyro++
-                    gyroscopeTime(t)
-                    f.updateGyroscope(t, v[0], v[1], v[2])
-                    step.angularVelocity[0] = v[0]; step.angularVelocity[1] = v[1]; step.angularVelocity[2] = v[2]
-                    gyroscopeStep(step, t, origin, listener)
-                }
-                SessionStream.ACCELEROMETER -> {
-                    acc++
-                    f.updateAccelerometer(t, v[0], v[1], v[2])
-                    if (reading(v[0], v[1], v[2], SensorRanges.ACCELEROMETER_M_S2)) {
-                        step.specificForce[0] = v[0]; step.specificForce[1] = v[1]; step.specificForce[2] = v[2]
-                        step.accelerometerNs = t
-                    }
-                }
-                SessionStream.MAGNETOMETER -> {
-                    mag++
-                    f.updateMagnetometer(t, v[0], v[1], v[2])
-                    if (reading(v[0], v[1], v[2], SensorRanges.MAGNETOMETER_UT)) {
-                        step.magneticField[0] = v[0]; step.magneticField[1] = v[1]; step.magneticField[2] = v[2]
-                        step.magnetometerNs = t
-                    }
-                }
+            val stream = events.stream
+            if (f.update(stream, t, v[0], v[1], v[2])) {
+                gyro++
+                gyroscopeStep(step, t, v[0], v[1], v[2], origin, listener)
+            } else when (stream) {
+                SessionStream.ACCELEROMETER -> { acc++; accelerometerHeld(step, t, v[0], v[1], v[2]) }
+                SessionStream.MAGNETOMETER -> { mag++; magnetometerHeld(step, t, v[0], v[1], v[2]) }
                 SessionStream.ROTATION_VECTOR, SessionStream.GAME_ROTATION_VECTOR, SessionStream.TRUTH, SessionStream.ORIENTATION ->
-                    listener.reference(events.stream, t, v)
+                    listener.reference(stream, t, v)
                 else -> Unit // uncalibrated streams and diagnostics are not filter inputs
             }
         }
@@ -217,26 +200,35 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             rows++
             if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
             f.updateAccelerometer(t, r[3], r[4], r[5])
-            if (reading(r[3], r[4], r[5], SensorRanges.ACCELEROMETER_M_S2)) {
-                step.specificForce[0] = r[3]; step.specificForce[1] = r[4]; step.specificForce[2] = r[5]
-                step.accelerometerNs = t
-            }
+            accelerometerHeld(step, t, r[3], r[4], r[5])
             if (mag) {
                 f.updateMagnetometer(t, r[6], r[7], r[8])
-                if (reading(r[6], r[7], r[8], SensorRanges.MAGNETOMETER_UT)) {
-                    step.magneticField[0] = r[6]; step.magneticField[1] = r[7]; step.magneticField[2] = r[8]
-                    step.magnetometerNs = t
-                }
+                magnetometerHeld(step, t, r[6], r[7], r[8])
             }
-            gyroscopeTime(t)
             f.updateGyroscope(t, r[0], r[1], r[2])
-            step.angularVelocity[0] = r[0]; step.angularVelocity[1] = r[1]; step.angularVelocity[2] = r[2]
-            gyroscopeStep(step, t, origin, listener)
+            gyroscopeStep(step, t, r[0], r[1], r[2], origin, listener)
         }
         return ReplayCounts(rows * perRow, rows, rows, if (mag) rows else 0L, first, last)
     }
 
-    private fun gyroscopeStep(step: ReplayStep, t: Long, origin: Long, listener: ReplayListener) {
+    /** The accelerometer reading the filter was just given, held in [step] if the filter takes it ([reading]). */
+    private fun accelerometerHeld(step: ReplayStep, t: Long, x: Double, y: Double, z: Double) {
+        if (!reading(x, y, z, SensorRanges.ACCELEROMETER_M_S2)) return
+        step.specificForce[0] = x; step.specificForce[1] = y; step.specificForce[2] = z
+        step.accelerometerNs = t
+    }
+
+    /** The magnetometer reading the filter was just given, held in [step] if the filter takes it ([reading]). */
+    private fun magnetometerHeld(step: ReplayStep, t: Long, x: Double, y: Double, z: Double) {
+        if (!reading(x, y, z, SensorRanges.MAGNETOMETER_UT)) return
+        step.magneticField[0] = x; step.magneticField[1] = y; step.magneticField[2] = z
+        step.magnetometerNs = t
+    }
+
+    /** After the filter's gyroscope step on (x, y, z) at [t]: the step, with the filter's orientation, to [listener]. */
+    private fun gyroscopeStep(step: ReplayStep, t: Long, x: Double, y: Double, z: Double, origin: Long, listener: ReplayListener) {
+        gyroscopeTime(t)
+        step.angularVelocity[0] = x; step.angularVelocity[1] = y; step.angularVelocity[2] = z
         step.timestampNs = t
         step.timeS = secondsBetween(origin, t)
         step.initialised = filter.isInitialised

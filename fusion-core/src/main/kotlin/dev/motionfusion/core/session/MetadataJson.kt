@@ -9,7 +9,7 @@ package dev.motionfusion.core.session
 import dev.motionfusion.core.calib.CalibrationJson
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterSettings
-import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.io.Json
 import dev.motionfusion.core.io.JsonObject
 

@@ -3,6 +3,7 @@ package dev.motionfusion.core.filter
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.WorldFrame
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
@@ -42,6 +43,30 @@ class FilterApiTest {
         assertVector(Vector3(1.0, 0.0, 0.0), ned.rotate(Vector3.UNIT_Y))
         assertVector(Vector3(0.0, 1.0, 0.0), ned.rotate(Vector3.UNIT_X))
         assertVector(Vector3(0.0, 0.0, -1.0), ned.rotate(Vector3.UNIT_Z))
+    }
+
+    @Test
+    fun `a stream's reading goes to that sensor's update, other streams to none`() {
+        val data = MotionSimulator(SimulationSettings(durationS = 5.0, hardIron = Vector3(40.0, 0.0, 0.0), hardIronWindow = TimeWindow(2.0, 3.0))).run()
+        val settings = FilterSettings(magDisturbanceRejection = true)
+        val direct = MadgwickFilter(settings)
+        val dispatched = MadgwickFilter(settings)
+        var steps = 0
+        for (s in data) {
+            val t = s.timestampNs
+            direct.updateAccelerometer(t, s.acc.x, s.acc.y, s.acc.z)
+            direct.updateMagnetometer(t, s.mag.x, s.mag.y, s.mag.z)
+            direct.updateGyroscope(t, s.gyro.x, s.gyro.y, s.gyro.z)
+            assertFalse(dispatched.update(SessionStream.ACCELEROMETER, t, s.acc.x, s.acc.y, s.acc.z))
+            assertFalse(dispatched.update(SessionStream.MAGNETOMETER, t, s.mag.x, s.mag.y, s.mag.z))
+            // Not filter inputs: the phone's own orientation and the raw streams change nothing.
+            assertFalse(dispatched.update(SessionStream.ROTATION_VECTOR, t, 0.5, 0.5, 0.5))
+            assertFalse(dispatched.update(SessionStream.GYROSCOPE_UNCALIBRATED, t, 9.0, 9.0, 9.0))
+            if (dispatched.update(SessionStream.GYROSCOPE, t, s.gyro.x, s.gyro.y, s.gyro.z)) steps++
+        }
+        assertEquals(data.size, steps)
+        assertEquals(direct.state(), dispatched.state())
+        assertEquals(direct.diagnostics(), dispatched.diagnostics())
     }
 
     @Test

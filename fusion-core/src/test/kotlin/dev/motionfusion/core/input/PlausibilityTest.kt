@@ -1,6 +1,6 @@
 package dev.motionfusion.core.input
 
-import dev.motionfusion.core.filter.FilterSettingDescriptors
+import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.replay.ReplayListener

@@ -7,6 +7,7 @@ package dev.motionfusion.core.filter.offline
 
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.unitQuaternionUp
 import kotlin.math.PI
 import kotlin.math.abs
 import kotlin.math.asin
@@ -123,11 +124,7 @@ internal class FieldReference(settings: FilterSettings) {
 
         /** Sine of the dip angle: of [m] (magnitude [n]) below the horizontal of the orientation [q] (sensor → ENU). */
         fun sinDip(m: DoubleArray, n: Double, q: DoubleArray): Double {
-            // Up in the sensor frame: the third row of R(q).
-            val ux = 2.0 * (q[1] * q[3] - q[0] * q[2])
-            val uy = 2.0 * (q[2] * q[3] + q[0] * q[1])
-            val uz = 1.0 - 2.0 * (q[1] * q[1] + q[2] * q[2])
-            return -(m[0] * ux + m[1] * uy + m[2] * uz) / n
+            return unitQuaternionUp(q, 0) { ux, uy, uz -> -(m[0] * ux + m[1] * uy + m[2] * uz) / n }
         }
     }
 }

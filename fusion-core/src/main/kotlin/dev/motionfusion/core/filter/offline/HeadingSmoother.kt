@@ -6,6 +6,7 @@
 package dev.motionfusion.core.filter.offline
 
 import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.unitQuaternionToMatrix
 import java.nio.ByteBuffer
 import kotlin.math.PI
 import kotlin.math.atan
@@ -175,10 +176,9 @@ internal class HeadingSmoother(s: OfflineSettings) {
 
         /** The correction about the vertical (rad) that turns [q] (sensor → ENU) so that the field [m] points north. */
         fun magHeading(m: DoubleArray, q: DoubleArray): Double {
-            val w = q[0]; val x = q[1]; val y = q[2]; val z = q[3]
-            val e = (1 - 2 * (y * y + z * z)) * m[0] + 2 * (x * y - w * z) * m[1] + 2 * (x * z + w * y) * m[2]
-            val n = 2 * (x * y + w * z) * m[0] + (1 - 2 * (x * x + z * z)) * m[1] + 2 * (y * z - w * x) * m[2]
-            return atan2(e, n)
+            return unitQuaternionToMatrix(q, 0) { r00, r01, r02, r10, r11, r12, _, _, _ ->
+                atan2(r00 * m[0] + r01 * m[1] + r02 * m[2], r10 * m[0] + r11 * m[1] + r12 * m[2])
+            }
         }
     }
 }

@@ -1,4 +1,4 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.filter.FilterMode

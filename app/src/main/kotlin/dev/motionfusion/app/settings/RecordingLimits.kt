@@ -1,4 +1,4 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.settings
 
 /**
  * When a recording stops by itself, validated: after [maxDurationS] seconds (0: no limit), or

@@ -1,7 +1,8 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.core.Quaternion
+import dev.motionfusion.app.settings.LiveSettings
 
 /**
  * Per-sensor figures at one instant: [samples] seen, achieved [rateHz] and [jitterMs] (standard

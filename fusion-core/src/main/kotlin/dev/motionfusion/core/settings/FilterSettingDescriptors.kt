@@ -1,11 +1,16 @@
 /*
  * The one table of FilterSettings by name: the command line's `--set NAME=VALUE` and `name=value`
  * overrides, the session metadata's `filter_settings` object and the app's stored settings all go
- * through it, so a new setting is added here once.
+ * through it, so a new setting is added here once. It lives apart from the filter (package `filter`):
+ * the names, JSON keys, titles, sections and slider ranges are for the tools and screens around the
+ * filter, which itself reads only [FilterSettings].
  */
-package dev.motionfusion.core.filter
+package dev.motionfusion.core.settings
 
 import dev.motionfusion.core.WorldFrame
+import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.Initialisation
 
 /** What kind of value a setting holds. */
 public enum class SettingKind {

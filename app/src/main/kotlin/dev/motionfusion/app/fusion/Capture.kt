@@ -1,4 +1,4 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.EventRing
 import dev.motionfusion.app.sensor.GyroSaturation
@@ -20,6 +20,7 @@ import kotlinx.coroutines.flow.MutableStateFlow
 import kotlinx.coroutines.flow.StateFlow
 import kotlinx.coroutines.flow.asStateFlow
 import kotlinx.coroutines.launch
+import dev.motionfusion.app.settings.LiveSettings
 
 /**
  * A consumer of the capture's ordered events besides the live screen: the recorder. Called on

@@ -1,4 +1,4 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.core.filter.FilterMode

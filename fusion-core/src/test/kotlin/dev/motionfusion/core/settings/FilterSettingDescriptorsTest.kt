@@ -1,5 +1,6 @@
-package dev.motionfusion.core.filter
+package dev.motionfusion.core.settings
 
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.session.SessionMetadata
 import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertNotEquals

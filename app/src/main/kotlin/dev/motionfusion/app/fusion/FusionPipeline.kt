@@ -1,8 +1,9 @@
-package dev.motionfusion.app.live
+package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.RateMeter
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorSample
+import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.core.Orientations
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.RotationArrays
@@ -12,6 +13,7 @@ import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.sensormanager.SensorManagerMath
 import java.util.EnumMap
 import kotlin.math.sqrt
+import dev.motionfusion.app.settings.LiveSettings
 
 /**
  * The fusion of one stream of samples, free of Android threading (tested on the JVM).
@@ -198,22 +200,14 @@ class FusionPipeline(
         return MadgwickFilter(if (mode.mode == FusionMode.IMU) fs.copy(mode = FilterMode.IMU) else fs)
     }
 
+    /** [kind]'s reading to the filter; true when it stepped the filter (a gyroscope reading) and there is an orientation. */
     private fun filterSample(kind: SensorKind, t: Long, x: Double, y: Double, z: Double): Boolean {
-        when (kind) {
-            SensorKind.ACCELEROMETER -> filter.updateAccelerometer(t, x, y, z)
-            SensorKind.MAGNETOMETER -> filter.updateMagnetometer(t, x, y, z)
-            SensorKind.GYROSCOPE -> {
-                filter.updateGyroscope(t, x, y, z)
-                if (filter.isInitialised) {
-                    filter.orientationInto(q)
-                    if (mode.mode == FusionMode.IMU) relativeHeading()
-                    hasOrientation = true
-                    return true
-                }
-            }
-            else -> Unit
-        }
-        return false
+        val stream = SensorStreams.ofAndroidType(kind.androidType) ?: return false
+        if (!filter.update(stream, t, x, y, z) || !filter.isInitialised) return false
+        filter.orientationInto(q)
+        if (mode.mode == FusionMode.IMU) relativeHeading()
+        hasOrientation = true
+        return true
     }
 
     /**
