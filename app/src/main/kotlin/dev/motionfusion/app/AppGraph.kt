@@ -35,6 +35,7 @@ import dev.motionfusion.app.sessions.SessionsDependencies
 import dev.motionfusion.app.sessions.SessionsRepository
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.settings.SettingsStore
+import dev.motionfusion.app.record.RecordingService
 import dev.motionfusion.app.stream.StreamController
 import dev.motionfusion.app.stream.StreamDependencies
 import dev.motionfusion.app.stream.StreamService
@@ -97,6 +98,10 @@ internal class AppGraph(
     streamLookup: Executor = StreamController.LOOKUP,
     /** The Wi-Fi locks the stream's service holds (StreamService.systemWifiLocks; none by default). */
     override val wifiLocks: WifiLocks = WifiLocks { _, _ -> null },
+    /** A laptop's remote start: the recording service started as Record does (RecordingService.startRemote); why refused, or null. */
+    remoteRecordStart: (dev.motionfusion.core.session.RemoteStart) -> String? = { "recording is not available" },
+    /** A laptop's remote stop (RecordingService.stop). */
+    remoteRecordStop: () -> Unit = {},
 ) : RecordingDependencies, SessionsDependencies, CalibrationDependencies, StreamDependencies {
     /** Main-thread scope of the application (it lives as long as the process). */
     val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
@@ -124,7 +129,8 @@ internal class AppGraph(
             stored?.copy(appliedInLiveFilter = capture.calibrationInUse() != null),
         )
     }, scope, streamPort, streamAddresses, control = streamControl, serverSettings = streamSettings, keepAlive = streamKeepAlive, lookup = streamLookup,
-        log = { message, e -> android.util.Log.w("StreamController", message, e) })
+        log = { message, e -> android.util.Log.w("StreamController", message, e) },
+        recording = dev.motionfusion.app.stream.RecordingRemote(recordings, remoteRecordStart, remoteRecordStop), sensorClock = clock::elapsedRealtimeNanos)
     override val streamController: StreamController get() = stream
     override val sessions = SessionsRepository(files, format, locks)
     override val inProgress = RecordingInProgress { files.folder(RecordingInProgress.FILE_NAME) }
@@ -154,6 +160,8 @@ internal class AppGraph(
             appVersion = { AppVersion.of(context) },
             streamKeepAlive = { StreamService.start(context) },
             wifiLocks = StreamService.systemWifiLocks(context),
+            remoteRecordStart = { start -> RecordingService.startRemote(context, start)?.let { context.getString(it.text) } },
+            remoteRecordStop = { RecordingService.stop(context) },
         )
     }
 }

@@ -28,7 +28,7 @@ internal class Cli(
     private val commands: List<Command> = listOf(
         ReplayCommand(err, outputs), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
         SimulateCommand(outputs), RecoverCommand(), SummaryCommand(), CalibrateCommand(err, outputs), AllanCommand(err, outputs),
-        ListenCommand(err), ExportCommand(err, outputs), AlignCommand(err, outputs),
+        ListenCommand(err), RecordCommand(err), ExportCommand(err, outputs), AlignCommand(err, outputs),
     )
 
     fun run(args: List<String>): Int {

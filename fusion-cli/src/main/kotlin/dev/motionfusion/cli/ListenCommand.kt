@@ -33,6 +33,13 @@ internal class ListenCommand(
     override val summary = "receive a phone's live stream: print the orientation, write a session (-o DIR) or CSV"
     override val help = """
         |Usage: fusion listen ws://HOST:PORT --code CODE [-o DIR | --csv] [--streams NAME,...] [--rate HZ] [--duration S]
+        |       fusion listen ws://HOST:PORT ws://HOST:PORT... --code CODE[,CODE...] -o DIR [...]
+        |
+        |Several phones: one session folder each in DIR, named after the address (HOST-PORT), each with its clock exchanges
+        |against this computer's clock (fusion align puts them on one timeline); --code gives one code for all or one per
+        |address. Every 5 s a table of the phones (state, messages/s, dropped, clock uncertainty) goes to standard error. A
+        |phone that leaves is connected to again every second, into a linked session beside the first (HOST-PORT.2, ...);
+        |one that refuses or denies this laptop is given up (exit code 3 or 5 at the end). Ends at --duration or Ctrl-C.
         |
         |Connects to the app's stream (Stream switch on the phone; over USB: adb forward tcp:PORT tcp:PORT and
         |ws://127.0.0.1:PORT) with the pairing code the phone shows, and until the phone stops streaming, --duration S
@@ -59,14 +66,13 @@ internal class ListenCommand(
 
     override fun run(args: List<String>, out: PrintStream): Int {
         val o = Options(args, setOf("--code", "-o", "--streams", "--rate", "--duration"), setOf("--csv"))
-        val url = o.positional.singleOrNull() ?: throw UsageException(
-            if (o.positional.isEmpty()) "listen needs the phone's address, ws://HOST:PORT" else "listen takes one address, got ${o.positional.size}",
-        )
-        val uri = runCatching { URI(url) }.getOrNull()?.takeIf { it.scheme == "ws" && it.host != null && it.port in 1..65535 }
-            ?: throw UsageException("'$url' is not an address ws://HOST:PORT")
-        val code = o.value("--code") ?: throw UsageException("listen needs --code, the pairing code the phone shows")
+        if (o.positional.isEmpty()) throw UsageException("listen needs the phone's address, ws://HOST:PORT")
+        val uris = o.positional.map(::phoneUri)
+        if (uris.toSet().size < uris.size) throw UsageException("an address is given twice")
+        val codes = phoneCodes(o.value("--code") ?: throw UsageException("listen needs --code, the pairing code the phone shows"), uris.size)
         val dir = o.value("-o")?.let { InputOptions.path(it) }
         if (dir != null && o.has("--csv")) throw UsageException("-o and --csv exclude each other")
+        if (uris.size > 1 && dir == null) throw UsageException("listen with several phones needs -o DIR (one session folder each)")
         if (dir != null && Files.exists(dir) && (!Files.isDirectory(dir) || Files.list(dir).use { it.findAny().isPresent })) {
             throw UsageException("'${o.value("-o")}' exists and is not an empty folder")
         }
@@ -75,10 +81,13 @@ internal class ListenCommand(
         }
         val rate = o.double("--rate")?.also { if (it <= 0.0) throw UsageException("--rate must be positive") }
         val durationNs = o.double("--duration")?.let { if (it <= 0.0) throw UsageException("--duration must be positive"); (it * 1e9).toLong() }
+        if (uris.size > 1) return ListenPhones(this, err, nanoTime, uris, codes, dir!!, streams, rate, durationNs).run()
+        val uri = uris[0]
+        val code = codes[0]
 
         val receiver = Receiver(out, dir, o.has("--csv"), durationNs, uri.toString())
         // The hello is taken on the connection's thread before the first sample: nothing comes before the header or the session.
-        val pair = StreamMessage.Pair(code, streams, rate, client = "fusion listen on ${hostName()}")
+        val pair = StreamMessage.Pair(code, streams, rate, client = CLIENT_NAME)
         val client = StreamClient(uri, pair, receiver::begin, receiver::malformed, receiver::take)
         try {
             client.connect(onWaiting = { err.println("fusion: waiting for confirmation on the phone... (allow this laptop there)") })
@@ -130,12 +139,16 @@ internal class ListenCommand(
     }
 
     /** Everything after the hello, on the connection's reading thread. */
-    private inner class Receiver(
+    internal inner class Receiver(
         private val out: PrintStream,
         private val dir: Path?,
         private val csv: Boolean,
         private val durationNs: Long?,
         private val source: String,
+        /** The first sample time of the phone, kept over its reconnections (--duration counts from it). */
+        private val origin: LongArray = longArrayOf(Long.MIN_VALUE),
+        /** What meta.json's source says after "fusion listen ADDRESS". */
+        private val sourceNote: String = "",
     ) {
         val done = CountDownLatch(1)
         private var writer: SessionWriter? = null
@@ -154,18 +167,16 @@ internal class ListenCommand(
         private var finished = false
         private val angles = DoubleArray(6)
         private val q = DoubleArray(4)
-        private val pinger = ClockPinger(System::nanoTime, ::exchanged)
-        private var clockFile: java.io.Writer? = null
+        private val link = laptopClock()
+        private val pinger = ClockPinger(System::nanoTime, ::exchanged, link)
 
         @Synchronized
         fun begin(h: StreamMessage.Hello) {
             hello = h
             if (dir != null) {
-                val link = if (h.clock) laptopClock() else null
-                writer = SessionWriter.create(dir, h.metadata.copy(source = "fusion listen $source", complete = false, streams = emptyMap(), clockLink = link))
-                if (h.clock) {
-                    clockFile = Files.newBufferedWriter(dir.resolve(SessionClock.FILE_NAME)).also { it.write(SessionClock.HEADER + "\n") }
-                }
+                writer = SessionWriter.create(
+                    dir, h.metadata.copy(source = "fusion listen $source$sourceNote", complete = false, streams = emptyMap(), clockLink = if (h.clock) link else null),
+                )
             }
             if (csv) out.println("t_s,qw,qx,qy,qz,azimuth_deg,pitch_deg,roll_deg")
         }
@@ -177,7 +188,7 @@ internal class ListenCommand(
         /** A whole exchange: into clock.csv (the answer's arrival was stamped as it was read). */
         @Synchronized
         private fun exchanged(e: dev.motionfusion.core.sync.ClockExchange) {
-            if (!finished) clockFile?.write(SessionClock.row(e))
+            if (!finished) writer?.clockExchange(e, link)
         }
 
         fun take(m: StreamMessage) {
@@ -199,7 +210,8 @@ internal class ListenCommand(
                 else -> return
             }
             if (firstT == Long.MIN_VALUE) firstT = t
-            if (durationNs != null && t - firstT >= durationNs) {
+            if (origin[0] == Long.MIN_VALUE) origin[0] = t
+            if (durationNs != null && t - origin[0] >= durationNs) {
                 done.countDown()
                 return
             }
@@ -245,11 +257,25 @@ internal class ListenCommand(
             }
         }
 
+        /** Messages taken so far (samples and orientations). */
+        @Synchronized
+        fun received(): Long = counts.sum()
+
+        /** What the phone dropped for this client so far (its last status). */
+        @Synchronized
+        fun droppedByPhone(): Long = dropped
+
+        /** The live clock estimate, null before two exchanges (or when the phone does not answer pings). */
+        fun clock(): dev.motionfusion.core.sync.ClockMapping? = pinger.mapping()
+
+        /** The session folder, once the hello came with -o. */
+        @Synchronized
+        fun directory(): Path? = writer?.directory
+
         /** Hands what was received to the system (survives a killed process). */
         @Synchronized
         fun flush() {
             if (!finished) writer?.flush()
-            if (!finished) clockFile?.flush()
             out.flush()
         }
 
@@ -258,7 +284,6 @@ internal class ListenCommand(
         fun finish(reason: String): Boolean {
             if (finished) return false
             finished = true
-            clockFile?.let { f -> runCatching { f.close() } }
             writer?.close(if (lastT == Long.MIN_VALUE) null else lastT, reason)
             out.flush()
             return true
@@ -301,8 +326,26 @@ internal class ListenCommand(
         }
     }
 
-    private companion object {
+    internal companion object {
         const val MAX_LATENCIES = 1_000_000
+
+        /** The name this laptop gives the phone, shown when the phone asks its user. */
+        val CLIENT_NAME: String by lazy { "fusion listen on ${hostName()}" }
+
+        /** [url] as a phone's address, ws://HOST:PORT. */
+        fun phoneUri(url: String): URI = runCatching { URI(url) }.getOrNull()?.takeIf { it.scheme == "ws" && it.host != null && it.port in 1..65535 }
+            ?: throw UsageException("'$url' is not an address ws://HOST:PORT")
+
+        /** --code: one code for every phone, or one per address, comma-separated in the same order. */
+        fun phoneCodes(value: String, phones: Int): List<String> {
+            val codes = value.split(',').map { it.trim() }
+            if (codes.any { it.isEmpty() }) throw UsageException("--code: an empty code in '$value'")
+            return when (codes.size) {
+                1 -> List(phones) { codes[0] }
+                phones -> codes
+                else -> throw UsageException("--code: ${codes.size} codes for $phones phones (give one for all, or one per address in their order)")
+            }
+        }
         /** The main loop's period: also the clock pings' (4 a second). */
         const val FLUSH_POLL_MS = 250L
         const val FLUSH_INTERVAL_NS = 500_000_000L

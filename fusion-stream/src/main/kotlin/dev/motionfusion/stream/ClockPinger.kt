@@ -17,6 +17,8 @@ import dev.motionfusion.core.sync.ClockSync
 public class ClockPinger @JvmOverloads constructor(
     private val nanoTime: () -> Long = System::nanoTime,
     private val onExchange: (ClockExchange) -> Unit = {},
+    /** This clock's name, carried by every ping (meta.json's `clock_link` of a session the phone records while linked). */
+    private val laptopClock: String? = null,
 ) {
     private val lock = Any()
     private val sync = ClockSync()
@@ -39,7 +41,7 @@ public class ClockPinger @JvmOverloads constructor(
         if (pendingId != 0L) unanswered++
         pendingId = nextId++
         pendingT1 = nanoTime()
-        StreamMessage.Ping(pendingId, pendingT1, lastId, lastT4)
+        StreamMessage.Ping(pendingId, pendingT1, lastId, lastT4, laptopClock)
     }
 
     /** Takes the phone's answer; returns the exchange it completed, or null when it answers no pending ping. */

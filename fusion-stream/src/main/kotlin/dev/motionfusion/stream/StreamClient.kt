@@ -177,8 +177,14 @@ public class StreamClient @JvmOverloads constructor(
      * Sends a clock [ping] (docs/SYNC.md; only after a hello whose `clock` is true: older phones do not answer it); its
      * [StreamMessage.Pong] reaches onMessage. Returns false when the connection is not open.
      */
-    public fun send(ping: StreamMessage.Ping): Boolean = try {
-        socket.send(StreamCodec.encode(ping))
+    public fun send(ping: StreamMessage.Ping): Boolean = send(ping as StreamMessage)
+
+    /**
+     * Sends a client's [message] after the hello: a [StreamMessage.Ping] or a remote-control [StreamMessage.Control]
+     * (answered by a [StreamMessage.ControlResult] to onMessage). Returns false when the connection is not open.
+     */
+    public fun send(message: StreamMessage): Boolean = try {
+        socket.send(StreamCodec.encode(message))
         true
     } catch (_: org.java_websocket.exceptions.WebsocketNotConnectedException) {
         false

@@ -116,7 +116,28 @@ public data class StreamClientInfo(
     val name: String? = null,
     /** Its code was right and the phone's user has not answered yet: [StreamServer.allow] or [StreamServer.deny]. */
     val awaitingConfirmation: Boolean = false,
+    /** The clock its pings name (as meta.json's `clock_link`), once one did. */
+    val laptopClock: String? = null,
 )
+
+/** What a [RemoteControl] made of a command: done ([reason] null), else why not; [session] names the recording concerned. */
+public data class ControlOutcome @JvmOverloads constructor(val reason: String? = null, val session: String? = null) {
+    /** Whether the command was carried out. */
+    public val ok: Boolean get() = reason == null
+}
+
+/**
+ * What a phone does with a paired client's remote-control commands (docs/STREAMING.md, "Remote control"): start or stop
+ * a recording, or mark a moment. A [StreamServer] without one, or while [allowed] is false, refuses every command and
+ * closes the connection ([StreamServer.CLOSE_NO_REMOTE_CONTROL]).
+ */
+public interface RemoteControl {
+    /** Whether the phone's user allows remote control now (off unless the user turned it on). */
+    public val allowed: Boolean
+
+    /** Carries out [command] from [client] (on the connection's thread: quickly, or handed on); the outcome is the answer. */
+    public fun control(client: StreamClientInfo, command: StreamMessage.Control): ControlOutcome
+}
 
 /**
  * The phone side of the live stream (docs/STREAMING.md): a WebSocket server (Java-WebSocket) that sends
@@ -154,8 +175,13 @@ public class StreamServer @JvmOverloads constructor(
     private val onConfirmationRequested: ((StreamClientInfo) -> Unit)? = null,
     /** The phone's sensor clock (elapsedRealtimeNanos on a phone), which [StreamMessage.Pong] reports (docs/SYNC.md). */
     private val sensorClock: () -> Long = System::nanoTime,
-    /** Each whole clock exchange with a paired client (the client's ping, this answer, the client's receipt), on the connection's thread. */
-    private val onClockExchange: ((String, ClockExchange) -> Unit)? = null,
+    /**
+     * Each whole clock exchange with a paired client (the client's ping, this answer, the client's receipt), on the
+     * connection's thread, with the client (its [StreamClientInfo.laptopClock] the clock its pings name).
+     */
+    private val onClockExchange: ((StreamClientInfo, ClockExchange) -> Unit)? = null,
+    /** What the phone does with remote-control commands; null: refused, as while [RemoteControl.allowed] is false. */
+    private val remoteControl: RemoteControl? = null,
 ) {
     @Volatile private var code = pairingCode.toByteArray(Charsets.UTF_8)
     private val codeLock = Any()
@@ -224,7 +250,9 @@ public class StreamServer @JvmOverloads constructor(
             val received = sensorClock()
             val client = conn.getAttachment<Client>() ?: return
             // After the hello only pings are answered (docs/SYNC.md); one waiting for the phone's answer has made its request.
-            if (client.paired) return ping(client, message, received)
+            if (client.paired) {
+                return if (message.startsWith(CONTROL_PREFIX)) control(client, message) else ping(client, message, received)
+            }
             if (client.accepted || client.awaiting != null) return
             pair(client, message)
         }
@@ -462,11 +490,12 @@ public class StreamServer @JvmOverloads constructor(
         val now = nanoTime()
         if (client.lastPingNs != Long.MIN_VALUE && now - client.lastPingNs < MIN_PING_INTERVAL_NS) return
         client.lastPingNs = now
+        ping.laptopClock?.let { client.laptopClock = it.take(MAX_CLOCK_NAME) }
         val previous = client.lastPong
         val previousT4 = ping.previousT4Ns
         if (onClockExchange != null && previous != null && ping.previousId == previous.id && previousT4 != null) {
             val exchange = ClockExchange(previous.t1Ns, previous.t2Ns, previous.t3Ns, previousT4)
-            if (exchange.delayNs >= 0) onClockExchange.invoke(client.address, exchange)
+            if (exchange.delayNs >= 0) onClockExchange.invoke(client.info(), exchange)
         }
         val pong = StreamMessage.Pong(ping.id, ping.t1Ns, received, sensorClock())
         client.lastPong = pong
@@ -474,6 +503,31 @@ public class StreamServer @JvmOverloads constructor(
         // A frame queued from a thread other than the library's selector can be left unsent when the selector, just
         // done writing the previous one, turns its interest back to reading (Java-WebSocket's write demand races with
         // it). The answer is asked to be written again shortly, when nothing else may follow it for a while.
+        pairingWatch.schedule({ demandWrite(client) }, 2, TimeUnit.MILLISECONDS)
+    }
+
+    /**
+     * A paired client's remote-control command: carried out by [remoteControl] and answered when the phone's user allows
+     * it; otherwise answered with the refusal and the connection closed ([CLOSE_NO_REMOTE_CONTROL]). A malformed command
+     * is answered as not done, with the reason.
+     */
+    private fun control(client: Client, text: String) {
+        val command = try {
+            StreamCodec.decode(text, "client ${client.address}") as? StreamMessage.Control ?: return
+        } catch (e: DataFormatException) {
+            return send(client, StreamMessage.ControlResult(0, false, e.message ?: "malformed command"))
+        }
+        val rc = remoteControl
+        if (rc == null || !rc.allowed) {
+            send(client, StreamMessage.ControlResult(command.id, false, REMOTE_CONTROL_OFF))
+            return refuse(client, REMOTE_CONTROL_OFF, CLOSE_NO_REMOTE_CONTROL)
+        }
+        val outcome = try {
+            rc.control(client.info(), command)
+        } catch (e: RuntimeException) {
+            ControlOutcome("failed on the phone: ${e.message ?: e.javaClass.simpleName}")
+        }
+        send(client, StreamMessage.ControlResult(command.id, outcome.ok, outcome.reason, outcome.session))
         pairingWatch.schedule({ demandWrite(client) }, 2, TimeUnit.MILLISECONDS)
     }
 
@@ -656,6 +710,9 @@ public class StreamServer @JvmOverloads constructor(
         /** The hello is queued: the sender may send this client messages. */
         @Volatile var paired = false
 
+        /** The clock its pings name. */
+        @Volatile var laptopClock: String? = null
+
         /** When its last ping was answered, on [nanoTime]; the answer itself (the phone's half of the exchange). */
         var lastPingNs = Long.MIN_VALUE
         var lastPong: StreamMessage.Pong? = null
@@ -732,7 +789,7 @@ public class StreamServer @JvmOverloads constructor(
         fun info() = StreamClientInfo(
             address, accepted, streams, rateHz, sent, dropped, achievedRateHz,
             stalled = dropping || (paired && conn.outQueue.size >= settings.clientQueueFrames),
-            id = id, name = name, awaitingConfirmation = awaiting != null,
+            id = id, name = name, awaitingConfirmation = awaiting != null, laptopClock = laptopClock,
         )
     }
 
@@ -763,6 +820,17 @@ public class StreamServer @JvmOverloads constructor(
         /** A client's name as the phone shows it: no control characters, at most 40 characters. */
         private fun cleanName(name: String): String? =
             name.filter { !it.isISOControl() && Character.getType(it) != Character.FORMAT.toInt() }.trim().take(40).ifEmpty { null }
+
+        /** A remote-control command while the phone's user does not allow remote control (or the phone has none). */
+        public const val CLOSE_NO_REMOTE_CONTROL: Int = 4013
+
+        /** The refusal of a command while remote control is off. */
+        public const val REMOTE_CONTROL_OFF: String = "remote control is off on the phone (the Stream screen's switch)"
+
+        /** The longest clock name taken from a ping. */
+        private const val MAX_CLOCK_NAME = 200
+
+        private const val CONTROL_PREFIX = "{\"type\":\"control\""
 
         /** Too many paired clients, or an unpaired connection closed to make room for a newer one. */
         public const val CLOSE_TOO_MANY: Int = 4008

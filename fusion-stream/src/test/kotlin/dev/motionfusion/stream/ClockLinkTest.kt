@@ -37,13 +37,14 @@ class ClockLinkTest {
     @Test
     fun `pings put the phone's sensor clock on the laptop's`() {
         val phoneSide = ConcurrentLinkedQueue<ClockExchange>()
+        val names = ConcurrentLinkedQueue<String?>()
         // The server's own clock (of its limits) runs 20 ms ahead per ping, so its one-ping-per-10-ms limit never
         // depends on how fast this machine turns the pings round.
         val skip = java.util.concurrent.atomic.AtomicLong()
         val server = StreamServer(
             InetSocketAddress(InetAddress.getLoopbackAddress(), 0), "482913", { offer },
             nanoTime = { System.nanoTime() + skip.get() },
-            sensorClock = { phoneClock(System.nanoTime()) }, onClockExchange = { _, e -> phoneSide += e },
+            sensorClock = { phoneClock(System.nanoTime()) }, onClockExchange = { c, e -> phoneSide += e; names += c.laptopClock },
         ).also { it.start(); closing += AutoCloseable { it.stop() } }
         val pongs = LinkedBlockingQueue<StreamMessage.Pong>()
         val client = StreamClient(URI("ws://127.0.0.1:${server.port}"), StreamMessage.Pair("482913")) { m -> if (m is StreamMessage.Pong) pongs += m }
@@ -51,7 +52,7 @@ class ClockLinkTest {
         val hello = client.connect()
         assertTrue(hello.clock, "the hello says the phone answers pings")
         val laptopSide = ArrayList<ClockExchange>()
-        val pinger = ClockPinger(System::nanoTime) { laptopSide += it }
+        val pinger = ClockPinger(System::nanoTime, { laptopSide += it }, "lab-laptop boot 1f2e")
         for (k in 0 until 150) {
             skip.addAndGet(2 * StreamServer.MIN_PING_INTERVAL_NS)
             val ping = pinger.ping()
@@ -69,6 +70,8 @@ class ClockLinkTest {
         }
         // The phone holds the same exchanges, each once its receipt came with the next ping.
         assertEquals(laptopSide.dropLast(1), phoneSide.toList())
+        // Each with the laptop clock its pings name.
+        assertEquals(setOf("lab-laptop boot 1f2e"), names.toSet())
         // The live estimate agrees.
         val live = pinger.mapping()!!
         assertTrue(Math.abs(live.toLaptop(phoneClock(mid)) - mid) < 1_000_000)
@@ -95,7 +98,7 @@ class ClockLinkTest {
 
     @Test
     fun `pings and pongs round-trip through the codec and a hello without clock stays without`() {
-        for (m in listOf(StreamMessage.Ping(7, 123456789012345, 6, 123456789000000), StreamMessage.Ping(1, -5), StreamMessage.Pong(7, 1, Long.MAX_VALUE, Long.MIN_VALUE))) {
+        for (m in listOf(StreamMessage.Ping(7, 123456789012345, 6, 123456789000000), StreamMessage.Ping(1, -5), StreamMessage.Ping(2, 3, 1, 2, "lab \"x\""), StreamMessage.Pong(7, 1, Long.MAX_VALUE, Long.MIN_VALUE))) {
             assertEquals(m, StreamCodec.decode(StreamCodec.encode(m), "test"))
         }
         val hello = StreamMessage.Hello("p", offer.metadata, listOf(SessionStream.GYROSCOPE), null)

@@ -59,6 +59,10 @@ internal class CoreSessionSink(private val writer: SessionWriter) : SessionSink 
 
     override fun marker(timestampNs: Long, label: String) = writer.marker(timestampNs, label)
 
+    override fun clockExchange(e: dev.motionfusion.core.sync.ClockExchange, laptopClock: String) {
+        writer.clockExchange(e, laptopClock)
+    }
+
     override fun flush() = writer.flush()
 
     /** [SessionWriter.anchor] syncs every stream before it replaces meta.json. */

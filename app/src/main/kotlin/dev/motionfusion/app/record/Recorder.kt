@@ -7,6 +7,7 @@ import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.session.Marker
 import dev.motionfusion.core.session.SessionMarkers
+import dev.motionfusion.core.sync.ClockExchange
 import java.util.concurrent.ConcurrentLinkedQueue
 import java.util.concurrent.CopyOnWriteArrayList
 import java.util.concurrent.atomic.AtomicLongArray
@@ -45,6 +46,8 @@ internal class Recorder(
     private val checkpointIntervalNs: Long = 60_000_000_000L,
     /** The raw streams written (null: all); the others are left out. */
     streams: Set<SessionStream>? = null,
+    /** No sample before this sensor time is written (a laptop's remote start at an instant: docs/STREAMING.md). */
+    private val notBeforeNs: Long = Long.MIN_VALUE,
 ) : CaptureTap {
     private val writes = BooleanArray(SessionStream.entries.size) { streams == null || SessionStream.entries[it] in streams }
     private var lastDiagnosticsNs = Long.MIN_VALUE / 2
@@ -61,6 +64,12 @@ internal class Recorder(
         private set
 
     private val pendingMarkers = ConcurrentLinkedQueue<Marker>()
+    private val pendingClock = ConcurrentLinkedQueue<Pair<ClockExchange, String>>()
+
+    /** A whole clock exchange with the laptop clock [laptopClock]; written to clock.csv with the next batch. Any thread. */
+    fun clockExchange(e: ClockExchange, laptopClock: String) {
+        pendingClock += e to laptopClock
+    }
     private val markerList = CopyOnWriteArrayList<Marker>()
     @Volatile private var stopReason: RecordingEnd = RecordingEnd.Stopped
 
@@ -81,8 +90,12 @@ internal class Recorder(
 
     private fun writeMarkers() {
         while (true) {
-            val m = pendingMarkers.poll() ?: return
+            val m = pendingMarkers.poll() ?: break
             sink.marker(m.timestampNs, m.label)
+        }
+        while (true) {
+            val (e, link) = pendingClock.poll() ?: return
+            sink.clockExchange(e, link)
         }
     }
 
@@ -96,12 +109,13 @@ internal class Recorder(
     val fusedCount: Long get() = fusedRows
 
     override fun raw(stream: SessionStream, timestampNs: Long, accuracy: Int, values: FloatArray, offset: Int) {
-        if (!writes[stream.ordinal]) return
+        if (!writes[stream.ordinal] || timestampNs < notBeforeNs) return
         sink.raw(stream, timestampNs, accuracy, values, offset)
         rows.lazySet(stream.ordinal, rows.get(stream.ordinal) + 1)
     }
 
     override fun stepped(timestampNs: Long, filter: MadgwickFilter) {
+        if (timestampNs < notBeforeNs) return
         filter.orientationInto(q, 0)
         sink.fused(timestampNs, q, 0)
         fusedRows++

@@ -26,6 +26,7 @@ import dev.motionfusion.app.sensor.SamplingRate
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.session.Continuation
+import dev.motionfusion.core.session.RemoteStart
 import android.util.Log
 import java.io.File
 import kotlinx.coroutines.CoroutineScope
@@ -74,6 +75,9 @@ class RecordingService : Service() {
     private var limits = RecordingLimits()
     /** The earlier session and the gap when this recording resumed one the system killed. */
     private var continues: Continuation? = null
+
+    /** A laptop's remote start of this recording (docs/STREAMING.md, "Remote control"), null when started here. */
+    private var remoteStart: RemoteStart? = null
     /** Restarted by the system, resuming (until the recorder runs). */
     private var resuming = false
 
@@ -123,7 +127,7 @@ class RecordingService : Service() {
             ACTION_START -> {
                 // A new recording: an interrupted one is no longer offered (its session stays as it is, repaired by the start).
                 notificationManager().cancel(INTERRUPTED_NOTIFICATION_ID)
-                startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false))
+                startRecording(still = intent.getBooleanExtra(EXTRA_STILL, false), remote = remoteStartOf(intent))
             }
             // Restarted by the system after the process died (START_STICKY): the recording resumes if one was running.
             null -> if (recorder == null && !preparing) resumeRecording()
@@ -144,8 +148,9 @@ class RecordingService : Service() {
      * session's settings and calibration are taken once the stores have been read (a Record in
      * the first moments after the process started waits for them; never the defaults instead).
      */
-    private fun startRecording(still: Boolean) {
+    private fun startRecording(still: Boolean, remote: RemoteStart? = null) {
         if (recorder != null || preparing) return
+        remoteStart = remote
         // The wake lock first: a phone pocketed right after Record does not sleep while the recording is prepared.
         holdWakeLock()
         this.still = still
@@ -196,6 +201,7 @@ class RecordingService : Service() {
         holdWakeLock()
         createChannels()
         continues = null
+        remoteStart = null
         resuming = true
         startedWallMs = deps.clock.wallClockMs()
         startedElapsedMs = deps.clock.elapsedRealtimeNanos() / 1_000_000
@@ -327,7 +333,7 @@ class RecordingService : Service() {
                     anchor,
                     calibration,
                     still,
-                ).copy(continues = continues)
+                ).copy(continues = continues, remoteStart = remoteStart.takeIf { continues == null })
                 val sink = deps.format.create(d, metadata)
                 try {
                     deps.inProgress.write(entry(d))
@@ -356,6 +362,7 @@ class RecordingService : Service() {
             minFreeBytes = minFree,
             anchorNow = RecordingMetadata::anchorNow,
             streams = if (still) STILL_STREAMS else null,
+            notBeforeNs = remoteStart?.takeIf { continues == null }?.elapsedRealtimeNs ?: Long.MIN_VALUE,
         )
         this.recorder = recorder
         this.session = dir
@@ -363,6 +370,7 @@ class RecordingService : Service() {
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
                 recorder::mark, limits, still, deps.capture.sensors.keys.count { !still || it in STILL_STREAMS }, continues,
+                recorder::clockExchange,
             ),
         )
         deps.capture.attach(recorder, live, calibration, if (still) STILL_STREAMS else null)
@@ -536,6 +544,26 @@ class RecordingService : Service() {
         internal const val CHANNEL_RECORDING = Foreground.CHANNEL_RECORDING
         internal const val CHANNEL_ALERTS = Foreground.CHANNEL_ALERTS
         internal const val EXTRA_STILL = "dev.motionfusion.app.record.STILL"
+
+        /** A laptop's remote start ([RemoteStart]): who, its clock's name, its instant on that clock and on the sensor clock. */
+        internal const val EXTRA_REMOTE_BY = "dev.motionfusion.app.record.REMOTE_BY"
+        internal const val EXTRA_REMOTE_CLOCK = "dev.motionfusion.app.record.REMOTE_CLOCK"
+        internal const val EXTRA_REMOTE_LAPTOP_NS = "dev.motionfusion.app.record.REMOTE_LAPTOP_NS"
+        internal const val EXTRA_REMOTE_AT_NS = "dev.motionfusion.app.record.REMOTE_AT_NS"
+
+        /** The remote start an [ACTION_START] carries, or null (Record pressed on the phone). */
+        internal fun remoteStartOf(intent: Intent): RemoteStart? {
+            val by = intent.getStringExtra(EXTRA_REMOTE_BY) ?: return null
+            return RemoteStart(by, intent.getStringExtra(EXTRA_REMOTE_CLOCK), intent.getLongExtra(EXTRA_REMOTE_LAPTOP_NS, 0L), intent.getLongExtra(EXTRA_REMOTE_AT_NS, 0L))
+        }
+
+        /** Starts a recording as Record does, for a laptop in control: tagged with [remote] (meta.json's remote_start). */
+        fun startRemote(context: Context, remote: RemoteStart): Foreground.Refusal? = startForeground(
+            context,
+            Intent(context, RecordingService::class.java).setAction(ACTION_START)
+                .putExtra(EXTRA_REMOTE_BY, remote.by).putExtra(EXTRA_REMOTE_CLOCK, remote.laptopClock)
+                .putExtra(EXTRA_REMOTE_LAPTOP_NS, remote.laptopNs).putExtra(EXTRA_REMOTE_AT_NS, remote.elapsedRealtimeNs),
+        )
 
         /**
          * What a still recording writes: the streams `fusion allan` reads (accelerometer and

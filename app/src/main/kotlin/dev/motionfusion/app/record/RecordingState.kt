@@ -49,6 +49,8 @@ sealed interface RecordingState {
         val streams: Int = 0,
         /** This part resumed a recording whose process was killed: the earlier session and the gap; null: not resumed. */
         val continues: Continuation? = null,
+        /** Takes a whole clock exchange with a laptop clock while linked, for the session's clock.csv. */
+        val clockExchange: (dev.motionfusion.core.sync.ClockExchange, String) -> Unit = { _, _ -> },
     ) : RecordingState {
         /** Whole seconds recorded at [nowElapsedMs] (`SystemClock.elapsedRealtime()`). */
         fun elapsedS(nowElapsedMs: Long): Long = ((nowElapsedMs - startedElapsedMs) / 1000).coerceAtLeast(0)

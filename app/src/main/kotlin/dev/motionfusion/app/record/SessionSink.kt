@@ -3,6 +3,7 @@ package dev.motionfusion.app.record
 import dev.motionfusion.app.settings.RecordingLimits
 import dev.motionfusion.core.session.ClockAnchor
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.sync.ClockExchange
 import java.io.IOException
 
 /**
@@ -31,6 +32,13 @@ internal interface SessionSink {
     /** A marker the user set at [timestampNs] (sensor clock) with [label] (may be empty; the format cuts it to one short line). */
     @Throws(IOException::class)
     fun marker(timestampNs: Long, label: String)
+
+    /**
+     * A whole clock exchange with the laptop clock [laptopClock] while linked (docs/SYNC.md): into clock.csv, the first
+     * naming the session's clock_link; another laptop's are left out.
+     */
+    @Throws(IOException::class)
+    fun clockExchange(e: ClockExchange, laptopClock: String) = Unit
 
     /** Hands every row so far to the operating system, so a killed process loses none of them. */
     @Throws(IOException::class)

@@ -24,7 +24,8 @@ import kotlinx.coroutines.launch
  * laptop connects to (Wi-Fi and USB), the pairing
  * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
  * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
- * dropped or why it did not start; the field offers the last target a push started to). While the server starts
+ * dropped or why it did not start; the field offers the last target a push started to), and the switch "Allow remote
+ * control" (off by default: a paired laptop may then start, stop and mark recordings) with the laptop in control. While the server starts
  * or stops (off the main thread) the switch waits.
  * Streaming goes on when the screen is left, under its foreground service ([StreamService]); the
  * switch here or the notification's Stop turns it off.
@@ -51,6 +52,9 @@ class StreamActivity : AppCompatActivity() {
         switch.setOnCheckedChangeListener { _, on ->
             if (switch.tag !== SHOWING) if (on) notifications.thenProceed() else controller.stop()
         }
+        val remote = findViewById<CompoundButton>(R.id.stream_remote_switch)
+        remote.isChecked = controller.remoteControlAllowed
+        remote.setOnCheckedChangeListener { _, on -> controller.allowRemoteControl(on) }
         val target = findViewById<EditText>(R.id.stream_udp_target)
         findViewById<View>(R.id.stream_udp_button).setOnClickListener {
             val udp = (controller.state.value as? StreamState.On)?.udp
@@ -92,6 +96,11 @@ class StreamActivity : AppCompatActivity() {
             it.text = message ?: ""
             it.visibility = if (message != null) View.VISIBLE else View.GONE
             it.setTextAppearance(if (state is StreamState.Failed) R.style.Warning else R.style.Note)
+        }
+        findViewById<TextView>(R.id.stream_controlled_by).let {
+            val by = on?.controlledBy
+            it.text = by?.let { b -> getString(R.string.stream_controlled_by, b) } ?: ""
+            it.visibility = if (by != null) View.VISIBLE else View.GONE
         }
         findViewById<View>(R.id.stream_note).visibility = if (on == null) View.VISIBLE else View.GONE
         findViewById<View>(R.id.stream_details).visibility = if (on == null) View.GONE else View.VISIBLE

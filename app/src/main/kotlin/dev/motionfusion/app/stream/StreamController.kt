@@ -5,7 +5,12 @@ import dev.motionfusion.app.fusion.Capture
 import dev.motionfusion.app.fusion.OrientationListener
 import dev.motionfusion.app.fusion.RawListener
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.RemoteStart
 import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.stream.StreamMessage
+import dev.motionfusion.core.sync.ClockExchange
+import dev.motionfusion.stream.ControlOutcome
+import dev.motionfusion.stream.RemoteControl
 import dev.motionfusion.stream.StreamClientInfo
 import dev.motionfusion.stream.StreamOffer
 import dev.motionfusion.stream.StreamServer
@@ -46,6 +51,8 @@ internal sealed interface StreamState {
         val clients: List<StreamClientInfo>,
         /** The UDP push, when the user asked for one. */
         val udp: UdpView? = null,
+        /** The laptop that sent the last remote-control command while allowed ("fusion record on lab-laptop (192.168.1.20)"), or null. */
+        val controlledBy: String? = null,
     ) : StreamState
 
     /** The server is closing its connections, off the main thread. */
@@ -71,6 +78,33 @@ internal sealed interface UdpView {
 
     /** Not started: [text] says why ([StreamFailure]), or null when [target] is not `host:port`. */
     data class Failed(override val target: String, @StringRes val text: Int?) : UdpView
+}
+
+/**
+ * What the phone does for a laptop in control (docs/STREAMING.md, "Remote control"): the recording service, as if Record,
+ * Stop or a marker were pressed. Called on the server's connection threads; each returns null when done, else why not.
+ */
+internal interface RemoteRecording {
+    /** Starts a recording tagged with [start] (meta.json's remote_start; no sample before its instant). */
+    fun start(start: RemoteStart): String?
+
+    fun stop(): String?
+
+    /** A marker at [atNs] (sensor clock) with [label]. */
+    fun mark(atNs: Long, label: String): String?
+
+    /** A whole clock exchange with the laptop clock [laptopClock]: into the clock.csv of the recording running now, if any. */
+    fun clockExchange(e: ClockExchange, laptopClock: String)
+
+    companion object {
+        /** No recording here (tests of the stream alone). */
+        val NONE = object : RemoteRecording {
+            override fun start(start: RemoteStart) = "recording is not available"
+            override fun stop() = "recording is not available"
+            override fun mark(atNs: Long, label: String) = "recording is not available"
+            override fun clockExchange(e: ClockExchange, laptopClock: String) = Unit
+        }
+    }
 }
 
 /**
@@ -110,6 +144,10 @@ internal class StreamController(
     private val lookup: Executor = LOOKUP,
     /** Where the technical detail of a failure goes (the app's log); the screen shows a [StreamFailure]'s text. */
     private val log: (String, Throwable?) -> Unit = { _, _ -> },
+    /** The recording a laptop in control starts, stops and marks, and which keeps the clock exchanges. */
+    private val recording: RemoteRecording = RemoteRecording.NONE,
+    /** The sensor clock (elapsedRealtimeNanos), which the clock exchanges report. */
+    private val sensorClock: () -> Long = System::nanoTime,
 ) {
     private val stateFlow = MutableStateFlow<StreamState>(StreamState.Off)
     val state: StateFlow<StreamState> = stateFlow.asStateFlow()
@@ -130,6 +168,38 @@ internal class StreamController(
     private val offerNow = {
         val m = metadata()
         StreamOffer(m.source, m, (capture.streams + SessionStream.ORIENTATION).toList())
+    }
+
+    /** Whether the user allows a laptop to start, stop and mark recordings (the screen's switch; off by default). */
+    @Volatile var remoteControlAllowed: Boolean = false
+        private set
+
+    /** Who sent the last remote-control command while allowed; cleared when streaming stops or remote control is turned off. */
+    @Volatile private var controlledBy: String? = null
+
+    /** The switch "Allow remote control": on, a paired laptop may start, stop and mark recordings; off, its commands are refused. */
+    fun allowRemoteControl(on: Boolean) {
+        remoteControlAllowed = on
+        if (!on) controlledBy = null
+        showNow()
+    }
+
+    private val remoteControl = object : RemoteControl {
+        override val allowed: Boolean get() = remoteControlAllowed
+
+        override fun control(client: StreamClientInfo, command: StreamMessage.Control): ControlOutcome {
+            val by = client.name ?: client.address
+            val reason = when (command.command) {
+                StreamMessage.Control.Command.START ->
+                    recording.start(RemoteStart(by, command.laptopClock, command.laptopNs, command.atNs ?: sensorClock()))
+                StreamMessage.Control.Command.STOP -> recording.stop()
+                StreamMessage.Control.Command.MARK -> recording.mark(command.atNs ?: sensorClock(), command.label ?: "")
+            }
+            // In control from its first command while allowed, whatever the recording made of it.
+            controlledBy = "$by (${client.address})"
+            scope.launch { showNow() }
+            return ControlOutcome(reason)
+        }
     }
 
     private class Running(val server: StreamServer, val raw: RawListener, val oriented: OrientationListener, val refresh: Job)
@@ -157,6 +227,10 @@ internal class StreamController(
             },
             // A laptop with the right code asks to connect: shown at once (screen and notification) for the user to answer.
             onConfirmationRequested = { scope.launch { if (running?.server === server) showNow() } },
+            sensorClock = sensorClock,
+            // A recording running while linked keeps the exchanges of the laptop its pings name.
+            onClockExchange = { client, e -> client.laptopClock?.let { recording.clockExchange(e, it) } },
+            remoteControl = remoteControl,
         )
         starting = server
         stateFlow.value = StreamState.Starting
@@ -215,6 +289,7 @@ internal class StreamController(
     private fun on(server: StreamServer) = StreamState.On(
         addresses(), server.port, server.pairingCode, server.clients(),
         udp?.let { UdpView.Pushing(it.target.let { a -> "${a.hostString}:${a.port}" }, it.sent, it.droppedCount) } ?: udpView,
+        controlledBy,
     )
 
     private fun showNow() {
@@ -299,6 +374,7 @@ internal class StreamController(
      */
     fun stop(@StringRes failure: Int? = null) {
         if (running != null) stopUdp()
+        controlledBy = null
         val server = running?.let { r ->
             running = null
             r.refresh.cancel()

@@ -271,4 +271,38 @@ class StreamScreensTest {
         assertEquals(View.GONE, a.findViewById<View>(R.id.stream_request).visibility)
         assertFalse(code == a.findViewById<TextView>(R.id.stream_code).text.toString())
     }
+
+    @Test
+    fun `remote control allowed, and a laptop in control`() {
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        val remote = a.findViewById<CompoundButton>(R.id.stream_remote_switch)
+        assertFalse("remote control off by default", remote.isChecked)
+        a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
+        graph.settle()
+        remote.performClick()
+        assertTrue(graph.graph.stream.remoteControlAllowed)
+        val on = graph.graph.stream.state.value as StreamState.On
+        val answers = java.util.concurrent.LinkedBlockingQueue<StreamMessage>()
+        val c = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code, emptyList(), client = "fusion record on lab-laptop")) { answers += it }
+        client = c
+        pairAllowed(a, c)
+        assertTrue(c.send(StreamMessage.Control(1, StreamMessage.Control.Command.STOP, 1)))
+        // The answer (nothing is recording here), then the screen names the laptop in control.
+        val answer = answers.poll(10, TimeUnit.SECONDS) as StreamMessage.ControlResult
+        assertEquals("not recording", answer.reason)
+        repeat(10_000) {
+            shadowOf(Looper.getMainLooper()).idle()
+            if ((graph.graph.stream.state.value as? StreamState.On)?.controlledBy != null) return@repeat
+            java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
+        }
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(500))
+        val by = a.findViewById<TextView>(R.id.stream_controlled_by)
+        assertEquals(View.VISIBLE, by.visibility)
+        assertEquals("Controlled by fusion record on lab-laptop (127.0.0.1)", by.text.toString())
+        Screenshots.captureScreen(a, "stream-remote-control")
+        // Off again: nobody in control.
+        remote.performClick()
+        shadowOf(Looper.getMainLooper()).idle()
+        assertEquals(View.GONE, by.visibility)
+    }
 }

@@ -99,6 +99,9 @@ internal object MetadataJson {
         }
         m.calibration?.let { map["calibration"] = CalibrationJson.tree(it.calibration) + (APPLIED_IN_LIVE_FILTER to it.appliedInLiveFilter) }
         m.clockLink?.let { map["clock_link"] = it }
+        m.remoteStart?.let {
+            map["remote_start"] = linkedMapOf("by" to it.by, "laptop_clock" to it.laptopClock, "laptop_ns" to it.laptopNs, "elapsed_realtime_ns" to it.elapsedRealtimeNs)
+        }
     }
 
     /**
@@ -183,6 +186,9 @@ internal object MetadataJson {
                 Continuation(it.string("session"), it.longOrNull("gap_start_elapsed_realtime_ns"), it.long("gap_end_elapsed_realtime_ns", 0L))
             },
             clockLink = r.stringOrNull("clock_link"),
+            remoteStart = r.objOrNull("remote_start")?.let {
+                RemoteStart(it.string("by"), it.stringOrNull("laptop_clock"), it.long("laptop_ns", 0L), it.long("elapsed_realtime_ns", 0L))
+            },
         )
     }
 

@@ -85,6 +85,14 @@ public data class Continuation(val previousSession: String, val gapStartElapsedR
     public val gapNs: Long? get() = gapStartElapsedRealtimeNs?.let { gapEndElapsedRealtimeNs - it }
 }
 
+/**
+ * A recording started by a laptop over the live link (docs/STREAMING.md, "Remote control"): [by] the client's name
+ * ("fusion record on lab-laptop"), [laptopClock] the laptop clock of its command (as [SessionMetadata.clockLink] names
+ * one; null when it named none), [laptopNs] the start on that clock, [elapsedRealtimeNs] the same instant on the phone's
+ * sensor clock as the laptop's clock exchanges put it (no sample of the session comes before it).
+ */
+public data class RemoteStart(val by: String, val laptopClock: String?, val laptopNs: Long, val elapsedRealtimeNs: Long)
+
 /** A pause of the recording from [startElapsedRealtimeNs] to [endElapsedRealtimeNs] (null while paused). */
 public data class Pause(val startElapsedRealtimeNs: Long, val endElapsedRealtimeNs: Long?)
 
@@ -151,6 +159,8 @@ public data class SessionMetadata(
     val continues: Continuation? = null,
     /** The laptop clock the exchanges of clock.csv ([SessionClock]) are on (its host and boot), null without a link. */
     val clockLink: String? = null,
+    /** The laptop's command that started this recording, null when it was started on the phone. */
+    val remoteStart: RemoteStart? = null,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */

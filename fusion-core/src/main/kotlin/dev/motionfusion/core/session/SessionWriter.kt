@@ -16,6 +16,8 @@
  */
 package dev.motionfusion.core.session
 
+import dev.motionfusion.core.sync.ClockExchange
+
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.io.AsciiNumbers
 import dev.motionfusion.core.io.AtomicFiles
@@ -43,6 +45,7 @@ public class SessionWriter private constructor(
 
     private val outs = arrayOfNulls<StreamOut>(SessionStream.entries.size)
     private var markers: StreamOut? = null
+    private var clock: StreamOut? = null
     private var meta = initial.copy(formatVersion = SessionMetadata.FORMAT_VERSION, complete = false)
     private var closed = false
     private var lastTimestampNs = Long.MIN_VALUE
@@ -155,6 +158,26 @@ public class SessionWriter private constructor(
         o.bytes(timestampNs, SessionMarkers.row(timestampNs, SessionMarkers.label(label)))
     }
 
+    /**
+     * A whole clock exchange [e] with the laptop clock named [laptopClock] (docs/SYNC.md), one row of clock.csv
+     * ([SessionClock]). The first names the session's `clock_link` (meta.json is rewritten then); an exchange with another
+     * laptop clock is not written (a session holds one link): false then. Rare: this call may allocate.
+     */
+    public fun clockExchange(e: ClockExchange, laptopClock: String): Boolean {
+        checkOpen()
+        when (meta.clockLink) {
+            null -> {
+                meta = meta.copy(clockLink = laptopClock)
+                writeMetadata()
+            }
+            laptopClock -> Unit
+            else -> return false
+        }
+        val o = clock ?: StreamOut(SessionClock.FILE_NAME, SessionClock.HEADER, MARKER_BUFFER_BYTES).also { clock = it }
+        o.bytes(e.t2, SessionClock.row(e).toByteArray(StandardCharsets.US_ASCII))
+        return true
+    }
+
     /** Records that recording paused at [elapsedRealtimeNs] (sensor clock); rewrites meta.json. */
     public fun pause(elapsedRealtimeNs: Long) {
         checkOpen()
@@ -194,6 +217,7 @@ public class SessionWriter private constructor(
         checkOpen()
         for (o in outs) o?.drain()
         markers?.drain()
+        clock?.drain()
     }
 
     /** [flush], then forces the files to the storage device (survives power loss). Slow. */
@@ -201,6 +225,7 @@ public class SessionWriter private constructor(
         flush()
         for (o in outs) o?.sync()
         markers?.sync()
+        clock?.sync()
     }
 
     /** Closes with the end time set to the latest sample timestamp written. */
@@ -220,7 +245,7 @@ public class SessionWriter private constructor(
     public fun close(endElapsedRealtimeNs: Long?, endReason: String = "stopped") {
         if (closed) return
         var failure: IOException? = null
-        for (o in outs + markers) {
+        for (o in outs + markers + clock) {
             try {
                 o?.close(sync = true)
             } catch (e: IOException) {
@@ -242,7 +267,7 @@ public class SessionWriter private constructor(
     public fun abandon() {
         if (closed) return
         closed = true
-        for (o in outs + markers) {
+        for (o in outs + markers + clock) {
             try {
                 o?.close(sync = false)
             } catch (e: IOException) {

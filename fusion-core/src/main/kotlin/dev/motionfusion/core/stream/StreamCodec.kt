@@ -78,6 +78,20 @@ public object StreamCodec {
             is StreamMessage.Ping -> {
                 sb.append("{\"type\":\"ping\",\"id\":").append(m.id).append(",\"t1\":").append(m.t1Ns)
                 if (m.previousId != null && m.previousT4Ns != null) sb.append(",\"previous_id\":").append(m.previousId).append(",\"previous_t4\":").append(m.previousT4Ns)
+                m.laptopClock?.let { sb.append(",\"clock\":").append(Json.write(it).trim()) }
+                sb.append('}')
+            }
+            is StreamMessage.Control -> {
+                sb.append("{\"type\":\"control\",\"id\":").append(m.id).append(",\"command\":\"").append(m.command.key).append("\",\"t\":").append(m.laptopNs)
+                m.atNs?.let { sb.append(",\"at\":").append(it) }
+                m.laptopClock?.let { sb.append(",\"clock\":").append(Json.write(it).trim()) }
+                m.label?.let { sb.append(",\"label\":").append(Json.write(it).trim()) }
+                sb.append('}')
+            }
+            is StreamMessage.ControlResult -> {
+                sb.append("{\"type\":\"control_result\",\"id\":").append(m.id).append(",\"ok\":").append(m.ok)
+                m.reason?.let { sb.append(",\"reason\":").append(Json.write(it).trim()) }
+                m.session?.let { sb.append(",\"session\":").append(Json.write(it).trim()) }
                 sb.append('}')
             }
             is StreamMessage.Pong -> sb.append("{\"type\":\"pong\",\"id\":").append(m.id).append(",\"t1\":").append(m.t1Ns)
@@ -117,8 +131,20 @@ public object StreamCodec {
             "status" -> StreamMessage.Status(timestamp(o), o.long("sent", 0), o.long("dropped", 0), o.double("rate_hz"))
             "error" -> StreamMessage.Error(o.string("reason"))
             "waiting" -> StreamMessage.Waiting(o.string("reason"))
-            "ping" -> StreamMessage.Ping(required(o, "id"), required(o, "t1"), o.longOrNull("previous_id"), o.longOrNull("previous_t4"))
+            "ping" -> StreamMessage.Ping(required(o, "id"), required(o, "t1"), o.longOrNull("previous_id"), o.longOrNull("previous_t4"), o.stringOrNull("clock"))
             "pong" -> StreamMessage.Pong(required(o, "id"), required(o, "t1"), required(o, "t2"), required(o, "t3"))
+            "control" -> {
+                val name = o.string("command")
+                StreamMessage.Control(
+                    required(o, "id"),
+                    StreamMessage.Control.Command.entries.firstOrNull { it.key == name }
+                        ?: throw o.error("command", "unknown command \"$name\" (known: start, stop, mark)"),
+                    required(o, "t"), o.longOrNull("at"), o.stringOrNull("clock"), o.stringOrNull("label"),
+                )
+            }
+            "control_result" -> StreamMessage.ControlResult(
+                required(o, "id"), o.raw("ok") as? Boolean ?: throw o.error("ok", "missing: true or false"), o.stringOrNull("reason"), o.stringOrNull("session"),
+            )
             "pair" -> StreamMessage.Pair(
                 code = o.stringOrNull("code") ?: throw o.error("code", "missing: the pairing code shown on the phone"),
                 streams = streams(o),

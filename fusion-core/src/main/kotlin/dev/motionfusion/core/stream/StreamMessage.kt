@@ -85,13 +85,47 @@ public sealed class StreamMessage {
     /**
      * Client → phone, after the hello, to put the phone's clock on the client's (docs/SYNC.md): exchange [id], sent
      * at [t1Ns] on the client's monotonic clock. [previousId] and [previousT4Ns], when given, say when the answer to
-     * the client's previous ping arrived, so that the phone holds whole exchanges too.
+     * the client's previous ping arrived, so that the phone holds whole exchanges too. [laptopClock], when given, names
+     * the client's clock (as meta.json's `clock_link`), so that a phone recording while linked names it in its session.
      */
-    public data class Ping @JvmOverloads constructor(val id: Long, val t1Ns: Long, val previousId: Long? = null, val previousT4Ns: Long? = null) : StreamMessage()
+    public data class Ping @JvmOverloads constructor(
+        val id: Long,
+        val t1Ns: Long,
+        val previousId: Long? = null,
+        val previousT4Ns: Long? = null,
+        val laptopClock: String? = null,
+    ) : StreamMessage()
 
     /**
      * Phone → client, the answer to [Ping] [id]: its [t1Ns] back, and when the phone received it ([t2Ns]) and answered
      * ([t3Ns]), on the phone's sensor clock (elapsedRealtimeNanos, the clock of every sample's timestamp).
      */
     public data class Pong(val id: Long, val t1Ns: Long, val t2Ns: Long, val t3Ns: Long) : StreamMessage()
+
+    /**
+     * Client → phone, after the hello: start or stop a recording on the phone, or mark a moment in it (docs/STREAMING.md,
+     * "Remote control"). The phone carries it out only when its user allowed remote control; otherwise it answers with a
+     * refusal and closes the connection. [laptopNs] is the command's instant on the client's monotonic clock (the clock of
+     * its pings, named by [laptopClock], as meta.json's `clock_link` names it); [atNs] the same instant on the phone's
+     * sensor clock as the client's clock exchanges estimate it (null: when the phone receives it). A start with [atNs]
+     * keeps no sample before it, so that phones started together begin together; a mark is set there. [label] is a mark's
+     * note.
+     */
+    public data class Control @JvmOverloads constructor(
+        val id: Long,
+        val command: Command,
+        val laptopNs: Long,
+        val atNs: Long? = null,
+        val laptopClock: String? = null,
+        val label: String? = null,
+    ) : StreamMessage() {
+        /** What a [Control] asks for; [key] is its name in the message. */
+        public enum class Command(public val key: String) { START("start"), STOP("stop"), MARK("mark") }
+    }
+
+    /**
+     * Phone → client, the answer to [Control] [id]: [ok] when it was carried out, else [reason] ("already recording",
+     * "remote control is off on the phone"); [session] names the recording it concerns, when there is one.
+     */
+    public data class ControlResult @JvmOverloads constructor(val id: Long, val ok: Boolean, val reason: String? = null, val session: String? = null) : StreamMessage()
 }

@@ -67,6 +67,11 @@ class StreamCodecTest {
             StreamMessage.Error("pairing code wrong"),
             StreamMessage.Pair("123456", client = "fusion listen on \"lab\" ä"),
             StreamMessage.Waiting("the phone asks its user to allow this client"),
+            StreamMessage.Control(1, StreamMessage.Control.Command.START, 123_456_789_012_345, 81_234_567_890_123, "lab-laptop boot 1f2e"),
+            StreamMessage.Control(2, StreamMessage.Control.Command.STOP, -5),
+            StreamMessage.Control(3, StreamMessage.Control.Command.MARK, 7, 8, label = "jump \"2\" ä"),
+            StreamMessage.ControlResult(1, true, session = "2026-12-06_10-55-07"),
+            StreamMessage.ControlResult(2, false, "remote control is off on the phone"),
         )
         for (m in messages) {
             val text = StreamCodec.encode(m)
@@ -86,5 +91,8 @@ class StreamCodecTest {
         assertTrue("code: missing" in error("""{"type":"pair","schema":1}"""))
         assertTrue("rate_hz: expected a positive" in error("""{"type":"pair","schema":1,"code":"1","rate_hz":-5}"""))
         assertTrue("expected a JSON object" in error("""[1]"""))
+        assertTrue("unknown command \"reboot\"" in error("""{"type":"control","id":1,"command":"reboot","t":1}"""))
+        assertTrue("t: missing" in error("""{"type":"control","id":1,"command":"start"}"""))
+        assertTrue("ok: missing" in error("""{"type":"control_result","id":1}"""))
     }
 }
