@@ -62,15 +62,7 @@ public class AllanResult(
     /** The largest finite value, NaN when none is. */
     private fun largest(values: List<Double>): Double = values.filter { it.isFinite() }.maxOrNull() ?: Double.NaN
 
-    /** Six significant digits without trailing zeros; YAML's .nan for unknown. */
-    private fun num(v: Double): String {
-        if (!v.isFinite()) return ".nan"
-        val s = String.format(Locale.ROOT, "%.6g", v)
-        val e = s.indexOfAny(charArrayOf('e', 'E'))
-        val mantissa = if (e < 0) s else s.substring(0, e)
-        val trimmed = if ('.' in mantissa) mantissa.trimEnd('0').trimEnd('.') else mantissa
-        return if (e < 0) trimmed else trimmed + s.substring(e)
-    }
+    private fun num(v: Double): String = yamlNumber(v)
 
     public companion object {
         /** Reads [events] (a recording with [streams]) once. [progress] as in [Calibrator.calibrate]. */
@@ -104,4 +96,14 @@ public object DiscreteNoise {
     /** Bias random walk: σbd = σb·√Δt = σb / √f, the standard deviation of the bias change between two samples (unit), from σb (unit/s/√Hz). */
     @JvmStatic
     public fun randomWalk(walk: Double, rateHz: Double): Double = walk / kotlin.math.sqrt(rateHz)
+}
+
+/** Six significant digits without trailing zeros; YAML's .nan for unknown (the noise files' numbers, here and in export). */
+internal fun yamlNumber(v: Double): String {
+    if (!v.isFinite()) return ".nan"
+    val s = String.format(Locale.ROOT, "%.6g", v)
+    val e = s.indexOfAny(charArrayOf('e', 'E'))
+    val mantissa = if (e < 0) s else s.substring(0, e)
+    val trimmed = if ('.' in mantissa) mantissa.trimEnd('0').trimEnd('.') else mantissa
+    return if (e < 0) trimmed else trimmed + s.substring(e)
 }

@@ -2,6 +2,7 @@ package dev.motionfusion.core.export
 
 import dev.motionfusion.core.calib.AllanResult
 import dev.motionfusion.core.calib.DiscreteNoise
+import dev.motionfusion.core.calib.yamlNumber
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.ZipFolder
@@ -89,16 +90,6 @@ public class NoiseModel private constructor(
             if (missing.isNotEmpty()) throw DataFormatException(source, 0, 0, "not a noise model: ${missing.joinToString(", ")} missing (kalibr's imu.yaml, as fusion allan writes it)")
             return NoiseModel(text, figures, rate)
         }
-
-        /** Six significant digits without trailing zeros. */
-        internal fun num(v: Double): String {
-            if (!v.isFinite()) return ".nan"
-            val s = String.format(Locale.ROOT, "%.6g", v)
-            val e = s.indexOfAny(charArrayOf('e', 'E'))
-            val mantissa = if (e < 0) s else s.substring(0, e)
-            val trimmed = if ('.' in mantissa) mantissa.trimEnd('0').trimEnd('.') else mantissa
-            return if (e < 0) trimmed else trimmed + s.substring(e)
-        }
     }
 }
 
@@ -153,7 +144,7 @@ public object NoiseConfigs {
         }
     }
 
-    private fun num(v: Double) = NoiseModel.num(v)
+    private fun num(v: Double) = yamlNumber(v)
 
     private fun StringBuilder.continuous(m: NoiseModel, indent: String = "") {
         appendLine("${indent}accelerometer_noise_density: ${num(m.accelerometerNoiseDensity)}  # m/s^2/sqrt(Hz), continuous time")

@@ -1,5 +1,6 @@
 package dev.motionfusion.core.export
 
+import dev.motionfusion.core.calib.yamlNumber
 import dev.motionfusion.core.replay.ReplayStep
 import java.io.BufferedOutputStream
 import java.io.ByteArrayOutputStream
@@ -38,8 +39,8 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
             "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (world: ${about.world}); stamps: ${About.TIME}",
             "covariance" to if (gyroscopeVariance > 0.0 || accelerometerVariance > 0.0) {
                 "angular_velocity and linear_acceleration covariances: one sample's white-noise variance N^2 * f on the diagonal " +
-                    "(gyroscope N = ${NoiseModel.num(noise!!.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), accelerometer N = ${NoiseModel.num(noise.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), " +
-                    "f = ${NoiseModel.num(rateHz)} Hz, the gyroscope's mean rate); orientation and magnetic field covariances unknown (0)"
+                    "(gyroscope N = ${yamlNumber(noise!!.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), accelerometer N = ${yamlNumber(noise.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), " +
+                    "f = ${yamlNumber(rateHz)} Hz, the gyroscope's mean rate); orientation and magnetic field covariances unknown (0)"
             } else {
                 "unknown (0), no noise model given; orientation_covariance[0] = -1 on imu/data_raw (not provided)"
             },
