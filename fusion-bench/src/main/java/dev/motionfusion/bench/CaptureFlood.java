@@ -39,7 +39,7 @@ public final class CaptureFlood {
         Capture capture = FloodCapture.threaded(ring);
         AtomicReference<RecorderResult> ended = new AtomicReference<>();
         Recorder recorder = new Recorder(CoreSessionFormat.INSTANCE.create(dir.resolve("s").toFile(), new SessionMetadata()),
-            r -> { ended.set(r); return Unit.INSTANCE; }, 500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null);
+            r -> { ended.set(r); return Unit.INSTANCE; }, 500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null, Long.MIN_VALUE);
         FloodCapture.attach(capture, recorder);
         System.gc();
         long heapBefore = mem.getHeapMemoryUsage().getUsed();

@@ -63,7 +63,7 @@ public final class CaptureWakeUps {
         Recorder recorder = null;
         if (!onScreen) {
             recorder = new Recorder(CoreSessionFormat.INSTANCE.create(dir.resolve("s").toFile(), new SessionMetadata()),
-                r -> Unit.INSTANCE, 500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null);
+                r -> Unit.INSTANCE, 500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null, Long.MIN_VALUE);
             FloodCapture.attach(capture, recorder);
         }
         Thread thread = named("capture");

@@ -68,7 +68,7 @@ public class RecordingWriterBenchmark {
         ring = new EventRing(1 << 16);
         capture = FloodCapture.manual(ring);
         recorder = new Recorder(CoreSessionFormat.INSTANCE.create(dir.toFile(), new SessionMetadata()), r -> Unit.INSTANCE,
-            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null);
+            500_000_000L, () -> Long.MAX_VALUE, 0L, 2_000_000_000L, 100_000_000L, null, 60_000_000_000L, null, Long.MIN_VALUE);
         FloodCapture.attach(capture, recorder);
     }
 
