@@ -7,9 +7,7 @@ import android.content.Intent
 import android.net.Uri
 import android.widget.CheckBox
 import androidx.activity.result.contract.ActivityResultContract
-import com.google.android.material.R as MaterialR
 import com.google.android.material.chip.Chip
-import com.google.android.material.chip.ChipDrawable
 import com.google.android.material.chip.ChipGroup
 import dev.motionfusion.app.export.ExportKind
 import com.google.android.material.progressindicator.LinearProgressIndicator
@@ -33,6 +31,7 @@ import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.app.ui.RateBarsView
 import dev.motionfusion.app.ui.RatePlotView
+import dev.motionfusion.app.ui.replaceFilterChips
 import dev.motionfusion.app.ui.fitToSystemBars
 import dev.motionfusion.app.ui.stackWhenCrowded
 import kotlinx.coroutines.launch
@@ -177,17 +176,7 @@ class SessionDetailActivity : AppCompatActivity() {
             val group = findViewById<ChipGroup>(R.id.detail_formats)
             val kinds = ExportKind.entries.filter { it != ExportKind.NOISE || state.summary?.stillRecording == true || state.choice.kind == it }
             if (kinds != shownKinds) {
-                group.removeAllViews()
-                for (k in kinds) {
-                    group.addView(Chip(this).apply {
-                        setChipDrawable(ChipDrawable.createFromAttributes(context, null, 0, MaterialR.style.Widget_Material3_Chip_Filter))
-                        id = View.generateViewId()
-                        tag = k
-                        text = getString(k.label)
-                        isCheckable = true
-                        minHeight = (48 * resources.displayMetrics.density).toInt()
-                    })
-                }
+                group.replaceFilterChips(kinds) { getString(it.label) }
                 shownKinds = kinds
             }
             val choice = state.choice

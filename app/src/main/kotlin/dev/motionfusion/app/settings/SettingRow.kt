@@ -8,11 +8,10 @@ import android.widget.CompoundButton
 import android.widget.LinearLayout
 import android.widget.TextView
 import com.google.android.material.chip.Chip
-import com.google.android.material.chip.ChipDrawable
 import com.google.android.material.chip.ChipGroup
-import com.google.android.material.R as MaterialR
 import com.google.android.material.slider.Slider
 import dev.motionfusion.app.R
+import dev.motionfusion.app.ui.replaceFilterChips
 import dev.motionfusion.app.ui.stackWhenCrowded
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.ui.Formats
@@ -135,17 +134,7 @@ internal class SettingRow(
         val group = chips!!
         val choices = setting.choicesFor(s)
         if (choices != shownChoices) {
-            group.removeAllViews()
-            for (c in choices) {
-                group.addView(Chip(context).apply {
-                    setChipDrawable(ChipDrawable.createFromAttributes(context, null, 0, MaterialR.style.Widget_Material3_Chip_Filter))
-                    id = View.generateViewId()
-                    tag = c
-                    text = SettingText.label(context, setting, c)
-                    isCheckable = true
-                    minHeight = (48 * context.resources.displayMetrics.density).toInt()
-                })
-            }
+            group.replaceFilterChips(choices) { SettingText.label(context, setting, it) }
             shownChoices = choices
         }
         val current = setting.value(s) as String
