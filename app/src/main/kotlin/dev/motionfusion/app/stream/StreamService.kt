@@ -224,7 +224,7 @@ class StreamService : Service() {
 
         /** The id of the laptop answered ([StreamClientInfo.id]), with [ACTION_ALLOW] and [ACTION_DENY]. */
         internal const val EXTRA_CLIENT = "client"
-        internal const val NOTIFICATION_ID = 7003
+        internal const val NOTIFICATION_ID = 7004
 
         /** How often the wake lock's renewal is looked at (it renews once a minute of the clock). */
         internal const val RENEW_TICK_MS = 10_000L
