@@ -100,6 +100,11 @@ class LocaleScreensTest {
         assertEquals("Nicken", live.getString(R.string.pitch))
         assertTrue(live.findViewById<TextView>(R.id.pitch).text.toString(), Regex("""^-?\d+,\d°$""").matches(live.findViewById<TextView>(R.id.pitch).text))
         assertGerman(live, "live")
+        graph.graph.recordings.countdown.start(3) {}
+        shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+        assertEquals("Abbrechen (3)", live.findViewById<TextView>(R.id.record_toggle).text.toString())
+        Screenshots.captureScreen(live, "de-live-countdown-phone-light")
+        graph.graph.recordings.countdown.cancel()
 
         val settings = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
         graph.settle()

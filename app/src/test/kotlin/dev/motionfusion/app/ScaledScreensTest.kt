@@ -104,6 +104,12 @@ class ScaledScreensTest {
             graph.settle()
             LiveStates.sway(LiveScreen(a, graph.capture.sensorInfo))
             render(a, "${v.prefix}-live-moving", whole = true)
+            // Record with a start delay: the countdown, cancellable.
+            graph.graph.recordings.countdown.start(10) {}
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(1_500))
+            assertEquals(a.getString(R.string.record_countdown, 9), a.findViewById<android.widget.TextView>(R.id.record_status).text.toString())
+            render(a, "${v.prefix}-live-countdown")
+            graph.graph.recordings.countdown.cancel()
 
             graph.graph.recordings.set(
                 RecordingState.Active(

@@ -214,6 +214,14 @@ class ScreensTest {
     fun `live screen while recording, with markers`() {
         val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
         for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE, Shape.TABLET)) for (dark in listOf(false, true)) {
+            // Record with a start delay first: the countdown on the record bar, its button cancelling it.
+            graph.graph.recordings.set(RecordingState.Idle)
+            val before = live(shape, dark, markers)
+            graph.graph.recordings.countdown.start(3) {}
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+            assertEquals("Cancel (3)", before.findViewById<TextView>(R.id.record_toggle).text.toString())
+            Screenshots.captureScreen(before, name("live-countdown", shape, dark))
+            graph.graph.recordings.countdown.cancel()
             graph.graph.recordings.set(recording(83, markers))
             val a = live(shape, dark, markers)
             shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))

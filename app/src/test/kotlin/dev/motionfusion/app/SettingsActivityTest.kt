@@ -128,12 +128,17 @@ class SettingsActivityTest {
         assertEquals("1 h", dev.motionfusion.app.settings.SettingText.label(a, Setting.ALL.first { it.key == Setting.MAX_DURATION }, "3600"))
         a.choose(Setting.MAX_DURATION, "3600")
         a.choose(Setting.STOP_BATTERY, "15")
+        assertEquals("3 s", dev.motionfusion.app.settings.SettingText.label(a, Setting.ALL.first { it.key == Setting.START_DELAY }, "3"))
+        a.choose(Setting.START_DELAY, "3")
+        a.switch("record_rotation_vector").isChecked = false
         assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
         a.findViewById<View>(R.id.apply).performClick()
         val expected = LiveSettings(
             filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = 0.0, mode = FilterMode.IMU, accRejection = true),
             rate = SamplingRate.Hz(400),
             limits = RecordingLimits(maxDurationS = 3600L, stopBatteryPercent = 15),
+            startDelayS = 3,
+            optionalStreams = LiveSettings.OPTIONAL_STREAMS - dev.motionfusion.core.event.SessionStream.ROTATION_VECTOR,
         )
         assertEquals(expected, stored())
         val graph = (a.application as MotionFusionApp).graph

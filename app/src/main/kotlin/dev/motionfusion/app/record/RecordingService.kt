@@ -305,14 +305,16 @@ class RecordingService : Service() {
         limits = resumedLimits ?: if (still) RecordingLimits.STILL else live.limits
         batteryCheckedNs = Long.MIN_VALUE / 2
         val filterSettings = capture.filterSettingsFor(live)
-        val sensors = if (still) capture.sensors.filterKeys { it in STILL_STREAMS } else capture.sensors
         // The calibration the live filter applies during the recording, and what meta.json says of it.
         val stored = deps.sessionCalibration()
         val applied = if (stored?.appliedInLiveFilter == true) capture.calibrationFor(stored.calibration) else null
         val calibration = stored?.copy(appliedInLiveFilter = applied != null)
+        // The streams written (and listed in meta.json): the still recording's, or the filter's and the chosen ones.
+        val recorded = if (still) STILL_STREAMS else live.recordedStreams(applied?.streams().orEmpty())
+        val sensors = capture.sensors.filterKeys { it in recorded }
         val rate = live.rate
         // The latency the recording's listener is registered with (it stays registered so while the recording runs).
-        val latencyUs = capture.reportLatencyUsFor(rate, if (still) STILL_STREAMS else null)
+        val latencyUs = capture.reportLatencyUsFor(rate, recorded)
         val continues = continues
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
@@ -341,7 +343,7 @@ class RecordingService : Service() {
                     // The recording goes on; only its resumption after a kill is lost.
                     Log.w("RecordingService", "cannot keep the recording in progress: ${e.message}")
                 }
-                main.post { ready(d, sink, live, applied, still) }
+                main.post { ready(d, sink, live, applied, still, recorded) }
             } catch (e: Exception) {
                 Log.e("RecordingService", "cannot create the session", e)
                 val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
@@ -351,7 +353,7 @@ class RecordingService : Service() {
     }
 
     /** Main thread: the session exists; the recorder joins the capture. */
-    private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean) {
+    private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean, recorded: Set<SessionStream>) {
         preparing = false
         resuming = false
         val minFree = deps.minFreeBytes
@@ -361,7 +363,7 @@ class RecordingService : Service() {
             freeBytes = { dir.usableSpace },
             minFreeBytes = minFree,
             anchorNow = RecordingMetadata::anchorNow,
-            streams = if (still) STILL_STREAMS else null,
+            streams = recorded,
             notBeforeNs = remoteStart?.takeIf { continues == null }?.elapsedRealtimeNs ?: Long.MIN_VALUE,
         )
         this.recorder = recorder
@@ -369,11 +371,11 @@ class RecordingService : Service() {
         deps.recordings.set(
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
-                recorder::mark, limits, still, deps.capture.sensors.keys.count { !still || it in STILL_STREAMS }, continues,
+                recorder::mark, limits, still, deps.capture.sensors.keys.count { it in recorded }, continues,
                 recorder::clockExchange,
             ),
         )
-        deps.capture.attach(recorder, live, calibration, if (still) STILL_STREAMS else null)
+        deps.capture.attach(recorder, live, calibration, recorded)
         keepWakeLockAsNeeded()
         main.post(tick)
         if (stopWhenReady) stopRecording()
