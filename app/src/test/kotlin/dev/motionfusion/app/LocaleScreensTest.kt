@@ -108,6 +108,7 @@ class LocaleScreensTest {
 
         val settings = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
         graph.settle()
+        settings.findViewById<android.view.View>(R.id.settings_advanced_toggle).performClick()
         settings.row("beta").findViewById<Slider>(R.id.setting_slider).value = 0.12f
         graph.settle()
         assertEquals("0,12 rad/s (6,9°/s)", settings.row("beta").findViewById<TextView>(R.id.setting_value).text.toString())

@@ -310,20 +310,27 @@ class ScreensTest {
             val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
             idle()
             val png = name("settings", shape, dark)
+            // Recording first; the filter's tuning folded under Advanced.
             Screenshots.captureScreen(a, png)
+            Screenshots.captureWhole(a, "$png-folded-all")
+            assertTrue(a.row("beta").isShown.not())
+            a.findViewById<View>(R.id.settings_advanced_toggle).performClick()
+            idle()
             // The whole form, every section, as tall as it is.
             val full = Screenshots.captureWhole(a, "$png-all")
             assertTrue("$png: the whole form is taller than the screen", full.height > a.resources.configuration.screenHeightDp * a.resources.displayMetrics.density)
             assertTrue(a.getString(R.string.settings_section_rejection) in texts(a))
             assertEquals(FilterSettings().beta.toFloat(), a.row("beta").findViewById<Slider>(R.id.setting_slider).value, 0f)
         }
-        // Changed, not applied: the message says so; a 0 = off setting switched off.
+        // Changed, applied at once, with Undo offered; a 0 = off setting switched off.
         configure(Shape.PHONE, false)
         val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
+        a.findViewById<View>(R.id.settings_advanced_toggle).performClick()
         a.row("beta").findViewById<Slider>(R.id.setting_slider).value = 0.12f
         a.row("heading_gain_1_s").findViewById<CompoundButton>(R.id.setting_switch).isChecked = false
         idle()
-        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertEquals("", a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertTrue(a.snackbar!!.isShown)
         assertEquals("off", a.row("heading_gain_1_s").findViewById<TextView>(R.id.setting_value).text.toString())
         assertEquals("0.12 rad/s (6.9°/s)", a.row("beta").findViewById<TextView>(R.id.setting_value).text.toString())
         Screenshots.captureScreen(a, "settings-changed-phone-light")

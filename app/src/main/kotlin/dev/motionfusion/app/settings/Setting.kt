@@ -6,9 +6,13 @@ import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.settings.SettingGroup
 import dev.motionfusion.core.settings.SettingKind
 
-/** The settings screen's sections, in the order shown; an empty one is not shown. */
-enum class Section {
-    GAINS, REJECTION, BIAS, LOW_PASS, SATURATION, RECORDING, RECORDED_SENSORS, CALIBRATION, DISPLAY;
+/**
+ * The settings screen's sections, in the order shown; an empty one is not shown. [advanced]: the filter's tuning,
+ * under "Advanced" (folded until opened).
+ */
+enum class Section(val advanced: Boolean = false) {
+    RECORDING, RECORDED_SENSORS, CALIBRATION, DISPLAY,
+    GAINS(true), REJECTION(true), BIAS(true), LOW_PASS(true), SATURATION(true);
 
     companion object {
         fun of(group: SettingGroup): Section = when (group) {
