@@ -100,9 +100,15 @@ class LocaleScreensTest {
         assertEquals("Nicken", live.getString(R.string.pitch))
         assertTrue(live.findViewById<TextView>(R.id.pitch).text.toString(), Regex("""^-?\d+,\d°$""").matches(live.findViewById<TextView>(R.id.pitch).text))
         assertGerman(live, "live")
+        graph.graph.recordings.countdown.start(3) {}
+        shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+        assertEquals("Abbrechen (3)", live.findViewById<TextView>(R.id.record_toggle).text.toString())
+        Screenshots.captureScreen(live, "de-live-countdown-phone-light")
+        graph.graph.recordings.countdown.cancel()
 
         val settings = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
         graph.settle()
+        settings.findViewById<android.view.View>(R.id.settings_advanced_toggle).performClick()
         settings.row("beta").findViewById<Slider>(R.id.setting_slider).value = 0.12f
         graph.settle()
         assertEquals("0,12 rad/s (6,9°/s)", settings.row("beta").findViewById<TextView>(R.id.setting_value).text.toString())

@@ -104,6 +104,12 @@ class ScaledScreensTest {
             graph.settle()
             LiveStates.sway(LiveScreen(a, graph.capture.sensorInfo))
             render(a, "${v.prefix}-live-moving", whole = true)
+            // Record with a start delay: the countdown, cancellable.
+            graph.graph.recordings.countdown.start(10) {}
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(1_500))
+            assertEquals(a.getString(R.string.record_countdown, 9), a.findViewById<android.widget.TextView>(R.id.record_status).text.toString())
+            render(a, "${v.prefix}-live-countdown")
+            graph.graph.recordings.countdown.cancel()
 
             graph.graph.recordings.set(
                 RecordingState.Active(
@@ -151,17 +157,23 @@ class ScaledScreensTest {
     }
 
     @Test
-    fun `settings, and the question on leaving with changes`() {
+    fun `settings, folded and open, and a change with its Undo`() {
         for (v in Variant.entries) {
             configure(v)
+            graph.graph.settingsRepository.update(dev.motionfusion.app.settings.LiveSettings()) // the last variant's change undone
             val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
             graph.settle()
             render(a, "${v.prefix}-settings", whole = true)
-            // Changed, then Back: the question.
-            a.row("beta").findViewById<com.google.android.material.slider.Slider>(R.id.setting_slider).value = 0.12f
+            a.findViewById<android.view.View>(R.id.settings_advanced_toggle).performClick()
             graph.settle()
-            a.onBackPressedDispatcher.onBackPressed()
-            dialog(a, "${v.prefix}-settings-leave").dismiss()
+            render(a, "${v.prefix}-settings-advanced", whole = true)
+            // Changed: applied at once, the snackbar offers Undo.
+            a.row(dev.motionfusion.app.settings.Setting.START_DELAY).findViewById<com.google.android.material.chip.ChipGroup>(R.id.setting_choices)
+                .let { g -> (0 until g.childCount).map { g.getChildAt(it) }.first { it.tag == "10" }.performClick() }
+            graph.settle()
+            shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(500)) // the snackbar slides in
+            render(a, "${v.prefix}-settings-undo")
+            assertTrue(a.snackbar!!.isShown)
         }
     }
 

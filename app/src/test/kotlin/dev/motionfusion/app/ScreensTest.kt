@@ -214,6 +214,14 @@ class ScreensTest {
     fun `live screen while recording, with markers`() {
         val markers = listOf(PlotMarker(1_000_000_000L + 4_200_000_000L, "start walk"), PlotMarker(1_000_000_000L + 9_600_000_000L, "stairs"))
         for (shape in listOf(Shape.PHONE, Shape.LANDSCAPE, Shape.TABLET)) for (dark in listOf(false, true)) {
+            // Record with a start delay first: the countdown on the record bar, its button cancelling it.
+            graph.graph.recordings.set(RecordingState.Idle)
+            val before = live(shape, dark, markers)
+            graph.graph.recordings.countdown.start(3) {}
+            shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofMillis(600))
+            assertEquals("Cancel (3)", before.findViewById<TextView>(R.id.record_toggle).text.toString())
+            Screenshots.captureScreen(before, name("live-countdown", shape, dark))
+            graph.graph.recordings.countdown.cancel()
             graph.graph.recordings.set(recording(83, markers))
             val a = live(shape, dark, markers)
             shadowOf(Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(1))
@@ -302,20 +310,27 @@ class ScreensTest {
             val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
             idle()
             val png = name("settings", shape, dark)
+            // Recording first; the filter's tuning folded under Advanced.
             Screenshots.captureScreen(a, png)
+            Screenshots.captureWhole(a, "$png-folded-all")
+            assertTrue(a.row("beta").isShown.not())
+            a.findViewById<View>(R.id.settings_advanced_toggle).performClick()
+            idle()
             // The whole form, every section, as tall as it is.
             val full = Screenshots.captureWhole(a, "$png-all")
             assertTrue("$png: the whole form is taller than the screen", full.height > a.resources.configuration.screenHeightDp * a.resources.displayMetrics.density)
             assertTrue(a.getString(R.string.settings_section_rejection) in texts(a))
             assertEquals(FilterSettings().beta.toFloat(), a.row("beta").findViewById<Slider>(R.id.setting_slider).value, 0f)
         }
-        // Changed, not applied: the message says so; a 0 = off setting switched off.
+        // Changed, applied at once, with Undo offered; a 0 = off setting switched off.
         configure(Shape.PHONE, false)
         val a = Robolectric.buildActivity(SettingsActivity::class.java).setup().get()
+        a.findViewById<View>(R.id.settings_advanced_toggle).performClick()
         a.row("beta").findViewById<Slider>(R.id.setting_slider).value = 0.12f
         a.row("heading_gain_1_s").findViewById<CompoundButton>(R.id.setting_switch).isChecked = false
         idle()
-        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertEquals("", a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertTrue(a.snackbar!!.isShown)
         assertEquals("off", a.row("heading_gain_1_s").findViewById<TextView>(R.id.setting_value).text.toString())
         assertEquals("0.12 rad/s (6.9°/s)", a.row("beta").findViewById<TextView>(R.id.setting_value).text.toString())
         Screenshots.captureScreen(a, "settings-changed-phone-light")

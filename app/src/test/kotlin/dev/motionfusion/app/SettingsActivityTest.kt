@@ -128,12 +128,16 @@ class SettingsActivityTest {
         assertEquals("1 h", dev.motionfusion.app.settings.SettingText.label(a, Setting.ALL.first { it.key == Setting.MAX_DURATION }, "3600"))
         a.choose(Setting.MAX_DURATION, "3600")
         a.choose(Setting.STOP_BATTERY, "15")
-        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
-        a.findViewById<View>(R.id.apply).performClick()
+        assertEquals("3 s", dev.motionfusion.app.settings.SettingText.label(a, Setting.ALL.first { it.key == Setting.START_DELAY }, "3"))
+        a.choose(Setting.START_DELAY, "3")
+        a.switch("record_rotation_vector").isChecked = false
+        // No Apply: each change is in force at once.
         val expected = LiveSettings(
             filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = 0.0, mode = FilterMode.IMU, accRejection = true),
             rate = SamplingRate.Hz(400),
             limits = RecordingLimits(maxDurationS = 3600L, stopBatteryPercent = 15),
+            startDelayS = 3,
+            optionalStreams = LiveSettings.OPTIONAL_STREAMS - dev.motionfusion.core.event.SessionStream.ROTATION_VECTOR,
         )
         assertEquals(expected, stored())
         val graph = (a.application as MotionFusionApp).graph
@@ -145,7 +149,7 @@ class SettingsActivityTest {
         assertEquals(0.0, fs.headingGain, 0.0)
         assertEquals(FilterMode.IMU, fs.mode)
         assertTrue(fs.accRejection)
-        assertEquals(a.getString(R.string.settings_saved), a.findViewById<TextView>(R.id.settings_message).text.toString())
+        assertEquals("", a.findViewById<TextView>(R.id.settings_message).text.toString())
         // Turned on again, a setting gets back the value it had.
         a.switch("heading_gain_1_s").isChecked = true
         assertEquals(0.05f, a.slider("heading_gain_1_s").value, 1e-6f)
@@ -163,18 +167,48 @@ class SettingsActivityTest {
         assertEquals(4f, a.slider("rest_min_time_s").value, 1e-6f)
         a.findViewById<View>(R.id.reset).performClick()
         assertEquals(1.5f, a.slider("rest_min_time_s").value, 1e-6f)
-        assertFalse(a.findViewById<View>(R.id.apply).isEnabled)
+        assertEquals(LiveSettings(), stored())
+        // Defaults are undone as one change: both values come back.
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertEquals("Every setting back to its default", snackbarText(a))
+        undo(a)
+        assertEquals(4f, a.slider("rest_min_time_s").value, 1e-6f)
+        assertEquals(0.02f, a.slider("beta").value, 1e-6f)
+        assertEquals(4.0, stored().filter.restMinTime, 1e-9)
     }
 
     @Test
-    fun `an edit not yet applied survives a rotation`() {
+    fun `a change is in force at once, kept through a rotation, and undone`() {
         val c = start()
-        c.get().slider("beta").value = 0.25f
+        c.get().slider("beta").value = 0.2f
+        c.get().slider("beta").value = 0.25f // a slider dragged: one change for Undo
+        assertEquals(0.25, stored().filter.beta, 1e-6)
+        assertEquals(0.25, graph!!.graph.settingsRepository.settings.value.filter.beta, 1e-6)
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertEquals("“β, correction gain” changed", snackbarText(c.get()))
         c.recreate()
         val a = c.get()
         assertEquals(0.25f, a.slider("beta").value, 1e-6f)
-        assertEquals(a.getString(R.string.settings_unsaved), a.findViewById<TextView>(R.id.settings_message).text.toString())
-        assertEquals(LiveSettings(), stored())
+        // The filter's tuning is folded away until opened, and stays as the user left it through the rotation.
+        assertEquals(View.GONE, a.findViewById<View>(R.id.settings_advanced).visibility)
+        a.findViewById<View>(R.id.settings_advanced_toggle).performClick()
+        assertEquals(View.VISIBLE, a.findViewById<View>(R.id.settings_advanced).visibility)
+        c.recreate()
+        assertEquals(View.VISIBLE, c.get().findViewById<View>(R.id.settings_advanced).visibility)
+        c.get().slider("beta").value = 0.3f
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        undo(c.get())
+        // Undo gives back what was in force before the last change.
+        assertEquals(0.25f, c.get().slider("beta").value, 1e-6f)
+        assertEquals(0.25, stored().filter.beta, 1e-6)
+    }
+
+    private fun snackbarText(a: SettingsActivity): String =
+        a.snackbar!!.view.findViewById<TextView>(com.google.android.material.R.id.snackbar_text).text.toString()
+
+    private fun undo(a: SettingsActivity) {
+        a.snackbar!!.view.findViewById<Button>(com.google.android.material.R.id.snackbar_action).performClick()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
     }
 
     /** Back on [a]: the system's (or the app bar's Up, which goes the same way). */
@@ -184,42 +218,18 @@ class SettingsActivityTest {
     }
 
     @Test
-    fun `Back with changes not applied asks - Apply, Discard or Cancel`() {
-        // Nothing changed: Back leaves at once.
-        val unchanged = start().get()
-        back(unchanged)
-        assertTrue(unchanged.isFinishing)
-        assertEquals(null, unchanged.dialog)
-
-        // Cancel: the screen stays with the change; Discard: it leaves, nothing stored.
+    fun `Back leaves at once, every change already in force`() {
         val a = start().get()
         a.slider("beta").value = 0.25f
         back(a)
-        assertFalse("asked, not gone", a.isFinishing)
-        val ask = a.dialog!!
-        assertTrue(ask.isShowing)
-        assertEquals(a.getString(R.string.settings_leave_title), ask.findViewById<TextView>(androidx.appcompat.R.id.alertTitle)!!.text.toString())
-        ask.getButton(androidx.appcompat.app.AlertDialog.BUTTON_NEUTRAL).performClick()
-        shadowOf(android.os.Looper.getMainLooper()).idle()
-        assertFalse(a.isFinishing)
-        assertEquals(0.25f, a.slider("beta").value, 1e-6f)
-        a.onSupportNavigateUp() // the app bar's Up asks as Back does
-        shadowOf(android.os.Looper.getMainLooper()).idle()
-        assertFalse(a.isFinishing)
-        a.dialog!!.getButton(androidx.appcompat.app.AlertDialog.BUTTON_NEGATIVE).performClick()
-        shadowOf(android.os.Looper.getMainLooper()).idle()
-        assertTrue(a.isFinishing)
-        assertEquals(LiveSettings(), stored())
-
-        // Apply: stored and in force, then it leaves.
-        val b = start().get()
-        b.slider("beta").value = 0.25f
-        back(b)
-        b.dialog!!.getButton(androidx.appcompat.app.AlertDialog.BUTTON_POSITIVE).performClick()
-        shadowOf(android.os.Looper.getMainLooper()).idle()
-        assertTrue(b.isFinishing)
+        assertTrue("no question: nothing is left unapplied", a.isFinishing)
         assertEquals(0.25, stored().filter.beta, 1e-6)
         assertEquals(0.25, graph!!.graph.settingsRepository.settings.value.filter.beta, 1e-6)
+        // The app bar's Up goes the same way.
+        val b = start().get()
+        b.onSupportNavigateUp()
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertTrue(b.isFinishing)
     }
 
     @Test

@@ -19,6 +19,8 @@ import android.widget.EditText
 import android.widget.TextView
 import androidx.activity.ComponentActivity
 import androidx.appcompat.app.AlertDialog
+import androidx.lifecycle.Lifecycle
+import androidx.lifecycle.LifecycleEventObserver
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.NotificationAsk
@@ -33,6 +35,10 @@ import dev.motionfusion.core.session.SessionMarkers
  * [Recordings.state] (refreshed twice a second while attached to a window, for the elapsed
  * time); the recording itself lives in [RecordingService] and does not depend on this view or
  * its activity.
+ *
+ * With a start delay set ("Start recording after"), Record counts down first ([StartCountdown]): the seconds left in
+ * the status line and on the button, which cancels the countdown; leaving the screen cancels it too (not a rotation),
+ * since Android 12+ would refuse the recording's foreground service to an app in the background.
  *
  * After Stop it offers the saved session: Open (its detail screen) and Share (the same, its Share
  * started at once). Stop asks first ([confirmStop]).
@@ -83,6 +89,12 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         root.findViewById<Button>(R.id.record_open).setOnClickListener { openEnded(share = false) }
         notificationsOn.setOnClickListener { notifications.openSettings() }
         root.findViewById<Button>(R.id.record_share).setOnClickListener { openEnded(share = true) }
+        // The countdown goes on through a rotation, not when the screen is left.
+        activity.lifecycle.addObserver(
+            LifecycleEventObserver { _, event ->
+                if (event == Lifecycle.Event.ON_STOP && !activity.isChangingConfigurations) recordings.countdown.cancel()
+            },
+        )
         root.addOnAttachStateChangeListener(object : View.OnAttachStateChangeListener {
             override fun onViewAttachedToWindow(v: View) {
                 handler.removeCallbacks(poll)
@@ -95,7 +107,10 @@ internal class RecordBar private constructor(private val activity: ComponentActi
     }
 
     private fun onToggle() {
-        if (recordings.isRecording) {
+        if (recordings.countdown.isRunning) {
+            recordings.countdown.cancel()
+            refresh()
+        } else if (recordings.isRecording) {
             dialog = confirmStop(activity) { handler.postDelayed(::refresh, 100) }
         } else if (recordings.state.value is RecordingState.Interrupted) {
             RecordingService.continueRecording(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
@@ -111,9 +126,15 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         activity.startActivity(SessionDetailActivity.intent(activity, session.name, share))
     }
 
+    /** After the start delay, if one is set: the recording service started then (from the application, which outlives a rotation). */
     private fun start() {
-        RecordingService.start(activity)?.let { recordings.set(RecordingState.NotStarted(it)) }
+        val app = activity.applicationContext
+        val recordings = recordings
+        recordings.countdown.start(deps.settings.value.startDelayS) {
+            RecordingService.start(app)?.let { recordings.set(RecordingState.NotStarted(it)) }
+        }
         // The service changes the state when it runs; show the intent at once.
+        refresh()
         handler.postDelayed(::refresh, 100)
     }
 
@@ -159,6 +180,14 @@ internal class RecordBar private constructor(private val activity: ComponentActi
         // The way back after "Record without": the app's notification settings.
         notificationsOn.visibility = if (notifications.declined) View.VISIBLE else View.GONE
         announcer.update(state) { RecordingAnnouncer.text(activity, it) }
+        val countdown = recordings.countdown.secondsLeft.value
+        if (countdown > 0) {
+            toggle.text = activity.getString(R.string.record_countdown_cancel, countdown)
+            toggle.contentDescription = activity.getString(R.string.record_countdown_cancel_desc)
+            toggle.backgroundTintList = ColorStateList.valueOf(activity.getColor(R.color.record_idle))
+            status.setTextIfChanged(activity.getString(R.string.record_countdown, countdown))
+            return
+        }
         when (val s = state) {
             is RecordingState.Preparing -> {
                 toggle.setText(R.string.record_stop)

@@ -218,15 +218,16 @@ internal class RecordingLifecycle(
         limits = resumedLimits ?: if (still) RecordingLimits.STILL else live.limits
         limitWatch = RecordingLimitWatch(limits, startedElapsedMs, deps.battery)
         val filterSettings = capture.filterSettingsFor(live)
-        val streams = if (still) RecordingService.STILL_STREAMS else null
-        val sensors = if (still) capture.sensors.filterKeys { it in RecordingService.STILL_STREAMS } else capture.sensors
         // The calibration the live filter applies during the recording, and what meta.json says of it.
         val stored = deps.sessionCalibration()
         val applied = if (stored?.appliedInLiveFilter == true) capture.calibrationFor(stored.calibration) else null
         val calibration = stored?.copy(appliedInLiveFilter = applied != null)
+        // The streams written (and listed in meta.json): the still recording's, or the filter's and the chosen ones.
+        val recorded = if (still) RecordingService.STILL_STREAMS else live.recordedStreams(applied?.streams().orEmpty())
+        val sensors = capture.sensors.filterKeys { it in recorded }
         val rate = live.rate
         // The latency the recording's listener is registered with (it stays registered so while the recording runs).
-        val latencyUs = capture.reportLatencyUsFor(rate, streams)
+        val latencyUs = capture.reportLatencyUsFor(rate, recorded)
         val continues = continues
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
@@ -256,7 +257,7 @@ internal class RecordingLifecycle(
                     // The recording goes on; only its resumption after a kill is lost.
                     Log.w("RecordingService", "cannot keep the recording in progress: ${e.message}")
                 }
-                main.post { ready(d, sink, live, applied, still) }
+                main.post { ready(d, sink, live, applied, still, recorded) }
             } catch (e: Exception) {
                 Log.e("RecordingService", "cannot create the session", e)
                 val failed = RecorderResult(RecordingEnd.WriteFailed(e.message ?: e.javaClass.simpleName), LongArray(SessionStream.entries.size), 0)
@@ -266,28 +267,27 @@ internal class RecordingLifecycle(
     }
 
     /** Main thread: the session exists; the recorder joins the capture. */
-    private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean) {
+    private fun ready(dir: File, sink: SessionSink, live: LiveSettings, calibration: Calibration?, still: Boolean, recorded: Set<SessionStream>) {
         preparing = false
         resuming = false
-        val streams = if (still) RecordingService.STILL_STREAMS else null
         val recorder = Recorder(
             sink,
             onEnd = { result -> onWriterEnded(dir, result) },
             freeBytes = { dir.usableSpace },
             minFreeBytes = deps.minFreeBytes,
             anchorNow = RecordingMetadata::anchorNow,
-            streams = streams,
+            streams = recorded,
             notBeforeNs = remoteStart?.takeIf { continues == null }?.elapsedRealtimeNs ?: Long.MIN_VALUE,
         )
         this.recorder = recorder
         deps.recordings.set(
             RecordingState.Active(
                 dir, startedElapsedMs, { recorder.rowCount }, { recorder.markers },
-                recorder::mark, limits, still, deps.capture.sensors.keys.count { streams == null || it in streams }, continues,
+                recorder::mark, limits, still, deps.capture.sensors.keys.count { it in recorded }, continues,
                 recorder::clockExchange,
             ),
         )
-        deps.capture.attach(recorder, live, calibration, streams)
+        deps.capture.attach(recorder, live, calibration, recorded)
         keepWakeLockAsNeeded()
         main.post(tick)
         if (stopWhenReady) stop()

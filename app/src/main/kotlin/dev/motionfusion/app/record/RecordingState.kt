@@ -79,6 +79,9 @@ class Recordings {
 
     val isRecording: Boolean get() = state.value.let { it is RecordingState.Active || it is RecordingState.Preparing }
 
+    /** Record's start delay, counting down before the recording service is started. */
+    val countdown = StartCountdown()
+
     /** Sets a marker at [timestampNs] (sensor clock) with [label] in the recording, if one is running; false otherwise. */
     fun mark(timestampNs: Long, label: String): Boolean {
         val s = state.value as? RecordingState.Active ?: return false

@@ -6,9 +6,13 @@ import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.settings.SettingGroup
 import dev.motionfusion.core.settings.SettingKind
 
-/** The settings screen's sections, in the order shown; an empty one is not shown. */
-enum class Section {
-    GAINS, REJECTION, BIAS, LOW_PASS, SATURATION, RECORDING, CALIBRATION, DISPLAY;
+/**
+ * The settings screen's sections, in the order shown; an empty one is not shown. [advanced]: the filter's tuning,
+ * under "Advanced" (folded until opened).
+ */
+enum class Section(val advanced: Boolean = false) {
+    RECORDING, RECORDED_SENSORS, CALIBRATION, DISPLAY,
+    GAINS(true), REJECTION(true), BIAS(true), LOW_PASS(true), SATURATION(true);
 
     companion object {
         fun of(group: SettingGroup): Section = when (group) {
@@ -88,6 +92,9 @@ class Setting(
         const val RATE = "rate"
         const val MAX_DURATION = "max_duration_s"
         const val STOP_BATTERY = "stop_battery_percent"
+        const val START_DELAY = "start_delay_s"
+        /** An optional stream's switch: this and the stream's name in lower case ("record_rotation_vector"). */
+        const val RECORD_PREFIX = "record_"
 
         /** A filter setting of fusion-core's table, as the screen shows it. */
         fun of(d: FilterSettingDescriptor): Setting = Setting(
@@ -105,12 +112,19 @@ class Setting(
         val APP: List<Setting> = listOf(
             Setting(RATE, "Requested sensor rate", Section.RECORDING, SettingKind.CHOICE, choices = RATES,
                 read = { it.rate.key }, write = { s, v -> s.copy(rate = requireNotNull(SamplingRate.parse(v as String)) { "no rate $v" }) }),
+            Setting(START_DELAY, "Start recording after", Section.RECORDING, SettingKind.CHOICE, choices = LiveSettings.START_DELAY_CHOICES_S.map { it.toString() },
+                read = { it.startDelayS.toString() }, write = { s, v -> s.copy(startDelayS = (v as String).toInt()) }),
             Setting(MAX_DURATION, "Stop recording after", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.DURATION_CHOICES_S.map { it.toString() },
                 read = { it.limits.maxDurationS.toString() },
                 write = { s, v -> s.copy(limits = s.limits.copy(maxDurationS = (v as String).toLong())) }),
             Setting(STOP_BATTERY, "Stop recording at battery", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.BATTERY_CHOICES.map { it.toString() },
                 read = { it.limits.stopBatteryPercent.toString() },
                 write = { s, v -> s.copy(limits = s.limits.copy(stopBatteryPercent = (v as String).toInt())) }),
+        ) + LiveSettings.OPTIONAL_STREAMS.sortedBy { it.ordinal }.map { stream ->
+            Setting(RECORD_PREFIX + stream.name.lowercase(), "Record ${stream.name.lowercase().replace('_', ' ')}", Section.RECORDED_SENSORS, SettingKind.BOOLEAN,
+                read = { stream in it.optionalStreams },
+                write = { s, v -> s.copy(optionalStreams = if (v as Boolean) s.optionalStreams + stream else s.optionalStreams - stream) })
+        } + listOf(
             Setting("convention", "Angles shown", Section.DISPLAY, SettingKind.CHOICE, choices = AngleConvention.entries.map { it.name },
                 read = { it.convention.name }, write = { s, v -> s.copy(convention = AngleConvention.valueOf(v as String)) }),
         )

@@ -7,7 +7,7 @@ import dev.motionfusion.app.sensor.label
 
 /**
  * The words the screens show for a [Setting], from the resources of [Context]'s locale: its title
- * (`setting_<key>`), the label of a choice (`setting_choice_<NAME>`, rates, durations and battery
+ * (`setting_<key>`), the label of a choice (`setting_choice_<NAME>`, rates, durations, start delays and battery
  * levels formatted), and numbers in the locale's format. `SettingTextTest` checks every setting has
  * them in every shipped language.
  */
@@ -30,6 +30,7 @@ internal object SettingText {
     fun label(c: Context, s: Setting, choice: String): String = when (s.key) {
         Setting.RATE -> SamplingRate.parse(choice)?.label(c) ?: choice
         Setting.MAX_DURATION -> choice.toLongOrNull()?.let { duration(c, it) } ?: choice
+        Setting.START_DELAY -> choice.toLongOrNull()?.let { if (it == 0L) c.getString(R.string.start_delay_off) else duration(c, it) } ?: choice
         Setting.STOP_BATTERY -> choice.toIntOrNull()?.let { if (it == 0) c.getString(R.string.battery_never) else c.getString(R.string.battery_percent, it) } ?: choice
         else -> choiceRes(c, choice).let { if (it == 0) choice else c.getString(it) }
     }

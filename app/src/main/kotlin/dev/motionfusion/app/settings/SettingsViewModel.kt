@@ -9,26 +9,30 @@ import kotlinx.coroutines.flow.asStateFlow
 import kotlinx.coroutines.launch
 
 /**
- * What the settings screen shows: the values being edited ([draft], always valid: each change
- * goes through the settings' own types), the settings in force ([applied]), and the last refusal
- * per setting key.
+ * What the settings screen shows: the values shown ([draft], always valid: each change goes through the settings' own
+ * types, and is applied at once), the settings in force ([applied]: the draft, but for a moment while the first read
+ * from storage ends), the last refusal per setting key, and the last change's [undo].
  */
 data class SettingsUiState(
     val draft: LiveSettings,
     val applied: LiveSettings,
     val errors: Map<String, String> = emptyMap(),
-    /** Apply was the last action. */
-    val justApplied: Boolean = false,
-) {
-    /** The draft differs from the settings in force. */
-    val changed: Boolean get() = draft != applied
-}
+    /** What Undo gives back, while it is offered; null: nothing to undo. */
+    val undo: Undo? = null,
+)
 
 /**
- * The settings screen's state, kept across configuration changes: edits change the draft, [apply]
- * persists it through [SettingsRepository] and hands it to the live filter and the recorder.
- * The settings in force follow the repository (its first read from storage can end after the
- * screen opened); an unchanged draft follows with them.
+ * The last change, already applied: [before] is what Undo applies again; [key] the setting changed (null: every
+ * setting, Defaults); [id] tells one change from the next (the screen shows one snackbar per id).
+ */
+data class Undo(val before: LiveSettings, val key: String?, val id: Int)
+
+/**
+ * The settings screen's state, kept across configuration changes: each accepted change is applied at once, persisted
+ * through [SettingsRepository] and handed to the live filter and the recorder (a recording keeps its own until it
+ * ends), and can be undone ([undo]) while the screen offers it. Changes of one setting in a row (a slider dragged) are
+ * one change for Undo. The settings in force follow the repository (its first read from storage can end after the
+ * screen opened).
  */
 class SettingsViewModel(private val repository: SettingsRepository) : ViewModel() {
     private val flow = MutableStateFlow(repository.settings.value.let { SettingsUiState(it, it) })
@@ -38,7 +42,7 @@ class SettingsViewModel(private val repository: SettingsRepository) : ViewModel(
         viewModelScope.launch {
             repository.settings.collect { s ->
                 val ui = flow.value
-                if (s != ui.applied) flow.value = if (ui.changed) ui.copy(applied = s) else ui.copy(draft = s, applied = s)
+                if (s != ui.applied) flow.value = ui.copy(draft = s, applied = s)
             }
         }
     }
@@ -46,14 +50,23 @@ class SettingsViewModel(private val repository: SettingsRepository) : ViewModel(
     /** The last value other than 0 of a setting that 0 turns off, to give back when it is turned on again. */
     private val lastOn = HashMap<String, Double>()
 
-    /** Sets [setting] to [value] in the draft, or records why it is refused. */
+    /** Sets [setting] to [value] and applies it, or records why it is refused (nothing applied then). */
     fun set(setting: Setting, value: Any) {
         val s = flow.value
         flow.value = try {
-            s.copy(draft = setting.with(s.draft, value), errors = s.errors - setting.key, justApplied = false)
+            val next = setting.with(s.draft, value)
+            if (next == s.draft) s.copy(errors = s.errors - setting.key) else applied(s.copy(errors = s.errors - setting.key), next, setting.key)
         } catch (e: IllegalArgumentException) {
             s.copy(errors = s.errors + (setting.key to (e.message ?: e.javaClass.simpleName)))
         }
+    }
+
+    /** [s] with [next] applied and persisted; Undo gives back what was in force before this change (before a run of changes of [key]). */
+    private fun applied(s: SettingsUiState, next: LiveSettings, key: String?): SettingsUiState {
+        repository.update(next)
+        val last = s.undo
+        val before = if (last != null && key != null && last.key == key) last.before else s.applied
+        return s.copy(draft = next, applied = next, undo = Undo(before, key, (last?.id ?: 0) + 1))
     }
 
     /** [setting] back to its default. */
@@ -74,21 +87,24 @@ class SettingsViewModel(private val repository: SettingsRepository) : ViewModel(
         }
     }
 
-    /** Every setting back to its default (not applied until [apply]). */
+    /** Every setting back to its default, applied (Undo gives them back). */
     fun resetAll() {
-        flow.value = flow.value.copy(draft = LiveSettings(), errors = emptyMap(), justApplied = false)
-    }
-
-    /** The draft back to the settings in force (the changes dropped). */
-    fun discard() {
-        flow.value = flow.value.let { it.copy(draft = it.applied, errors = emptyMap(), justApplied = false) }
-    }
-
-    /** Persists and applies the draft. */
-    fun apply() {
         val s = flow.value
-        repository.update(s.draft)
-        flow.value = s.copy(applied = s.draft, justApplied = true)
+        if (s.draft != LiveSettings()) flow.value = applied(s.copy(errors = emptyMap()), LiveSettings(), null)
+    }
+
+    /** The last change undone: the settings before it applied again. */
+    fun undo() {
+        val s = flow.value
+        val u = s.undo ?: return
+        repository.update(u.before)
+        flow.value = s.copy(draft = u.before, applied = u.before, errors = emptyMap(), undo = null)
+    }
+
+    /** The screen no longer offers to undo change [id] (its snackbar went); a later change of the same setting is a new one. */
+    fun undoExpired(id: Int) {
+        val s = flow.value
+        if (s.undo?.id == id) flow.value = s.copy(undo = null)
     }
 
     class Factory(private val repository: SettingsRepository) : ViewModelProvider.Factory {

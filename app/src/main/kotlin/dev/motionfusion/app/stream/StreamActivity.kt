@@ -1,10 +1,17 @@
 package dev.motionfusion.app.stream
 
+import android.content.ClipData
+import android.content.ClipboardManager
+import android.graphics.drawable.BitmapDrawable
+import android.os.Build
 import android.os.Bundle
+import android.os.PersistableBundle
 import android.text.SpannableStringBuilder
 import android.text.style.ForegroundColorSpan
 import android.view.View
 import android.widget.EditText
+import android.widget.ImageView
+import android.widget.Toast
 import android.widget.CompoundButton
 import android.widget.TextView
 import androidx.appcompat.app.AppCompatActivity
@@ -15,6 +22,7 @@ import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.NotificationAsk
 import dev.motionfusion.app.settings.SettingsRepository
 import dev.motionfusion.app.ui.fitToSystemBars
+import dev.motionfusion.app.ui.qrBitmap
 import dev.motionfusion.stream.StreamClientInfo
 import kotlinx.coroutines.launch
 
@@ -22,7 +30,9 @@ import kotlinx.coroutines.launch
  * The Stream screen (docs/STREAMING.md): a switch, off by default, that starts and stops the
  * [StreamController]; while on, a laptop that asks to connect (its name and address, Allow and Deny), the addresses a
  * laptop connects to (Wi-Fi and USB), the pairing
- * code, and each client with the rate it gets and what was dropped for it, a client that does not keep
+ * code, the `fusion listen` command for the first Wi-Fi address with that code (as text, as a QR code, and a button that
+ * copies it: the code is on the same screen already, and a laptop that gives it is still only let in after Allow),
+ * and each client with the rate it gets and what was dropped for it, a client that does not keep
  * up marked as stalled, and the optional UDP push (a `host:port` field, Push/Stop, what it sent and
  * dropped or why it did not start; the field offers the last target a push started to), and the switch "Allow remote
  * control" (off by default: a paired laptop may then start, stop and mark recordings) with the laptop in control. While the server starts
@@ -56,6 +66,7 @@ class StreamActivity : AppCompatActivity() {
         remote.isChecked = controller.remoteControlAllowed
         remote.setOnCheckedChangeListener { _, on -> controller.allowRemoteControl(on) }
         val target = findViewById<EditText>(R.id.stream_udp_target)
+        findViewById<View>(R.id.stream_copy).setOnClickListener { copyCommand() }
         findViewById<View>(R.id.stream_udp_button).setOnClickListener {
             val udp = (controller.state.value as? StreamState.On)?.udp
             if (udp is UdpView.Pushing || udp is UdpView.Starting) controller.stopUdp() else controller.pushUdp(target.text.toString())
@@ -112,6 +123,7 @@ class StreamActivity : AppCompatActivity() {
             else on.addresses.joinToString("\n") { getString(R.string.stream_address, it, on.port.toString()) }
         // The port as typed on a laptop: ASCII digits whatever the language (an Arabic phone formats %d in its own digits).
         findViewById<TextView>(R.id.stream_usb).text = getString(R.string.stream_usb, on.port.toString())
+        showCommand(on)
         showUdp(on.udp)
         val locale = resources.configuration.locales[0]
         val warning = getColor(R.color.warning)
@@ -129,6 +141,34 @@ class StreamActivity : AppCompatActivity() {
                     }
                 }
             }
+    }
+
+    /** The command shown; null without a network address (USB needs `adb forward` first: its line says so). */
+    private var command: String? = null
+
+    /** The `fusion listen` command for the first address, as text and QR code; redrawn only when it changes (a new code). */
+    private fun showCommand(on: StreamState.On) {
+        val address = on.addresses.firstOrNull()
+        val text = address?.let { getString(R.string.stream_command, it, on.port.toString(), on.code) }
+        findViewById<View>(R.id.stream_laptop).visibility = if (text == null) View.GONE else View.VISIBLE
+        if (text == command) return
+        command = text
+        findViewById<TextView>(R.id.stream_command).text = text ?: ""
+        findViewById<ImageView>(R.id.stream_qr).setImageDrawable(
+            text?.let { t -> BitmapDrawable(resources, qrBitmap(t)).apply { isFilterBitmap = false } },
+        )
+    }
+
+    /**
+     * The command to the clipboard, marked sensitive (it holds the code: Android 13+ then hides it in the clipboard's
+     * preview); Android 13+ confirms a copy itself, earlier versions get a toast.
+     */
+    private fun copyCommand() {
+        val text = command ?: return
+        val clip = ClipData.newPlainText(getString(R.string.stream_laptop_title), text)
+        clip.description.extras = PersistableBundle().apply { putBoolean(EXTRA_IS_SENSITIVE, true) }
+        getSystemService(ClipboardManager::class.java).setPrimaryClip(clip)
+        if (Build.VERSION.SDK_INT < 33) Toast.makeText(this, R.string.stream_copied, Toast.LENGTH_SHORT).show()
     }
 
     /** The first laptop that asks to connect, with Allow and Deny; how many more ask after it. */
@@ -165,5 +205,7 @@ class StreamActivity : AppCompatActivity() {
 
     private companion object {
         val SHOWING = Any()
+        /** `ClipDescription.EXTRA_IS_SENSITIVE` (API 33), by value: read from API 33 on, ignored before. */
+        const val EXTRA_IS_SENSITIVE = "android.content.extra.IS_SENSITIVE"
     }
 }

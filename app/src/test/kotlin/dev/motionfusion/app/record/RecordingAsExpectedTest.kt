@@ -8,6 +8,7 @@ import dev.motionfusion.app.settings.RecordingLimits
 import android.Manifest
 import android.app.Activity
 import android.content.Intent
+import android.content.res.Configuration
 import android.content.pm.PackageManager
 import android.hardware.Sensor
 import android.hardware.SensorManager
@@ -151,6 +152,95 @@ class RecordingAsExpectedTest {
     }
 
     private fun recordingScreen(): ActivityController<MainActivity> = Robolectric.buildActivity(MainActivity::class.java).setup()
+
+    @Test
+    fun `Record after a 3-s countdown, shown, cancelled, kept through a rotation, and the session's first sample after it`() {
+        graph.graph.setNotificationsAnswered()
+        graph.graph.settingsRepository.update(LiveSettings(startDelayS = 3))
+        val activity = recordingScreen()
+        var a = activity.get()
+        fun toggle() = a.findViewById<Button>(R.id.record_toggle).text.toString()
+        fun status() = a.findViewById<TextView>(R.id.record_status).text.toString()
+        click(a, R.id.record_toggle)
+        assertEquals("Cancel (3)", toggle())
+        assertEquals("Recording starts in 3 s: put the phone in place.", status())
+        // Rendered in ScreensTest, LocaleScreensTest and ScaledScreensTest (live-countdown).
+        // Cancelled: nothing starts, however long one waits.
+        click(a, R.id.record_toggle)
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(5))
+        assertNull(shadowOf(app).peekNextStartedService())
+        assertEquals("Record", toggle())
+        assertEquals(RecordingState.Idle, state)
+
+        // Again, rotated in the middle, and left to run out.
+        click(a, R.id.record_toggle)
+        val pressedMs = android.os.SystemClock.uptimeMillis()
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1))
+        for (i in 0 until 50) sendRound(5_000_000_000L + i * 10_000_000L) // while counting down
+        graph.pump()
+        activity.configurationChange(Configuration(app.resources.configuration).apply { orientation = Configuration.ORIENTATION_LANDSCAPE })
+        shadowOf(Looper.getMainLooper()).idle()
+        a = activity.get()
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(600)) // the bar's refresh
+        assertEquals("Cancel (2)", toggle())
+        // The service starts 3 s after the press, not before (the main looper's clock, 100 ms a step).
+        while (shadowOf(app).peekNextStartedService() == null) {
+            val waited = android.os.SystemClock.uptimeMillis() - pressedMs
+            check(waited < 10_000) { "the countdown never ended: ${toggle()}" }
+            shadowOf(Looper.getMainLooper()).idleFor(Duration.ofMillis(100))
+        }
+        val waited = android.os.SystemClock.uptimeMillis() - pressedMs
+        assertTrue("started after $waited ms", waited in 3_000L..3_100L)
+        val c = startService(shadowOf(app).nextStartedService)
+        assertTrue(graph.graph.recordings.isRecording)
+        for (i in 50 until 100) sendRound(5_000_000_000L + i * 10_000_000L)
+        val ended = stop(c.get())
+        val first = offMainThread {
+            SessionReader.open(ended.session!!.toPath()).use { r -> r.stream(SessionStream.GYROSCOPE).use { e -> e.next(); e.timestampNs } }
+        }
+        assertTrue("first sample $first, the countdown ended after 5,490,000,000", first >= 5_500_000_000L)
+        activity.pause().stop().destroy()
+    }
+
+    @Test
+    fun `the sensors chosen are recorded and listed in meta_json, the filter's own whatever the choice`() {
+        val sensorStreams = SensorStreams.all.toSet()
+        fun record(settings: LiveSettings): Pair<Set<SessionStream>, Set<SessionStream>> {
+            graph.graph.settingsRepository.update(settings)
+            val c = startService()
+            for (i in 0 until 20) sendRound(5_000_000_000L + i * 10_000_000L)
+            graph.pump()
+            val ended = stop(c.get())
+            return offMainThread {
+                SessionReader.open(ended.session!!.toPath()).use { r -> r.metadata.sensors.map { it.stream }.toSet() to (r.streams intersect sensorStreams) }
+            }
+        }
+        val acc = SessionStream.ACCELEROMETER
+        val gyro = SessionStream.GYROSCOPE
+        // Nothing optional chosen, 9D: the magnetometer is the filter's.
+        val nineD = setOf(acc, gyro, SessionStream.MAGNETOMETER)
+        assertEquals(nineD to nineD, record(LiveSettings(optionalStreams = emptySet())))
+        // 6D with the rotation vector chosen: no magnetometer.
+        val sixD = setOf(acc, gyro, SessionStream.ROTATION_VECTOR)
+        val imu = LiveSettings.DEFAULT_FILTER.copy(mode = dev.motionfusion.core.filter.FilterMode.IMU)
+        assertEquals(sixD to sixD, record(LiveSettings(filter = imu, optionalStreams = setOf(SessionStream.ROTATION_VECTOR))))
+        // The default: every stream, as before the choice existed.
+        assertEquals(sensorStreams to sensorStreams, record(LiveSettings()))
+    }
+
+    @Test
+    fun `a countdown is cancelled when the screen is left`() {
+        graph.graph.setNotificationsAnswered()
+        graph.graph.settingsRepository.update(LiveSettings(startDelayS = 10))
+        val activity = recordingScreen()
+        click(activity.get(), R.id.record_toggle)
+        assertTrue(graph.graph.recordings.countdown.isRunning)
+        activity.pause().stop()
+        assertFalse(graph.graph.recordings.countdown.isRunning)
+        shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(11))
+        assertNull(shadowOf(app).peekNextStartedService())
+        activity.destroy()
+    }
 
     @Test
     @Config(minSdk = 33, maxSdk = Sdks.MAX)

@@ -1,5 +1,8 @@
 package dev.motionfusion.app.stream
 
+import android.content.ClipboardManager
+import android.graphics.Bitmap
+import android.graphics.Canvas
 import android.hardware.Sensor
 import android.hardware.SensorManager
 import android.os.Looper
@@ -11,6 +14,10 @@ import dev.motionfusion.app.Screenshots
 import dev.motionfusion.app.TestGraph
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.stream.StreamMessage
+import com.google.zxing.BinaryBitmap
+import com.google.zxing.RGBLuminanceSource
+import com.google.zxing.common.HybridBinarizer
+import com.google.zxing.qrcode.QRCodeReader
 import dev.motionfusion.stream.StreamClient
 import java.net.DatagramPacket
 import java.net.DatagramSocket
@@ -36,6 +43,7 @@ import org.robolectric.Shadows.shadowOf
 import org.robolectric.annotation.Config
 import org.robolectric.annotation.GraphicsMode
 import org.robolectric.shadows.SensorBuilder
+import org.robolectric.shadows.ShadowToast
 
 /**
  * The Stream screen rendered to PNG (target/screenshots) off, starting, on and waiting for a client,
@@ -87,6 +95,15 @@ class StreamScreensTest {
         shadowOf(Looper.getMainLooper()).idle()
     }
 
+    /** The text of the QR code [v] draws, read by ZXing's reader from the view's pixels as the screen shows them. */
+    private fun decodeQr(v: View): String {
+        val b = Bitmap.createBitmap(v.width, v.height, Bitmap.Config.ARGB_8888)
+        v.draw(Canvas(b))
+        val pixels = IntArray(b.width * b.height).also { b.getPixels(it, 0, b.width, 0, 0, b.width, b.height) }
+        val image = BinaryBitmap(HybridBinarizer(RGBLuminanceSource(b.width, b.height, pixels)))
+        return QRCodeReader().decode(image).text
+    }
+
     @After
     fun tearDown() {
         pool.shutdownNow()
@@ -123,6 +140,14 @@ class StreamScreensTest {
         assertEquals("ws://192.168.1.23:8765", a.findViewById<TextView>(R.id.stream_addresses).text.toString())
         assertEquals("adb forward tcp:8765 tcp:8765, then ws://127.0.0.1:8765", a.findViewById<TextView>(R.id.stream_usb).text.toString())
         Screenshots.captureScreen(a, "stream-waiting")
+        // The laptop's command: as text, as a QR code a reader decodes from the view as drawn, and copied.
+        val command = "fusion listen ws://192.168.1.23:8765 --code ${on.code}"
+        assertEquals(command, a.findViewById<TextView>(R.id.stream_command).text.toString())
+        assertEquals(command, decodeQr(a.findViewById(R.id.stream_qr)))
+        a.findViewById<View>(R.id.stream_copy).performClick()
+        val clip = a.getSystemService(ClipboardManager::class.java).primaryClip!!
+        assertEquals(command, clip.getItemAt(0).text.toString())
+        assertTrue("marked sensitive", clip.description.extras!!.getBoolean("android.content.extra.IS_SENSITIVE"))
 
         val got = CountDownLatch(400)
         client = StreamClient(URI("ws://127.0.0.1:8765"), StreamMessage.Pair(on.code, client = "fusion listen on lab-laptop")) {
@@ -209,6 +234,21 @@ class StreamScreensTest {
     }
 
     @Test
+    @Config(minSdk = 32, maxSdk = 33)
+    fun `the command copied, confirmed by a toast before Android 13, by the system from 13 on`() {
+        val a = Robolectric.buildActivity(StreamActivity::class.java).setup().get()
+        a.findViewById<CompoundButton>(R.id.stream_switch).performClick()
+        graph.settle()
+        val on = graph.graph.stream.state.value as StreamState.On
+        a.findViewById<View>(R.id.stream_copy).performClick()
+        assertEquals(
+            "fusion listen ws://192.168.1.23:8765 --code ${on.code}",
+            a.getSystemService(ClipboardManager::class.java).primaryClip!!.getItemAt(0).text.toString(),
+        )
+        assertEquals(if (android.os.Build.VERSION.SDK_INT < 33) "Command copied" else null, ShadowToast.getTextOfLatestToast())
+    }
+
+    @Test
     fun `a client that stopped reading is shown as stalled`() {
         // A small queue per client, so that the sockets' buffers fill sooner.
         graph = TestGraph(streamPort = StreamController.PORT, streamSettings = StreamServerSettings(clientQueueFrames = 16))
@@ -269,7 +309,10 @@ class StreamScreensTest {
         // Whoever asked knew the code: a new one is shown.
         shadowOf(Looper.getMainLooper()).idle()
         assertEquals(View.GONE, a.findViewById<View>(R.id.stream_request).visibility)
-        assertFalse(code == a.findViewById<TextView>(R.id.stream_code).text.toString())
+        val newCode = a.findViewById<TextView>(R.id.stream_code).text.toString()
+        assertFalse(code == newCode)
+        // The command and its QR code follow the new code.
+        assertEquals("fusion listen ws://192.168.1.23:8765 --code $newCode", decodeQr(a.findViewById(R.id.stream_qr)))
     }
 
     @Test
