@@ -20,7 +20,7 @@
 package dev.motionfusion.core.filter
 
 internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.State> {
-    private val spread2 = settings.magTrustSpread * settings.magTrustSpread
+    private val spread2 = requireNotNull(settings.magTrustSpread) { "magnetic trust is off" }.let { it * it }
     private val rate = 1.0 / settings.magTrustTime
 
     private var normMean = 0.0
