@@ -23,6 +23,7 @@ import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.settings.SettingKind
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
+import org.junit.Assert.assertNull
 import org.junit.Assert.assertTrue
 import org.junit.Before
 import org.junit.Test
@@ -85,10 +86,10 @@ class SettingsActivityTest {
             assertEquals(d.title, (row.findViewById<TextView>(R.id.setting_name) ?: row.findViewById<TextView>(R.id.setting_switch)).text.toString())
             if (d.kind == SettingKind.NUMBER) {
                 val value = a.text(d.jsonKey, R.id.setting_value)
-                if (!(d.zeroDisables && d.default == 0.0)) assertTrue("${d.name}: '$value' lacks ${d.unit}", value.contains(d.unit))
+                if (!(d.zeroDisables && d.default == null)) assertTrue("${d.name}: '$value' lacks ${d.unit}", value.contains(d.unit))
                 // The default is marked, and the value shown is the default's.
                 assertTrue("${d.name}: ${a.text(d.jsonKey, R.id.setting_help)}", a.text(d.jsonKey, R.id.setting_help).startsWith("Default"))
-                assertEquals(d.name, (d.default as Double).toFloat(), a.slider(d.jsonKey).value, 1e-6f)
+                assertEquals(d.name, ((d.default as Double?) ?: 0.0).toFloat(), a.slider(d.jsonKey).value, 1e-6f)
                 assertEquals(d.name, d.zeroDisables, a.switch(d.jsonKey).visibility == View.VISIBLE)
                 assertFalse("${d.name}: reset enabled at the default", a.row(d.jsonKey).findViewById<Button>(R.id.setting_reset).isEnabled)
             }
@@ -104,7 +105,7 @@ class SettingsActivityTest {
 
     @Test
     fun `the form shows the stored settings`() {
-        save(LiveSettings(filter = FilterSettings(beta = 0.07, mode = FilterMode.IMU, gyroSaturation = 0.0), convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
+        save(LiveSettings(filter = FilterSettings(beta = 0.07, mode = FilterMode.IMU, gyroSaturation = null), convention = AngleConvention.AEROSPACE, rate = SamplingRate.Delay.GAME))
         val a = start().get()
         assertEquals(0.07f, a.slider("beta").value, 1e-6f)
         assertEquals("0.07 rad/s (4.0°/s)", a.text("beta", R.id.setting_value))
@@ -133,7 +134,7 @@ class SettingsActivityTest {
         a.switch("record_rotation_vector").isChecked = false
         // No Apply: each change is in force at once.
         val expected = LiveSettings(
-            filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = 0.0, mode = FilterMode.IMU, accRejection = true),
+            filter = FilterSettings(beta = 0.1, zeta = 0.005, headingGain = null, mode = FilterMode.IMU, accRejection = true),
             rate = SamplingRate.Hz(400),
             limits = RecordingLimits(maxDurationS = 3600L, stopBatteryPercent = 15),
             startDelayS = 3,
@@ -145,8 +146,8 @@ class SettingsActivityTest {
         shadowOf(android.os.Looper.getMainLooper()).idle()
         val fs = graph.capture.filterSettingsInUse()
         assertEquals(0.1, fs.beta, 0.0)
-        assertEquals(0.005, fs.zeta, 0.0)
-        assertEquals(0.0, fs.headingGain, 0.0)
+        assertEquals(0.005, fs.zeta!!, 0.0)
+        assertNull(fs.headingGain)
         assertEquals(FilterMode.IMU, fs.mode)
         assertTrue(fs.accRejection)
         assertEquals("", a.findViewById<TextView>(R.id.settings_message).text.toString())
@@ -248,5 +249,29 @@ class SettingsActivityTest {
         save(s)
         assertEquals(s, stored())
         assertFalse(offMainThread { prefs.contains("rest_bias") })
+    }
+
+    @Test
+    fun `a phone upgraded with mechanisms stored off as 0 keeps them off, and shows and stores them so`() {
+        val prefs = offMainThread { RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE) }
+        // As every version before null-for-off stored them: a mechanism off as the number 0.
+        offMainThread {
+            prefs.edit().putString("heading_gain_1_s", "0.0").putString("gyro_saturation_rad_s", "0.0").putString("acc_low_pass_time_s", "0")
+                .putString("mag_trust_spread", "0.01").putString("zeta", "0.0").putString("beta", "0.04").commit()
+        }
+        val s = stored()
+        assertEquals(LiveSettings(filter = FilterSettings(beta = 0.04, headingGain = null, gyroSaturation = null, accLowPassTime = null, magTrustSpread = 0.01)), s)
+        val a = start().get()
+        for (key in listOf("heading_gain_1_s", "gyro_saturation_rad_s", "acc_low_pass_time_s", "zeta")) {
+            assertEquals(key, "off", a.text(key, R.id.setting_value))
+            assertFalse(key, a.switch(key).isChecked)
+        }
+        assertTrue(a.switch("mag_trust_spread").isChecked)
+        Screenshots.captureWhole(a, "settings-upgraded-off-phone-light-all")
+        // Saved again, off is still the 0 an older version reads back.
+        save(s)
+        assertEquals("0.0", offMainThread { prefs.getString("heading_gain_1_s", null) })
+        assertEquals("0.01", offMainThread { prefs.getString("mag_trust_spread", null) })
+        assertEquals(s, stored())
     }
 }

@@ -1,6 +1,7 @@
 package dev.motionfusion.cli
 
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.settings.FilterSettingDescriptor
 import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.Initialisation
@@ -21,7 +22,7 @@ internal object FilterOptions {
         |  --default-settings   start from FilterSettings() even for such a session
         |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d)
         |  --beta B             gradient step gain β, rad/s (default ${FilterSettings().beta})
-        |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default 0)
+        |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default off; 0 is off)
         |  --init identity|first-sample   start at the identity or from the first readings
         |  --no-rest-bias       do not estimate the gyroscope bias at rest
         |  --no-mag-rejection   use the magnetometer even when it looks disturbed
@@ -31,7 +32,8 @@ internal object FilterOptions {
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
         |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); on a walk through
         |                       buildings, --set magTrustSpread=0.005 holds heading where the field wanders
-        |                       (docs/ACCURACY.md, "Walks through buildings"); names, units, defaults:
+        |                       (docs/ACCURACY.md, "Walks through buildings"); NAME=off (or 0) turns off
+        |                       a mechanism marked "or off"; names, units, defaults:
         |${settingsTable()}
         |  --offline            the offline estimate: each orientation from the whole recording, the
         |                       samples after it as well as before (a forward and a backward pass
@@ -70,13 +72,15 @@ internal object FilterOptions {
         return s
     }
 
-    /** One line per setting of [FilterSettingDescriptors]: name, unit, default. */
+    /** One line per setting of [FilterSettingDescriptors]: name, unit, default, and whether it can be off. */
     private fun settingsTable(): String {
         val d = FilterSettings()
         return FilterSettingDescriptors.all.joinToString("\n") { s ->
             val unit = if (s.unit.isEmpty()) "" else " ${s.unit}"
             val choices = if (s.kind == SettingKind.CHOICE) " (${s.choices.joinToString("|")})" else ""
-            "|                         ${s.name} = ${s.value(d)}$unit$choices"
+            val value = s.value(d)?.let { "$it$unit" } ?: "${FilterSettingDescriptor.OFF}${if (unit.isEmpty()) "" else " (${s.unit})"}"
+            val off = if (s.zeroDisables && s.value(d) != null) " or off" else ""
+            "|                         ${s.name} = $value$choices$off"
         }
     }
 
@@ -140,7 +144,11 @@ internal object FilterOptions {
         val d = FilterSettingDescriptors.named(name)
             ?: throw UsageException("--set $name: no such setting (names as in FilterSettings, e.g. beta, magNormTolerance; see --help)")
         val malformed = when (d.kind) {
-            SettingKind.NUMBER -> if (value.toDoubleOrNull() == null) "'$value' is not a number" else null
+            SettingKind.NUMBER -> when {
+                value.toDoubleOrNull() != null -> null
+                d.zeroDisables -> if (value.equals(FilterSettingDescriptor.OFF, ignoreCase = true)) null else "'$value' is not a number or off"
+                else -> "'$value' is not a number"
+            }
             SettingKind.BOOLEAN -> if (value.toBooleanStrictOrNull() == null) "'$value' is not true or false" else null
             SettingKind.CHOICE -> if (value !in d.choices) "'$value' is not one of ${d.choices.joinToString(", ")}" else null
         }

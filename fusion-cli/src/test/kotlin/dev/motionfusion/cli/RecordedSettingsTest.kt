@@ -62,4 +62,24 @@ class RecordedSettingsTest {
         assertEquals(ExitCode.OK, plot.code, plot.err)
         assertTrue("starting from the live filter's settings" in plot.err, plot.err)
     }
+
+    @Test
+    fun `--set NAME=off turns a mechanism off as =0 does, and a session recorded with it off replays with it off`() {
+        val recorded = session("off", FilterSettings(headingGain = null, gyroSaturation = null))
+        // meta.json keeps off as 0, the form every earlier version wrote and reads.
+        val meta = java.nio.file.Files.readString(Path.of(recorded, "meta.json"))
+        assertTrue(Regex(""""heading_gain_1_s"\s*:\s*0(\.0)?[,}\s]""").containsMatchIn(meta), meta)
+        val r = fusion("replay", recorded, "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertNotEquals(fusion("replay", recorded, "--quiet", "--default-settings").out, r.out)
+        assertEquals(r.out, fusion("replay", recorded, "--quiet", "--default-settings", "--set", "headingGain=off,gyroSaturation=OFF").out)
+        assertEquals(r.out, fusion("replay", recorded, "--quiet", "--default-settings", "--set", "headingGain=0,gyroSaturation=0").out)
+        // On again by a number; a setting that cannot be off refuses "off" in the tool's words.
+        assertEquals(fusion("replay", recorded, "--quiet", "--default-settings").out, fusion("replay", recorded, "--quiet", "--set", "headingGain=${FilterSettings().headingGain},gyroSaturation=${FilterSettings().gyroSaturation}").out)
+        val bad = fusion("replay", recorded, "--quiet", "--set", "beta=off")
+        assertEquals(ExitCode.USAGE, bad.code)
+        assertTrue("--set beta: 'off' is not a number" in bad.err, bad.err)
+        val typo = fusion("replay", recorded, "--quiet", "--set", "headingGain=of")
+        assertTrue("--set headingGain: 'of' is not a number or off" in typo.err, typo.err)
+    }
 }

@@ -28,7 +28,8 @@ enum class Section(val advanced: Boolean = false) {
 /**
  * One value of [LiveSettings] as the settings screen shows and [SettingsStore] keeps it: every
  * filter setting of fusion-core's table ([FilterSettingDescriptors], adapted by [of]) and the
- * app's own few ([APP]). Values are a Double, a Boolean or a choice's name (as in the core table);
+ * app's own few ([APP]). Values are a Double, a Boolean or a choice's name, as the core table stores them
+ * ([FilterSettingDescriptor.storedValue]: a mechanism that is off, null in FilterSettings, is 0 on its slider and in storage);
  * [with] validates through the settings' own types and throws IllegalArgumentException on a refused value.
  * [title] is the English name for messages; the screens show [SettingText]'s, from the resources.
  *
@@ -100,7 +101,7 @@ class Setting(
         fun of(d: FilterSettingDescriptor): Setting = Setting(
             key = d.jsonKey, title = d.title, section = Section.of(d.group), kind = d.kind, unit = d.unit,
             choices = d.choices, range = d.range, zeroDisables = d.zeroDisables,
-            read = { d.value(it.filter) }, write = { s, v -> s.copy(filter = d.with(s.filter, v)) },
+            read = { d.storedValue(it.filter) }, write = { s, v -> s.copy(filter = d.with(s.filter, v)) },
         )
 
         private val RATES = SamplingRate.Delay.entries.map { it.key } + listOf(25, 50, 100, 200, 400).map { SamplingRate.Hz(it).key }

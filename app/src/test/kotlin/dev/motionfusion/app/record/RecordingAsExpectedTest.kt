@@ -393,17 +393,17 @@ class RecordingAsExpectedTest {
     @Test
     fun `the gyroscope's range sets the filter's default saturation, live and in meta json`() {
         val expected = gyroRange * GyroSaturation.MARGIN
-        assertEquals(expected, graph.capture.filterSettingsFor(graph.graph.settings.value).gyroSaturation, 1e-6)
+        assertEquals(expected, graph.capture.filterSettingsFor(graph.graph.settings.value).gyroSaturation!!, 1e-6)
         val c = startService()
         sendRound(graph.clock.elapsedNs + 1_000_000L)
         graph.pump()
-        assertEquals(expected, graph.capture.filterSettingsInUse().gyroSaturation, 1e-6)
+        assertEquals(expected, graph.capture.filterSettingsInUse().gyroSaturation!!, 1e-6)
         val ended = stop(c.get())
-        SessionReader.open(ended.session!!.toPath()).use { assertEquals(expected, it.metadata.filterSettings!!.gyroSaturation, 1e-6) }
+        SessionReader.open(ended.session!!.toPath()).use { assertEquals(expected, it.metadata.filterSettings!!.gyroSaturation!!, 1e-6) }
         // A value the user chose, or off, is used as set: the range stands in for the default only.
         val chosen = graph.graph.settings.value.let { it.copy(filter = it.filter.copy(gyroSaturation = 20.0)) }
-        assertEquals(20.0, graph.capture.filterSettingsFor(chosen).gyroSaturation, 0.0)
-        assertEquals(0.0, graph.capture.filterSettingsFor(chosen.copy(filter = chosen.filter.copy(gyroSaturation = 0.0))).gyroSaturation, 0.0)
+        assertEquals(20.0, graph.capture.filterSettingsFor(chosen).gyroSaturation!!, 0.0)
+        assertNull(graph.capture.filterSettingsFor(chosen.copy(filter = chosen.filter.copy(gyroSaturation = null))).gyroSaturation)
         // A range no gyroscope has keeps the filter's default.
         assertNull(GyroSaturation.fromRange(0f))
         assertNull(GyroSaturation.fromRange(Float.NaN))

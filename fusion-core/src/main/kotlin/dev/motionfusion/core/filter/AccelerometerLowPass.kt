@@ -13,10 +13,10 @@
 package dev.motionfusion.core.filter
 
 internal class AccelerometerLowPass(settings: FilterSettings) : Stage<AccelerometerLowPass.State> {
-    private val time = settings.accLowPassTime
+    private val time = settings.accLowPassTime ?: 0.0
 
-    /** False with accLowPassTime = 0: the steps use the reading itself. */
-    val enabled = time != 0.0
+    /** False with accLowPassTime off: the steps use the reading itself. */
+    val enabled = settings.accLowPassTime != null
 
     /** The low-passed reading (sensor frame, m/s²): what the correction steps use when [enabled]. */
     var x = 0.0

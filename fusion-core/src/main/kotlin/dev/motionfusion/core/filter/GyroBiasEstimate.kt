@@ -16,9 +16,9 @@ package dev.motionfusion.core.filter
 
 internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstimate.State> {
     private val rest = if (settings.restBiasEstimation) RestDetector(settings) else null
-    private val zeta = settings.zeta
+    private val zeta = settings.zeta ?: 0.0
     private val restBiasTime = settings.restBiasTime
-    private val motionGain = settings.motionBiasGain
+    private val motionGain = settings.motionBiasGain ?: 0.0
     private val motionRestTime = settings.motionBiasRestTime
     private val limit = settings.motionBiasLimit
 
@@ -30,14 +30,14 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     var z = 0.0
         private set
 
-    /** Whether the report's drift compensation acts (ζ ≠ 0). */
-    val drifts = zeta != 0.0
+    /** Whether the report's drift compensation acts (ζ on). */
+    val drifts = settings.zeta != null
 
     // Time since the rest estimate last acted, s (infinite before it has).
     private var sinceRest = Double.POSITIVE_INFINITY
 
-    /** Whether the motion estimate acts (motionBiasGain ≠ 0). */
-    val inMotion = motionGain != 0.0
+    /** Whether the motion estimate acts (motionBiasGain on). */
+    val inMotion = settings.motionBiasGain != null
 
     /** The rest detector's verdict of the last step (false without rest bias estimation). */
     val atRest: Boolean get() = rest?.atRest ?: false
@@ -49,7 +49,7 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
             val k = dt / minOf(restBiasTime, rest.restTime - rest.acceptedAfter + dt)
             x += k * (gx - x); y += k * (gy - y); z += k * (gz - z)
             sinceRest = 0.0
-        } else if (motionGain != 0.0) {
+        } else if (inMotion) {
             sinceRest += dt
         }
     }

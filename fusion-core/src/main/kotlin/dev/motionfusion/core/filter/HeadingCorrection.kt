@@ -12,11 +12,11 @@ package dev.motionfusion.core.filter
 import kotlin.math.abs
 
 internal class HeadingCorrection(settings: FilterSettings) : Stage<HeadingCorrection.State> {
-    private val gain = settings.headingGain
-    private val recoveryTime = settings.headingRecoveryTime
+    private val gain = settings.headingGain ?: 0.0
+    private val recoveryTime = settings.headingRecoveryTime ?: 0.0 // off: the clock is never below it
 
-    /** False with headingGain = 0: the magnetometer enters the report's MARG gradient instead. */
-    val enabled = gain != 0.0
+    /** False with headingGain off: the magnetometer enters the report's MARG gradient instead. */
+    val enabled = settings.headingGain != null
 
     // Time since the start, a saturation or the last new magnetic reference, s.
     private var clock = 0.0

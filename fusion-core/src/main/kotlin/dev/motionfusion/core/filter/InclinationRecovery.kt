@@ -16,10 +16,11 @@ import kotlin.math.sqrt
 
 internal class InclinationRecovery(settings: FilterSettings) : Stage<InclinationRecovery.State> {
     private val beta = settings.beta
-    private val recoveryBeta = settings.inclinationRecoveryBeta
+    private val recovers = settings.inclinationRecoveryBeta != null
+    private val recoveryBeta = settings.inclinationRecoveryBeta ?: 0.0
     private val accTrustTime = settings.accTrustTime
     private val accNormTolerance = settings.accNormTolerance
-    private val cosRecoveryAngle = if (settings.recoveryAngle > 0.0 && recoveryBeta > 0.0) kotlin.math.cos(settings.recoveryAngle) else 2.0
+    private val cosRecoveryAngle = settings.recoveryAngle?.takeIf { recovers }?.let { kotlin.math.cos(it) } ?: 2.0 // 2: never
     private val recoveryGyro2 = settings.recoveryGyroThreshold * settings.recoveryGyroThreshold
     private val recoveryStillTime = settings.recoveryStillTime
     private val stillAccThreshold = settings.restAccThreshold
@@ -93,7 +94,7 @@ internal class InclinationRecovery(settings: FilterSettings) : Stage<Inclination
         dt: Double, withAcc: Boolean, ax: Double, ay: Double, az: Double,
         cx: Double, cy: Double, cz: Double, upX: Double, upY: Double, upZ: Double,
     ): Double {
-        if (recoveryBeta == 0.0 || !active) return beta
+        if (!recovers || !active) return beta
         if (!withAcc) {
             accTrusted = 0.0
             return beta

@@ -53,7 +53,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val heading = HeadingCorrection(settings)
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
-    private val magTrust = if (settings.magTrustSpread > 0.0) MagneticTrust(settings) else null
+    private val magTrust = if (settings.magTrustSpread != null) MagneticTrust(settings) else null
 
     /** Which readings enter each step, in this order (a new detector: one more line here). */
     private var checks: Array<Check<*>> = listOfNotNull<Check<*>>(

@@ -31,18 +31,22 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
     private val cosDipTolerance = cos(settings.magDipTolerance)
     private val maxRejectionTime = settings.magMaxRejectionTime
     private val referenceRate = 1.0 / settings.magReferenceTime
-    private val newFieldTime = settings.magNewFieldTime
-    private val newFieldMinGyro2 = settings.magNewFieldMinGyro * settings.magNewFieldMinGyro
-    private val resumeRate = if (settings.magResumeTime > 0.0) 1.0 / settings.magResumeTime else Double.POSITIVE_INFINITY
-    private val rejectionFactor = settings.magRejectionFactor
-    private val reducedGain = if (rejectionFactor > 0.0) 1.0 / rejectionFactor else 1.0
-    private val firstFieldTime = settings.magFirstFieldTime
-    private val undisturbedTime = settings.magUndisturbedTime
+    // Each mechanism on or off once, here (null in FilterSettings); the steps read flags and plain numbers.
+    private val learnsNewField = settings.magNewFieldTime != null
+    private val newFieldTime = settings.magNewFieldTime ?: 0.0
+    private val newFieldMinGyro2 = settings.magNewFieldMinGyro?.let { it * it } ?: 0.0 // off: any motion counts
+    private val resumeRate = settings.magResumeTime?.let { 1.0 / it } ?: Double.POSITIVE_INFINITY
+    private val budgeted = settings.magRejectionFactor != null
+    private val rejectionFactor = settings.magRejectionFactor ?: 0.0
+    private val reducedGain = if (budgeted) 1.0 / rejectionFactor else 1.0
+    private val awaitsFirstField = settings.magFirstFieldTime != null
+    private val firstFieldTime = settings.magFirstFieldTime ?: 0.0
+    private val undisturbedTime = settings.magUndisturbedTime ?: 0.0 // off: a disturbance ends at once
 
     // After a disturbance the heading gain comes back as a ramp (magResumeTime), the bias estimate with it; a
     // disturbed field used after the hold's budget is spent enters at a reduced gain (magRejectionFactor).
-    private val resumes = settings.magResumeTime > 0.0
-    private val scales = resumes || settings.magRejectionFactor > 0.0
+    private val resumes = settings.magResumeTime != null
+    private val scales = resumes || budgeted
 
     /** Steps whose reading was rejected as disturbed. */
     var rejections = 0L
@@ -51,7 +55,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
     // Time the field has agreed with the reference without a break, s.
     private var agreeTime = 0.0
 
-    // The hold's budget (magRejectionFactor > 0): time rejected, s; and whether it is spent.
+    // The hold's budget (magRejectionFactor on): time rejected, s; and whether it is spent.
     private var rejectTime = 0.0
     private var overBudget = false
 
@@ -85,7 +89,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
 
     /** True when the next reading will become the reference (so its raw dip is needed). */
     val needsReference: Boolean get() =
-        (!hasReference && firstFieldTime == 0.0) || (rejectionFactor == 0.0 && disturbedTime > maxRejectionTime)
+        (!hasReference && !awaitsFirstField) || (!budgeted && disturbedTime > maxRejectionTime)
 
     /**
      * Whether the held reading of [s] enters the step: its dip measured against the estimated up, or the
@@ -112,7 +116,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
      * component of the unit field along the estimated down direction), or [sinDipRaw] measured
      * against the accelerometer, after [dt] s. Returns true when the reading may be used. The first
      * reading, and a field disturbed for longer than magMaxRejectionTime, become the reference; an
-     * undisturbed field slowly updates it. With magNewFieldTime > 0, a disturbed field that stays
+     * undisturbed field slowly updates it. With magNewFieldTime on, a disturbed field that stays
      * within the tolerances of its own running mean for that long becomes the reference too.
      */
     fun accept(dt: Double, norm: Double, sinDip: Double, sinDipRaw: Double, rate2: Double = Double.POSITIVE_INFINITY): Boolean {
@@ -145,7 +149,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
             agreeTime = 0.0
             disturbed = true
         }
-        if (disturbed && newFieldTime > 0.0) {
+        if (disturbed && learnsNewField) {
             followCandidate(norm, sinDip, rate2, dt)
             if (steadyTime >= newFieldTime) {
                 refNorm = candNorm
@@ -155,7 +159,7 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
                 sinceDisturbed = 0.0
             }
         }
-        if (rejectionFactor > 0.0) {
+        if (budgeted) {
             if (!disturbed) {
                 rejectTime = maxOf(0.0, rejectTime - rejectionFactor * dt)
                 overBudget = false

@@ -21,7 +21,7 @@
 package dev.motionfusion.core.filter
 
 internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.State> {
-    private val spread = settings.magTrustSpread
+    private val spread = requireNotNull(settings.magTrustSpread) { "magnetic trust is off" }
     private val spread2 = spread * spread
     private val rate = 1.0 / settings.magTrustTime
 

@@ -35,8 +35,8 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
     private val marg = settings.mode == FilterMode.MARG
     private val waitsForSample = settings.initialisation == Initialisation.FIRST_SAMPLE
     private val maxGapNs = (settings.maxGap * 1e9).toLong()
-    private val gyroSaturation = settings.gyroSaturation
-    private val saturationOn = gyroSaturation != 0.0
+    private val gyroSaturation = settings.gyroSaturation ?: 0.0
+    private val saturationOn = settings.gyroSaturation != null
 
     // The held readings' times and whether they are usable (the readings themselves are in the Step).
     private var accT = 0L

@@ -139,7 +139,7 @@ internal object MetadataJson {
 
     private fun anchor(a: ClockAnchor) = linkedMapOf("wall_clock_ms" to a.wallClockMs, "elapsed_realtime_ns" to a.elapsedRealtimeNs)
 
-    fun settings(s: FilterSettings): Map<String, Any?> = FilterSettingDescriptors.all.associateTo(LinkedHashMap()) { it.jsonKey to it.value(s) }
+    fun settings(s: FilterSettings): Map<String, Any?> = FilterSettingDescriptors.all.associateTo(LinkedHashMap()) { it.jsonKey to it.storedValue(s) }
 
     fun parse(text: String, sourceName: String): SessionMetadata {
         val r = Json.document(text, sourceName).rootObject()

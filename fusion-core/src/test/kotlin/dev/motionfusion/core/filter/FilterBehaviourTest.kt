@@ -31,7 +31,7 @@ class FilterBehaviourTest {
 
     @Test
     fun `converges from the identity and reaches a small steady-state error`() {
-        val est = run(MadgwickFilter(FilterSettings(initialisation = Initialisation.IDENTITY, beta = 0.1, headingGain = 0.0)), data)
+        val est = run(MadgwickFilter(FilterSettings(initialisation = Initialisation.IDENTITY, beta = 0.1, headingGain = null)), data)
         assertTrue(totalDeg(est[0], data[0].truth) > 50.0)
         val converged = est.indices.first { i -> (i until minOf(i + 200, est.size)).all { totalDeg(est[it], data[it].truth) < 2.0 } }
         val seconds = data[converged].timestampNs * 1e-9
@@ -49,11 +49,11 @@ class FilterBehaviourTest {
 
     @Test
     fun `rest detection estimates the gyroscope bias and that reduces the error`() {
-        val on = MadgwickFilter(FilterSettings(motionBiasGain = 0.0))
+        val on = MadgwickFilter(FilterSettings(motionBiasGain = null))
         val estOn = run(on, data)
         val biasError = (on.diagnostics().gyroBias - base.gyroBias).norm()
         assertTrue(biasError < 3e-4, "bias error $biasError rad/s")
-        val off = MadgwickFilter(FilterSettings(restBiasEstimation = false, motionBiasGain = 0.0))
+        val off = MadgwickFilter(FilterSettings(restBiasEstimation = false, motionBiasGain = null))
         val estOff = run(off, data)
         assertEquals(Vector3.ZERO, off.diagnostics().gyroBias)
         val errOn = rms(estOn, data, after30, metric = ::totalDeg)
@@ -103,7 +103,7 @@ class FilterBehaviourTest {
         val from = index(disturbed, 20.0)
         val to = index(disturbed, 45.0)
         // The report's coupled MARG step, so that only the rejection differs.
-        val settings = FilterSettings(headingGain = 0.0, motionBiasGain = 0.0, headingRecoveryTime = 0.0, magDisturbanceRejection = true)
+        val settings = FilterSettings(headingGain = null, motionBiasGain = null, headingRecoveryTime = null, magDisturbanceRejection = true)
         val filter = MadgwickFilter(settings)
         val flags = ArrayList<Boolean>()
         val est = disturbed.map { s -> filter.update(s.timestampNs, s.gyro, s.acc, s.mag); flags.add(filter.diagnostics().magneticDisturbance); filter.orientation() }
@@ -122,7 +122,7 @@ class FilterBehaviourTest {
         val from = index(accelerating, 20.0)
         val to = index(accelerating, 26.0)
         // On the raw accelerometer (the low-pass, on by default, is the other answer to linear acceleration).
-        val settings = FilterSettings(mode = FilterMode.IMU, beta = 0.1, accLowPassTime = 0.0)
+        val settings = FilterSettings(mode = FilterMode.IMU, beta = 0.1, accLowPassTime = null)
         val filter = MadgwickFilter(settings.copy(accRejection = true))
         val est = run(filter, accelerating, useMag = false)
         val with = max(est, accelerating, from, to, ::inclinationDeg)
@@ -141,7 +141,7 @@ class FilterBehaviourTest {
     @Test
     fun `accelerometer rejection recovers from a wrong estimate`() {
         // Identity start: every reading disagrees with the estimate; rejection must not last for ever.
-        val est = run(MadgwickFilter(FilterSettings(initialisation = Initialisation.IDENTITY, accRejection = true, beta = 0.1, headingGain = 0.0)), data)
+        val est = run(MadgwickFilter(FilterSettings(initialisation = Initialisation.IDENTITY, accRejection = true, beta = 0.1, headingGain = null)), data)
         assertTrue(rms(est, data, after30, metric = ::totalDeg) < 0.5)
     }
 
@@ -198,7 +198,7 @@ class FilterBehaviourTest {
 
     @Test
     fun `the report's zeta estimates a gyroscope bias in MARG steps`() {
-        val settings = FilterSettings(restBiasEstimation = false, zeta = 0.01, headingGain = 0.0, motionBiasGain = 0.0)
+        val settings = FilterSettings(restBiasEstimation = false, zeta = 0.01, headingGain = null, motionBiasGain = null)
         val filter = MadgwickFilter(settings)
         run(filter, MotionSimulator(base.copy(durationS = 120.0)).run())
         val error = (filter.diagnostics().gyroBias - base.gyroBias).norm()

@@ -24,8 +24,8 @@ import org.junit.jupiter.api.Test
 class PhoneMechanismsTest {
     /** Only the mechanism under test differs between the runs. */
     private val none = FilterSettings(
-        headingGain = 0.0, motionBiasGain = 0.0, headingRecoveryTime = 0.0, restBiasEstimation = false,
-        accLowPassTime = 0.0, inclinationRecoveryBeta = 0.0,
+        headingGain = null, motionBiasGain = null, headingRecoveryTime = null, restBiasEstimation = false,
+        accLowPassTime = null, inclinationRecoveryBeta = null,
     )
 
     @Test
@@ -76,7 +76,7 @@ class PhoneMechanismsTest {
             ),
         ).run()
         // β and heading gain as when this was measured, on the raw accelerometer: the ramp is what differs.
-        val settings = FilterSettings(motionBiasGain = 0.01, beta = 0.03, headingGain = 0.03, accLowPassTime = 0.0)
+        val settings = FilterSettings(motionBiasGain = 0.01, beta = 0.03, headingGain = 0.03, accLowPassTime = null)
         fun biasError(s: FilterSettings) = MadgwickFilter(s).also { run(it, data) }.diagnostics().gyroBias.minus(bias).norm()
         val waiting = biasError(settings.copy(motionBiasRestTime = 1000.0))
         val atOnce = biasError(settings.copy(motionBiasRestTime = 0.0))
@@ -112,14 +112,14 @@ class PhoneMechanismsTest {
 
     @Test
     fun `a disturbed but steady field becomes the reference after magNewFieldTime`() {
-        fun rejected(newFieldTime: Double): List<Boolean> {
+        fun rejected(newFieldTime: Double?): List<Boolean> {
             val d = MagneticDisturbanceDetector(FilterSettings(magNewFieldTime = newFieldTime))
             val dt = 0.01
             // 10 s of a 48 µT field, then 30 s of a steady 60 µT field (another room), same dip.
             return (0 until 4000).map { i -> !d.accept(dt, if (i < 1000) 48.0 else 60.0, 0.87, 0.87) }
         }
         val trusting = rejected(5.0)
-        val plain = rejected(0.0)
+        val plain = rejected(null)
         assertFalse(trusting.subList(0, 1000).any { it })
         assertTrue(trusting.subList(1000, 1490).all { it }, "rejected until the field has been steady for 5 s")
         assertTrue(trusting.subList(1510, 4000).none { it }, "trusted after 5 s")
@@ -162,8 +162,8 @@ class PhoneMechanismsTest {
         run(f, data)
         assertEquals(8L, f.diagnostics().gyroscopeSaturations)
         val recovered = worst(settings)
-        val notDetected = worst(settings.copy(gyroSaturation = 0.0))
-        val noRecovery = worst(settings.copy(inclinationRecoveryBeta = 0.0))
+        val notDetected = worst(settings.copy(gyroSaturation = null))
+        val noRecovery = worst(settings.copy(inclinationRecoveryBeta = null))
         assertTrue(recovered < 2.0, "with detection and recovery $recovered°")
         assertTrue(notDetected > 10.0, "without detection $notDetected°")
         assertTrue(noRecovery > 10.0, "detection without recovery $noRecovery°")
@@ -171,11 +171,11 @@ class PhoneMechanismsTest {
         val identity = settings.copy(initialisation = Initialisation.IDENTITY)
         fun startWorst(s: FilterSettings) = max(run(MadgwickFilter(s), clean), clean, index(clean, 4.0), index(clean, 6.0), ::inclinationDeg)
         assertTrue(startWorst(identity) < 2.0, "identity start with recovery ${startWorst(identity)}°")
-        assertTrue(startWorst(identity.copy(inclinationRecoveryBeta = 0.0)) > 10.0, "identity start without recovery")
+        assertTrue(startWorst(identity.copy(inclinationRecoveryBeta = null)) > 10.0, "identity start without recovery")
         // Once the start is over and without a saturated reading it does not act, even under linear acceleration.
         val plain = MotionSimulator(SimulationSettings(linearAcceleration = 10.0, linearAccelerationWindow = TimeWindow(5.0, 20.0))).run()
         val on = run(MadgwickFilter(settings), plain)
-        val off = run(MadgwickFilter(settings.copy(inclinationRecoveryBeta = 0.0)), plain)
+        val off = run(MadgwickFilter(settings.copy(inclinationRecoveryBeta = null)), plain)
         val from = index(plain, 5.0)
         assertTrue((from until plain.size).all { on[it].angleTo(off[it]) < 1e-3 }, "recovery acted without a saturated reading")
         // While the accelerometer is far from gravity it is not trusted: no recovery yet.
@@ -201,7 +201,7 @@ class PhoneMechanismsTest {
         assertTrue(runCatching { FilterSettings(motionBiasLimit = 0.0) }.isFailure)
         val r = FilterSettings.report()
         assertEquals(
-            listOf(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            listOf(null, null, null, null, null, null, null),
             listOf(r.headingGain, r.motionBiasGain, r.headingRecoveryTime, r.magNewFieldTime, r.inclinationRecoveryBeta, r.accLowPassTime, r.gyroSaturation),
         )
     }

@@ -101,7 +101,7 @@ class ReportReferenceTest {
     private fun maxDifference(settings: FilterSettings, data: List<SimulatedSample>): Double {
         val marg = settings.mode == FilterMode.MARG
         val filter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.NWU))
-        val ref = Reference(settings.beta, settings.zeta, marg)
+        val ref = Reference(settings.beta, settings.zeta ?: 0.0, marg)
         val out = DoubleArray(4)
         var worst = 0.0
         for ((i, s) in data.withIndex()) {
@@ -153,7 +153,7 @@ class ReportReferenceTest {
         // Guards the two tests above against passing vacuously.
         val data = samples(5)
         val filter = MadgwickFilter(FilterSettings.report().copy(beta = 0.05, outputFrame = WorldFrame.NWU))
-        val ref = Reference(0.06, FilterSettings.report().zeta, marg = true)
+        val ref = Reference(0.06, FilterSettings.report().zeta!!, marg = true)
         for ((i, s) in data.withIndex()) {
             filter.update(s.timestampNs, s.gyro, s.acc, s.mag)
             if (i > 0) ref.step((s.timestampNs - data[i - 1].timestampNs) * 1e-9, s.gyro, s.acc, s.mag)

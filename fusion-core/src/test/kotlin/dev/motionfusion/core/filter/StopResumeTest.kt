@@ -117,7 +117,7 @@ class StopResumeTest {
 
     private val trusting = FilterSettings(magTrustSpread = 0.01)
 
-    private val margZeta = FilterSettings(headingGain = 0.0, zeta = 0.002, accRejection = true)
+    private val margZeta = FilterSettings(headingGain = null, zeta = 0.002, accRejection = true)
 
     @Test
     fun `the bias is being learnt where the run stops at rest`() {

@@ -43,7 +43,7 @@ class ViolentMotionRecoveryTest {
     fun `inclination comes back within 1 degree 1·5 s after each violent motion`() = ViolentMotionKind.entries.map { kind ->
         DynamicTest.dynamicTest(kind.name) {
             val on = worstAfterRest(kind, FilterSettings())
-            val off = worstAfterRest(kind, FilterSettings(recoveryAngle = 0.0))
+            val off = worstAfterRest(kind, FilterSettings(recoveryAngle = null))
             println("$kind: with recovery $on°, without $off°")
             assertTrue(on < 1.0, "$kind: inclination $on° off 1.5–6 s after rest with the recovery")
             assertTrue(off > 1.0, "$kind: without the recovery it should stay off (got $off°): the test would not show the mechanism")

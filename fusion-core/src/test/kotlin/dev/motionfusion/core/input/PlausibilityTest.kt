@@ -122,7 +122,7 @@ class PlausibilityTest {
 
     @TestFactory
     fun `every descriptor's default lies within its limits`() = FilterSettingDescriptors.all.filter { it.limits != null }.map { d ->
-        DynamicTest.dynamicTest(d.name) { assertTrue((d.default as Double) in d.limits!!, "${d.default} outside ${d.limits}") }
+        DynamicTest.dynamicTest(d.name) { assertTrue((d.default as Double?)?.let { it in d.limits!! } ?: d.zeroDisables, "${d.default} outside ${d.limits}") }
     }
 
     @TestFactory

@@ -29,7 +29,7 @@ internal class FieldReference(settings: FilterSettings) {
     private val dipTolerance = settings.magDipTolerance
 
     /** The rate at which the heading correction pulls an error out, 1/s (headingGain; the default's with the report's step). */
-    private val rate = if (settings.headingGain > 0.0) settings.headingGain else DEFAULT_RATE
+    private val rate = settings.headingGain ?: DEFAULT_RATE
     private val norms = IntArray(NORM_BINS)
     private val motionNorms = IntArray(NORM_BINS)
     private var motionCount = 0L

@@ -91,7 +91,7 @@ class OfflineCombinationTest {
         // The dip is taken in the orientation given: the same reading from a device turned 30° about east is disturbed.
         val tilted = about(Vector3(1.0, 0.0, 0.0), 30.0)
         assertTrue(field.disturbed(reading(50.0, 60.0), tilted))
-        assertEquals(0.5 * kotlin.math.exp(-settings.headingGain * 2.0), field.decay(0.5, 2_000_000_000L), 1e-12)
+        assertEquals(0.5 * kotlin.math.exp(-settings.headingGain!! * 2.0), field.decay(0.5, 2_000_000_000L), 1e-12)
     }
 
     @Test
