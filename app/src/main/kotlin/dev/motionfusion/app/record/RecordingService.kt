@@ -313,6 +313,7 @@ class RecordingService : Service() {
         val rate = live.rate
         // The latency the recording's listener is registered with (it stays registered so while the recording runs).
         val latencyUs = capture.reportLatencyUsFor(rate, if (still) STILL_STREAMS else null)
+        val wakeLockUse = capture.wakeLockUseFor(rate, if (still) STILL_STREAMS else null) // the case keepWakeLockAsNeeded() meets
         val continues = continues
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
@@ -333,6 +334,7 @@ class RecordingService : Service() {
                     anchor,
                     calibration,
                     still,
+                    wakeLockUse,
                 ).copy(continues = continues, remoteStart = remoteStart.takeIf { continues == null })
                 val sink = deps.format.create(d, metadata)
                 try {
