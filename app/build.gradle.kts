@@ -14,7 +14,7 @@ android {
     defaultConfig {
         applicationId = "dev.motionfusion.app"
         minSdk = 26
-        targetSdk = 35
+        targetSdk = 36
         versionCode = 1
         versionName = "0.1.0"
     }

@@ -1,6 +1,7 @@
 package dev.motionfusion.app.fusion
 
 import dev.motionfusion.app.sensor.WakeLockNeed
+import dev.motionfusion.core.session.WakeLockUse
 import dev.motionfusion.app.sensor.EventRing
 import dev.motionfusion.app.sensor.GyroSaturation
 import dev.motionfusion.app.sensor.ReorderWindow
@@ -234,6 +235,9 @@ class Capture internal constructor(
 
     /** Whether the sensors registered now need the CPU held to lose nothing with the screen off. */
     internal val wakeLockNeed: WakeLockNeed get() = hub.wakeLockNeed
+
+    /** Whether a recording of [streams] (null: all) at [rate] holds the wake lock, and why, for its meta.json. */
+    internal fun wakeLockUseFor(rate: SamplingRate, streams: Set<SessionStream>? = null): WakeLockUse = hub.wakeLockUse(rate, streams)
 
     /** The report latency a recording of [streams] (null: all) at [rate] is registered with, for its meta.json. */
     internal fun reportLatencyUsFor(rate: SamplingRate, streams: Set<SessionStream>? = null): Int = hub.reportLatencyUs(rate, streams)

@@ -228,6 +228,7 @@ internal class RecordingLifecycle(
         val rate = live.rate
         // The latency the recording's listener is registered with (it stays registered so while the recording runs).
         val latencyUs = capture.reportLatencyUsFor(rate, recorded)
+        val wakeLockUse = capture.wakeLockUseFor(rate, recorded) // meta.json's wake_lock: the case keepWakeLockAsNeeded() meets
         val continues = continues
         // A resumed part is anchored and named at its own start.
         val nowWallMs = if (continues != null) deps.clock.wallClockMs() else startedWallMs
@@ -249,6 +250,7 @@ internal class RecordingLifecycle(
                     anchor,
                     calibration,
                     still,
+                    wakeLockUse,
                 ).copy(continues = continues, remoteStart = remoteStart.takeIf { continues == null })
                 val sink = deps.format.create(d, metadata)
                 try {

@@ -9,6 +9,7 @@ import dev.motionfusion.core.session.DeviceInfo
 import dev.motionfusion.core.session.SensorInfo
 import dev.motionfusion.core.session.SessionCalibration
 import dev.motionfusion.core.session.SessionMetadata
+import dev.motionfusion.core.session.WakeLockUse
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.app.sensor.SamplingRate
 
@@ -42,11 +43,13 @@ internal object RecordingMetadata {
 
     /**
      * The one place the app builds a session's metadata: a recording's meta.json (RecordingService)
-     * and the live stream's hello (AppGraph), of [sensors] requested at [rate] with [maxReportLatencyUs].
+     * and the live stream's hello (AppGraph), of [sensors] requested at [rate] with [maxReportLatencyUs];
+     * [wakeLock]: whether the recording holds the CPU, and why (null: not said, the stream keeps its own).
      */
     fun create(
         appVersion: String, sensors: Map<SessionStream, Sensor>, rate: SamplingRate, maxReportLatencyUs: Int,
         settings: FilterSettings, anchor: ClockAnchor, calibration: SessionCalibration? = null, still: Boolean = false,
+        wakeLock: WakeLockUse? = null,
     ) = SessionMetadata(
         appVersion = appVersion,
         source = "Motion Fusion $appVersion",
@@ -56,5 +59,6 @@ internal object RecordingMetadata {
         filterSettings = settings,
         calibration = calibration,
         stillRecording = still,
+        wakeLock = wakeLock,
     )
 }

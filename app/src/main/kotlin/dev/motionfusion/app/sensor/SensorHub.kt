@@ -9,6 +9,7 @@ import android.os.Handler
 import android.os.HandlerThread
 import android.os.Process
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.WakeLockUse
 import java.util.concurrent.atomic.AtomicInteger
 
 /** What the device says about one of its sensors (name and vendor are the driver's strings; the vendor empty when it gives none). */
@@ -61,6 +62,9 @@ internal interface SensorSource {
 
     /** Whether the sensors registered now need the CPU held to lose nothing with the screen off ([WakeLockNeed]). */
     val wakeLockNeed: WakeLockNeed get() = WakeLockNeed.NOT_WAKE_UP
+
+    /** The wake-lock case [start] with [rate] and [streams] (null: all) comes to, for a recording's meta.json ([WakeLockNeed.use]). */
+    fun wakeLockUse(rate: SamplingRate, streams: Set<SessionStream>? = null): WakeLockUse = WakeLockNeed.use(emptyMap(), 0)
 
     /**
      * [on]: a screen shows the events, so they are delivered as they come (report latency 0, in
@@ -155,8 +159,13 @@ internal class SensorHub(private val sensorManager: SensorManager, private val r
         override fun onAccuracyChanged(sensor: Sensor, accuracy: Int) = Unit
     }
 
-    private fun wanted(streams: Set<SessionStream>?): List<Sensor> =
-        (if (streams == null) registering else registering.filterKeys { it in streams }).values.toList()
+    private fun wantedByStream(streams: Set<SessionStream>?): Map<SessionStream, Sensor> =
+        if (streams == null) registering else registering.filterKeys { it in streams }
+
+    private fun wanted(streams: Set<SessionStream>?): List<Sensor> = wantedByStream(streams).values.toList()
+
+    override fun wakeLockUse(rate: SamplingRate, streams: Set<SessionStream>?): WakeLockUse =
+        WakeLockNeed.use(wantedByStream(streams).mapValues { (_, s) -> s.isWakeUpSensor to s.fifoMaxEventCount }, reportLatencyUs(rate, streams))
 
     @Volatile override var wakeLockNeed: WakeLockNeed = WakeLockNeed.NOT_WAKE_UP
         private set

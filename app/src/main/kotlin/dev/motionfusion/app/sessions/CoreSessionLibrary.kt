@@ -28,6 +28,7 @@ internal object CoreSessionLibrary : SessionLibrary {
             continues = m.continues?.previousSession,
             gapNs = m.continues?.gapNs,
             stillRecording = m.stillRecording,
+            wakeLock = m.wakeLock,
         )
     }
 

@@ -26,6 +26,8 @@ import androidx.lifecycle.repeatOnLifecycle
 import com.google.android.material.dialog.MaterialAlertDialogBuilder
 import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Failure
+import dev.motionfusion.app.sensor.WakeLockNeed
+import dev.motionfusion.core.session.WakeLockUse
 import dev.motionfusion.app.export.Exporter
 import dev.motionfusion.app.ui.AnglePlotView
 import dev.motionfusion.app.ui.Formats
@@ -142,6 +144,10 @@ class SessionDetailActivity : AppCompatActivity() {
                 } +
                     getString(R.string.session_fused_line, Formats.isolated(this, "%,d", s.fusedRows))
                 findViewById<TextView>(R.id.detail_streams).text = lines.joinToString("\n")
+                findViewById<TextView>(R.id.detail_wake_lock).apply {
+                    text = s.wakeLock?.let { wakeLockText(it) }
+                    visibility = if (s.wakeLock == null) View.GONE else View.VISIBLE
+                }
                 findViewById<RateBarsView>(R.id.detail_rates).setBars(s.streams.filter { it.rows > 0 }.map { RateBarsView.Bar(SessionsActivity.shortName(this, it.name), it.rateHz) })
             }
         }
@@ -153,6 +159,18 @@ class SessionDetailActivity : AppCompatActivity() {
             emptyText = getString(if (state.loading) R.string.session_loading else R.string.session_plot_empty)
             if (angles != null) showSeries(angles.originNs, angles.timeS, angles.azimuthDeg, angles.pitchDeg, angles.rollDeg, angles.markers)
             contentDescription = getString(if (angles == null || angles.size == 0) R.string.session_plot_empty else R.string.session_plot_title)
+        }
+    }
+
+    /** meta.json's `wake_lock` in the user's words: let go, or held and which streams forced it (docs/RECORDING.md, "Wake lock"). */
+    private fun wakeLockText(w: WakeLockUse): String {
+        val streams = w.forcedBy.joinToString(" · ") { SessionsActivity.streamName(this, it.key) } // names hold commas
+        return when {
+            !w.held -> getString(R.string.session_wake_lock_released)
+            streams.isEmpty() -> getString(R.string.session_wake_lock_held)
+            w.reason == WakeLockNeed.NOT_WAKE_UP.key -> getString(R.string.session_wake_lock_not_wake_up, streams)
+            w.reason == WakeLockNeed.FIFO_TOO_SMALL.key -> getString(R.string.session_wake_lock_fifo_too_small, streams)
+            else -> getString(R.string.session_wake_lock_held)
         }
     }
 

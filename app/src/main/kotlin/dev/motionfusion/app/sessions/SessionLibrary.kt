@@ -1,6 +1,7 @@
 package dev.motionfusion.app.sessions
 
 import dev.motionfusion.app.ui.PlotMarker
+import dev.motionfusion.core.session.WakeLockUse
 import java.io.File
 import java.io.IOException
 
@@ -24,6 +25,8 @@ internal data class SessionSummary(
     val gapNs: Long? = null,
     /** Made by the still-recording mode (meta.json `still_recording`): its noise model can be exported. */
     val stillRecording: Boolean = false,
+    /** Whether the recording held the wake lock, and why (meta.json `wake_lock`); null in sessions that do not say. */
+    val wakeLock: WakeLockUse? = null,
 ) {
     val totalRows: Long get() = streams.sumOf { it.rows }
 }

@@ -277,8 +277,8 @@ class AndroidStudioProjectTest {
     }
 
     @Test
-    fun `an SDK level changed in the pom is asked of Gradle`() = reports("defaultConfig.targetSdk is 35, the Maven build says 36") {
-        edit("app/pom.xml", "<android.targetSdk>35</android.targetSdk>", "<android.targetSdk>36</android.targetSdk>")
+    fun `an SDK level changed in the pom is asked of Gradle`() = reports("defaultConfig.targetSdk is 36, the Maven build says 37") {
+        edit("app/pom.xml", "<android.targetSdk>36</android.targetSdk>", "<android.targetSdk>37</android.targetSdk>")
     }
 
     @Test

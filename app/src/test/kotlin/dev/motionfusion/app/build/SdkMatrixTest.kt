@@ -11,7 +11,8 @@ import java.util.Properties
 
 /**
  * The version matrix covers exactly the versions the app supports, and each one can run offline:
- * [Sdks] spans the app's minSdk to targetSdk, the root pom names a Robolectric framework jar for
+ * [Sdks] spans the app's minSdk to targetSdk (to `android.testMaxSdk` while Robolectric cannot run the
+ * targetSdk on the build's JDK), the root pom names a Robolectric framework jar for
  * every level in it, the app's build copies each of them where Robolectric looks, and the tests
  * that are not version-dependent run at the newest.
  */
@@ -27,7 +28,11 @@ class SdkMatrixTest {
     fun `the matrix spans minSdk to targetSdk`() {
         val app = props(appPom)
         assertEquals(app.getValue("android.minSdk").toInt(), Sdks.MIN, "Sdks.MIN is the app's minSdk")
-        assertEquals(app.getValue("android.targetSdk").toInt(), Sdks.MAX, "Sdks.MAX is the app's targetSdk")
+        // The newest level Robolectric runs here (android.testMaxSdk), the targetSdk itself unless that is newer.
+        val target = app.getValue("android.targetSdk").toInt()
+        val testMax = app.getValue("android.testMaxSdk").toInt()
+        assertTrue(testMax <= target, "android.testMaxSdk $testMax above targetSdk $target")
+        assertEquals(minOf(target, testMax), Sdks.MAX, "Sdks.MAX is the app's targetSdk, or the newest level the tests can run")
     }
 
     @Test

@@ -7,7 +7,10 @@ import dev.motionfusion.app.TestGraph
 import dev.motionfusion.app.sensor.SensorKind
 import dev.motionfusion.app.sensor.SensorStreams
 import dev.motionfusion.app.sensor.WakeLockNeed
+import dev.motionfusion.app.offMainThread
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.session.SessionReader
+import dev.motionfusion.core.session.WakeLockUse
 import org.junit.Assert.assertEquals
 import org.junit.Assert.assertFalse
 import org.junit.Assert.assertTrue
@@ -56,10 +59,13 @@ class WakeLockBatchingTest {
         return c
     }
 
-    private fun stop(c: ServiceController<RecordingService>) {
+    /** Stops the recording; returns what its meta.json says of the wake lock. */
+    private fun stop(c: ServiceController<RecordingService>): WakeLockUse? {
         c.get().onStartCommand(Intent(app, RecordingService::class.java).setAction(RecordingService.ACTION_STOP), 0, 2)
         graph.pump()
         graph.settle()
+        val dir = (graph.graph.recordings.state.value as RecordingState.Ended).session!!
+        return offMainThread { SessionReader.open(dir.toPath()).use { it.metadata.wakeLock } }
     }
 
     @Test
@@ -89,8 +95,7 @@ class WakeLockBatchingTest {
         graph.clock.elapsedNs += 61_000_000_000L
         shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(61))
         assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
-        stop(c)
-        assertTrue(graph.graph.recordings.state.value is RecordingState.Ended)
+        assertEquals("meta.json: let go, nothing forced it", WakeLockUse(false, "hardware_batching", emptyList()), stop(c))
     }
 
     @Test
@@ -104,7 +109,7 @@ class WakeLockBatchingTest {
         graph.clock.elapsedNs += 61_000_000_000L
         shadowOf(android.os.Looper.getMainLooper()).idleFor(java.time.Duration.ofSeconds(61))
         assertTrue("renewed, still held", ShadowPowerManager.getLatestWakeLock().isHeld)
-        stop(c)
+        assertEquals("meta.json: held, forced by the magnetometer", WakeLockUse(true, "not_wake_up", listOf(SessionStream.MAGNETOMETER)), stop(c))
         assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
     }
 
@@ -116,7 +121,7 @@ class WakeLockBatchingTest {
         assertEquals(0, graph.capture.reportLatencyUs)
         assertEquals(WakeLockNeed.FIFO_TOO_SMALL, graph.capture.wakeLockNeed)
         assertTrue(ShadowPowerManager.getLatestWakeLock().isHeld)
-        stop(c)
+        assertEquals("meta.json: held, every stream's FIFO together too small", WakeLockUse(true, "fifo_too_small", SensorStreams.all.sortedBy { it.ordinal }), stop(c))
         assertFalse(ShadowPowerManager.getLatestWakeLock().isHeld)
     }
 }

@@ -369,6 +369,13 @@ internal class JsonObject(val map: Map<*, *>, val path: String, val doc: JsonDoc
         else -> throw error(key, "expected an array")
     }
 
+    /** Member [key], an array of strings (absent: empty). */
+    fun strings(key: String): List<String> = when (val v = raw(key)) {
+        null -> emptyList()
+        is List<*> -> v.mapIndexed { i, x -> x as? String ?: throw doc.error(v, i, "$path$key[$i]: expected a string") }
+        else -> throw error(key, "expected an array")
+    }
+
     /** Member [key], an array, as [n] finite numbers. */
     fun numbers(key: String, n: Int): DoubleArray = numbersOf(raw(key), n, key) { error(key, it) }
 

@@ -102,6 +102,7 @@ internal object MetadataJson {
         m.remoteStart?.let {
             map["remote_start"] = linkedMapOf("by" to it.by, "laptop_clock" to it.laptopClock, "laptop_ns" to it.laptopNs, "elapsed_realtime_ns" to it.elapsedRealtimeNs)
         }
+        m.wakeLock?.let { map["wake_lock"] = linkedMapOf("held" to it.held, "reason" to it.reason, "forced_by" to it.forcedBy.map { s -> s.key }) }
     }
 
     /**
@@ -188,6 +189,10 @@ internal object MetadataJson {
             clockLink = r.stringOrNull("clock_link"),
             remoteStart = r.objOrNull("remote_start")?.let {
                 RemoteStart(it.string("by"), it.stringOrNull("laptop_clock"), it.long("laptop_ns", 0L), it.long("elapsed_realtime_ns", 0L))
+            },
+            wakeLock = r.objOrNull("wake_lock")?.let { w ->
+                // A stream this version does not know (a newer one's) is left out of the list, as in `streams`.
+                WakeLockUse(w.bool("held", true), w.string("reason"), w.strings("forced_by").mapNotNull(SessionStream::ofKey))
             },
         )
     }

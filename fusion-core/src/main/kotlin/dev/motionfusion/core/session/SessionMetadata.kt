@@ -93,6 +93,15 @@ public data class Continuation(val previousSession: String, val gapStartElapsedR
  */
 public data class RemoteStart(val by: String, val laptopClock: String?, val laptopNs: Long, val elapsedRealtimeNs: Long)
 
+/**
+ * The partial wake lock of a recording (docs/RECORDING.md, "Wake lock"): [held] for the whole recording, or let go
+ * once it ran because every sensor registered batches in hardware and wakes the phone itself. [reason] names the
+ * case: `hardware_batching` (not held), `not_wake_up` (a sensor without a wake-up variant that batches),
+ * `fifo_too_small` (the FIFOs hold too little to batch); newer versions may add others. [forcedBy]: the streams
+ * whose sensors forced the lock (empty when not held).
+ */
+public data class WakeLockUse(val held: Boolean, val reason: String, val forcedBy: List<SessionStream> = emptyList())
+
 /** A pause of the recording from [startElapsedRealtimeNs] to [endElapsedRealtimeNs] (null while paused). */
 public data class Pause(val startElapsedRealtimeNs: Long, val endElapsedRealtimeNs: Long?)
 
@@ -137,6 +146,7 @@ public data class StreamStats(
  * @property calibration the phone's stored calibration at the start, and whether the live filter used it; null: none stored.
  * @property stillRecording true for the app's still recording (the phone left untouched, for `fusion allan`).
  * @property continues the earlier session this one continues after a killed recording resumed; null: none.
+ * @property wakeLock whether the recording held the CPU with a wake lock, and why; null: not said (older sessions, the stream).
  */
 public data class SessionMetadata(
     val formatVersion: Int = FORMAT_VERSION,
@@ -161,6 +171,7 @@ public data class SessionMetadata(
     val clockLink: String? = null,
     /** The laptop's command that started this recording, null when it was started on the phone. */
     val remoteStart: RemoteStart? = null,
+    val wakeLock: WakeLockUse? = null,
 ) {
     public companion object {
         /** The version of the format this library writes (and the newest it reads). */
