@@ -8,6 +8,7 @@ package dev.motionfusion.bench;
 import dev.motionfusion.core.filter.FilterMode;
 import dev.motionfusion.core.filter.FilterSettings;
 import dev.motionfusion.core.filter.MadgwickFilter;
+import dev.motionfusion.core.settings.FilterSettingDescriptors;
 import dev.motionfusion.core.sim.MotionSimulator;
 import dev.motionfusion.core.sim.SimulatedSample;
 import dev.motionfusion.core.sim.SimulationSettings;
@@ -29,8 +30,10 @@ public final class CpuTimePerUpdate {
             System.arraycopy(row, 0, data, 9 * k, 9);
         }
         ThreadMXBean bean = ManagementFactory.getThreadMXBean();
-        String[] names = {"report-marg", "report-imu", "defaults"};
-        FilterSettings[] settings = {FilterSettings.report(), FilterSettings.report(FilterMode.IMU), new FilterSettings()};
+        // The same variants as FilterBenchmark's.
+        String[] names = {"report-marg", "report-imu", "defaults", "trust"};
+        FilterSettings[] settings = {FilterSettings.report(), FilterSettings.report(FilterMode.IMU), new FilterSettings(),
+            FilterSettingDescriptors.apply(new FilterSettings(), "magTrustSpread=0.005")};
         for (int v = 0; v < names.length; v++) {
             boolean marg = settings[v].getMode() == FilterMode.MARG;
             double best = Double.MAX_VALUE;

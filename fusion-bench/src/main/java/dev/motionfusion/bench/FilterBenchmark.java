@@ -35,7 +35,7 @@ import org.openjdk.jmh.annotations.Warmup;
 public class FilterBenchmark {
     /**
      * report-marg: the report's MARG update with ζ; report-imu: its IMU update; defaults: FilterSettings();
-     * trust: the defaults with the magnetic trust at its value for walks through buildings (magTrustSpread 0.01).
+     * trust: the defaults with the magnetic trust at its value for walks through buildings (magTrustSpread 0.005).
      */
     @Param({"report-marg", "report-imu", "defaults", "trust"})
     public String variant;
@@ -55,7 +55,7 @@ public class FilterBenchmark {
             case "report-marg": settings = FilterSettings.report(); break;
             case "report-imu": settings = FilterSettings.report(FilterMode.IMU); break;
             case "defaults": settings = new FilterSettings(); break;
-            case "trust": settings = FilterSettingDescriptors.apply(new FilterSettings(), "magTrustSpread=0.01"); break;
+            case "trust": settings = FilterSettingDescriptors.apply(new FilterSettings(), "magTrustSpread=0.005"); break;
             default: throw new IllegalArgumentException(variant);
         }
         marg = settings.getMode() == FilterMode.MARG;

@@ -30,7 +30,7 @@ internal object FilterOptions {
         |  --report             start from the Madgwick report's own settings instead
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
         |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); on a walk through
-        |                       buildings, --set magTrustSpread=0.01 holds heading where the field wanders
+        |                       buildings, --set magTrustSpread=0.005 holds heading where the field wanders
         |                       (docs/ACCURACY.md, "Walks through buildings"); names, units, defaults:
         |${settingsTable()}
         |  --offline            the offline estimate: each orientation from the whole recording, the

@@ -32,7 +32,6 @@ import java.net.Inet6Address
 import java.net.InetAddress
 import java.net.InetSocketAddress
 import java.security.MessageDigest
-import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.CopyOnWriteArrayList
 import java.util.concurrent.CountDownLatch
 import java.util.concurrent.TimeUnit
@@ -200,8 +199,7 @@ public class StreamServer @JvmOverloads constructor(
 
     /** Connections not paired yet, oldest first, from their accepted socket on (guarded by itself). */
     private val unpaired = ArrayDeque<Client>()
-    private val handOff = ArrayBlockingQueue<StreamMessage>(settings.handOffCapacity)
-    private val handOffDropped = AtomicLong()
+    private val handOff = HandOff(settings.handOffCapacity, "stream-sender", ::sendToClients)
     private val started = CountDownLatch(1)
 
     @Volatile private var startError: Exception? = null
@@ -211,7 +209,6 @@ public class StreamServer @JvmOverloads constructor(
     @Volatile private var running = false
 
     @Volatile private var failed: String? = null
-    private val sender = Thread(::sendLoop, "stream-sender").apply { isDaemon = true }
 
     private val server = object : WebSocketServer(
         address,
@@ -298,7 +295,7 @@ public class StreamServer @JvmOverloads constructor(
     public val failure: String? get() = failed
 
     /** Messages the capture thread handed over that the sender could not take in time (all clients missed them). */
-    public val handOffDroppedCount: Long get() = handOffDropped.get()
+    public val handOffDroppedCount: Long get() = handOff.droppedCount
 
     /** Starts listening; returns once the server accepts connections. @throws IOException when it cannot (port taken). */
     public fun start() {
@@ -307,7 +304,7 @@ public class StreamServer @JvmOverloads constructor(
         server.start()
         if (!started.await(10, TimeUnit.SECONDS)) throw IOException("the stream server did not start within 10 s")
         startError?.let { running = false; throw IOException("cannot listen on port ${server.address.port}: ${it.message}", it) }
-        sender.start()
+        handOff.start()
         pairingWatch.scheduleWithFixedDelay(::closeUnpaired, 1, 1, TimeUnit.SECONDS)
         pairingWatch.scheduleWithFixedDelay({ for (c in clients) demandWrite(c) }, 1, 1, TimeUnit.SECONDS)
     }
@@ -319,10 +316,10 @@ public class StreamServer @JvmOverloads constructor(
      */
     public fun stop(timeoutMs: Int = 1000) {
         running = false
-        sender.interrupt()
+        handOff.stop()
         pairingWatch.shutdownNow()
         server.stop(timeoutMs, "the phone stopped streaming")
-        sender.join(timeoutMs.toLong())
+        handOff.awaitStopped(timeoutMs.toLong())
         for (conn in server.connections) (conn as? WebSocketImpl)?.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
         val half = synchronized(unpaired) { unpaired.toList().also { unpaired.clear() } }
         for (c in half) c.conn.closeConnection(CloseFrame.GOING_AWAY, "the phone stopped streaming")
@@ -332,21 +329,17 @@ public class StreamServer @JvmOverloads constructor(
     /** Hands a sensor sample to the sender; never blocks. [values] is copied. */
     public fun publishSample(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
         if (clients.isEmpty()) return
-        offer(StreamMessage.Sample(stream, timestampNs, values.copyOf(stream.valueCount.coerceAtMost(values.size)), accuracy))
+        handOff.sample(stream, timestampNs, values, accuracy)
     }
 
     /** Hands the fused orientation (sensor → ENU, [w, x, y, z]) to the sender; never blocks. */
     public fun publishOrientation(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double) {
         if (clients.isEmpty()) return
-        offer(StreamMessage.Orientation(timestampNs, qw, qx, qy, qz))
+        handOff.orientation(timestampNs, qw, qx, qy, qz)
     }
 
     /** The clients connected now (the upgrade request done). */
     public fun clients(): List<StreamClientInfo> = clients.map { it.info() }
-
-    private fun offer(m: StreamMessage) {
-        if (!handOff.offer(m)) handOffDropped.incrementAndGet()
-    }
 
     private fun fail(cause: Throwable) {
         val reason = "the stream server stopped: ${cause.javaClass.simpleName}${cause.message?.let { ": $it" } ?: ""}"
@@ -355,7 +348,7 @@ public class StreamServer @JvmOverloads constructor(
             failed = reason
         }
         running = false
-        sender.interrupt()
+        handOff.stop()
         onFailure(reason)
     }
 
@@ -654,35 +647,22 @@ public class StreamServer @JvmOverloads constructor(
         override fun close() = channel.close()
     }
 
-    private fun sendLoop() {
-        val sb = StringBuilder(256)
-        while (running) {
-            val m = try {
-                handOff.take()
-            } catch (_: InterruptedException) {
-                return
+    /** The sender thread's [StringBuilder], for encoding. */
+    private val sb = StringBuilder(256)
+
+    /** Sender thread ([handOff]): [m], sampled at [t], encoded once for every paired client that asked for it and is due. */
+    private fun sendToClients(m: StreamMessage, t: Long) {
+        val stream = if (m is StreamMessage.Sample) m.stream else SessionStream.ORIENTATION
+        var text: String? = null
+        for (c in clients) {
+            if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
+            if (!c.due(stream, t)) continue
+            if (text == null) {
+                sb.setLength(0)
+                StreamCodec.encodeTo(sb, m)
+                text = sb.toString()
             }
-            val stream = when (m) {
-                is StreamMessage.Sample -> m.stream
-                is StreamMessage.Orientation -> SessionStream.ORIENTATION
-                else -> continue
-            }
-            val t = when (m) {
-                is StreamMessage.Sample -> m.timestampNs
-                is StreamMessage.Orientation -> m.timestampNs
-                else -> continue
-            }
-            var text: String? = null
-            for (c in clients) {
-                if (!c.paired && synchronized(c.pairing) { !c.paired }) continue
-                if (!c.due(stream, t)) continue
-                if (text == null) {
-                    sb.setLength(0)
-                    StreamCodec.encodeTo(sb, m)
-                    text = sb.toString()
-                }
-                c.send(text, t)
-            }
+            c.send(text, t)
         }
     }
 
@@ -739,7 +719,7 @@ public class StreamServer @JvmOverloads constructor(
             rateHz = rate
             for (x in s) wanted[x.ordinal] = true
             periodNs = rate?.let { (1e9 / it).toLong() } ?: 0L
-            droppedHandOffAtPairing = handOffDropped.get()
+            droppedHandOffAtPairing = handOff.droppedCount
         }
 
         /** Whether this client asked for [stream] and, under its rate, the sample at [t] is due. */
@@ -767,7 +747,7 @@ public class StreamServer @JvmOverloads constructor(
                 dropping = dropped > droppedAtStatus
                 droppedAtStatus = dropped
                 lastStatusT = t
-                val lost = dropped + (handOffDropped.get() - droppedHandOffAtPairing)
+                val lost = dropped + (handOff.droppedCount - droppedHandOffAtPairing)
                 // A client that does not keep up gets its status once its queue has room again, with the drops so far.
                 if (conn.outQueue.size < settings.clientQueueFrames) offer(StreamCodec.encode(StreamMessage.Status(t, sent, lost, achievedRateHz)))
             }

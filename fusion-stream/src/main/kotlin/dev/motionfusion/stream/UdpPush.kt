@@ -9,7 +9,6 @@ import java.util.Base64
 import java.net.DatagramPacket
 import java.net.DatagramSocket
 import java.net.InetSocketAddress
-import java.util.concurrent.ArrayBlockingQueue
 import java.util.concurrent.atomic.AtomicLong
 
 /**
@@ -38,8 +37,10 @@ public class UdpPush(
         require(capacity in 16..1_000_000) { "capacity must be 16 to 1,000,000" }
     }
 
-    private val queue = ArrayBlockingQueue<StreamMessage>(capacity)
-    private val dropped = AtomicLong()
+    private val handOff = HandOff(capacity, "stream-udp", ::sendOne)
+
+    /** Messages the system would not send (hellos and statuses included). */
+    private val unsent = AtomicLong()
     private val socket = DatagramSocket().apply {
         // Connected: the system then reports an unreachable port to the next send. A target the system has no route to
         // cannot be connected; each send to it then fails and is counted.
@@ -48,73 +49,58 @@ public class UdpPush(
         } catch (_: java.net.SocketException) {
         }
     }
-    private val sender = Thread(::sendLoop, "stream-udp").apply { isDaemon = true }
-
     @Volatile private var running = false
 
     @Volatile public var sent: Long = 0L
         private set
 
     /** Messages not sent: the queue was full, or the system refused the datagram (hellos and statuses included). */
-    public val droppedCount: Long get() = dropped.get()
+    public val droppedCount: Long get() = handOff.droppedCount + unsent.get()
 
     public fun start() {
         check(!running) { "already started" }
         running = true
-        sender.start()
+        handOff.start()
     }
 
     /** Stops sending; what is queued is dropped. */
     public fun stop() {
         running = false
-        sender.interrupt()
+        handOff.stop()
         socket.close()
-        sender.join(1000)
+        handOff.awaitStopped(1000)
     }
 
     /** Hands a sensor sample to the sender; never blocks. [values] is copied. */
     public fun publishSample(stream: SessionStream, timestampNs: Long, values: FloatArray, accuracy: Int) {
-        put(StreamMessage.Sample(stream, timestampNs, values.copyOf(stream.valueCount.coerceAtMost(values.size)), accuracy))
+        handOff.sample(stream, timestampNs, values, accuracy)
     }
 
     /** Hands the fused orientation (sensor → ENU, [w, x, y, z]) to the sender; never blocks. */
     public fun publishOrientation(timestampNs: Long, qw: Double, qx: Double, qy: Double, qz: Double) {
-        put(StreamMessage.Orientation(timestampNs, qw, qx, qy, qz))
+        handOff.orientation(timestampNs, qw, qx, qy, qz)
     }
 
-    private fun put(m: StreamMessage) {
-        if (!queue.offer(m)) dropped.incrementAndGet()
-    }
+    // The sender thread's ([handOff]): its encoding buffer, when the last hello and status went, what was sent then.
+    private val sb = StringBuilder(256)
+    private var helloT = Long.MIN_VALUE
+    private var statusT = Long.MIN_VALUE
+    private var sentAtStatus = 0L
 
-    private fun sendLoop() {
-        val sb = StringBuilder(256)
-        var helloT = Long.MIN_VALUE
-        var statusT = Long.MIN_VALUE
-        var sentAtStatus = 0L
-        while (running) {
-            val m = try {
-                queue.take()
-            } catch (_: InterruptedException) {
-                return
-            }
-            val t = when (m) {
-                is StreamMessage.Sample -> m.timestampNs
-                is StreamMessage.Orientation -> m.timestampNs
-                else -> continue
-            }
-            if (helloT == Long.MIN_VALUE || t - helloT >= helloIntervalNs) {
-                helloT = t
-                val o = offer()
-                if (!sendHello(sb, StreamMessage.Hello(o.source, o.metadata, o.streams, null))) dropped.incrementAndGet()
-            }
-            if (send(sb, m)) sent++ else dropped.incrementAndGet()
-            if (statusT == Long.MIN_VALUE) statusT = t
-            if (t - statusT >= statusIntervalNs) {
-                val rate = (sent - sentAtStatus) * 1e9 / (t - statusT)
-                sentAtStatus = sent
-                statusT = t
-                if (!send(sb, StreamMessage.Status(t, sent, dropped.get(), rate))) dropped.incrementAndGet()
-            }
+    /** Sender thread: [m], sampled at [t], in its datagram; before it the hello when due, after it the status when due. */
+    private fun sendOne(m: StreamMessage, t: Long) {
+        if (helloT == Long.MIN_VALUE || t - helloT >= helloIntervalNs) {
+            helloT = t
+            val o = offer()
+            if (!sendHello(sb, StreamMessage.Hello(o.source, o.metadata, o.streams, null))) unsent.incrementAndGet()
+        }
+        if (send(sb, m)) sent++ else unsent.incrementAndGet()
+        if (statusT == Long.MIN_VALUE) statusT = t
+        if (t - statusT >= statusIntervalNs) {
+            val rate = (sent - sentAtStatus) * 1e9 / (t - statusT)
+            sentAtStatus = sent
+            statusT = t
+            if (!send(sb, StreamMessage.Status(t, sent, droppedCount, rate))) unsent.incrementAndGet()
         }
     }
 

@@ -1,6 +1,5 @@
 package dev.motionfusion.app.stream
 
-import android.util.Log
 import androidx.annotation.StringRes
 import android.app.Notification
 import android.app.PendingIntent
@@ -12,12 +11,10 @@ import android.net.wifi.WifiManager
 import android.os.Build
 import android.os.IBinder
 import androidx.core.app.NotificationCompat
-import androidx.core.app.ServiceCompat
-import androidx.core.content.ContextCompat
 import dev.motionfusion.app.R
 import dev.motionfusion.app.platform.Clock
 import dev.motionfusion.app.platform.Foreground
-import dev.motionfusion.app.platform.RenewedWakeLock
+import dev.motionfusion.app.platform.ForegroundLifecycle
 import dev.motionfusion.stream.StreamClientInfo
 import kotlinx.coroutines.CoroutineScope
 import kotlinx.coroutines.Dispatchers
@@ -52,7 +49,8 @@ internal fun interface WifiLocks {
 /**
  * Keeps the live stream going with the screen off and the app in the background: a foreground service
  * of type `connectedDevice` (a link to the laptop), started by [StreamController.start],
- * that holds a partial wake lock (renewed while streaming, [RenewedWakeLock]) and Wi-Fi locks
+ * that holds a partial wake lock (renewed while streaming; the foreground, its notification and the wake lock are
+ * the app's one [ForegroundLifecycle]) and Wi-Fi locks
  * ([wifiLockModes]) and shows an ongoing notification with the clients and a Stop action. It follows
  * the controller's state and ends itself when streaming is off, however it was turned off (the
  * screen's switch, the notification's Stop, a failure). The controller does not depend on it: a
@@ -64,7 +62,7 @@ internal fun interface WifiLocks {
 class StreamService : Service() {
     private val scope = CoroutineScope(SupervisorJob() + Dispatchers.Main.immediate)
     private lateinit var deps: StreamDependencies
-    private lateinit var wakeLock: RenewedWakeLock
+    private lateinit var foreground: ForegroundLifecycle
     /** The Wi-Fi locks held, with their modes. */
     private val wifiLocks = ArrayList<Pair<Int, () -> Unit>>()
     private var begun = false
@@ -79,7 +77,7 @@ class StreamService : Service() {
     override fun onCreate() {
         super.onCreate()
         deps = (application as StreamDependencies.Provider).streamDependencies
-        wakeLock = RenewedWakeLock(this, "MotionFusion:streaming", deps.clock)
+        foreground = ForegroundLifecycle(this, NOTIFICATION_ID, FOREGROUND_SERVICE_TYPE, "MotionFusion:streaming", deps.clock, deps::startForeground)
     }
 
     override fun onBind(intent: Intent?): IBinder? = null
@@ -106,14 +104,13 @@ class StreamService : Service() {
     private fun begin() {
         if (begun) return
         begun = true
-        Foreground.createChannels(this)
         val controller = deps.streamController
-        Foreground.enter(this, NOTIFICATION_ID, notification(controller.state.value), FOREGROUND_SERVICE_TYPE, deps::startForeground)?.let { refusal ->
+        foreground.enter(notification(controller.state.value))?.let { refusal ->
             controller.stop(failure = refusal.text)
             end()
             return
         }
-        wakeLock.hold()
+        foreground.holdWakeLock()
         holdWifiLocks()
         scope.launch {
             controller.state.collect { s ->
@@ -127,7 +124,7 @@ class StreamService : Service() {
         scope.launch {
             while (true) {
                 delay(RENEW_TICK_MS)
-                wakeLock.renewIfDue()
+                foreground.renewWakeLockIfDue()
             }
         }
     }
@@ -142,20 +139,19 @@ class StreamService : Service() {
     private fun end() {
         if (ended) return
         ended = true
-        releaseLocks()
+        releaseWifiLocks()
         scope.cancel()
-        ServiceCompat.stopForeground(this, ServiceCompat.STOP_FOREGROUND_REMOVE)
-        stopSelf()
+        foreground.leave()
     }
 
-    private fun releaseLocks() {
-        wakeLock.release()
+    private fun releaseWifiLocks() {
         for ((_, release) in wifiLocks) release()
         wifiLocks.clear()
     }
 
     override fun onDestroy() {
-        releaseLocks()
+        foreground.releaseWakeLock()
+        releaseWifiLocks()
         scope.cancel()
         super.onDestroy()
     }
@@ -164,7 +160,7 @@ class StreamService : Service() {
         // The request's id too: a new request with the same text needs the notification's answers anew.
         if (text(state) + asking(state)?.id == shownText) return
         notificationUpdates++
-        getSystemService(android.app.NotificationManager::class.java).notify(NOTIFICATION_ID, notification(state))
+        foreground.notify(notification(state))
     }
 
     /**
@@ -199,11 +195,7 @@ class StreamService : Service() {
             .setOnlyAlertOnce(true)
             .setCategory(NotificationCompat.CATEGORY_SERVICE)
             .setForegroundServiceBehavior(NotificationCompat.FOREGROUND_SERVICE_IMMEDIATE)
-            .setContentIntent(
-                PendingIntent.getActivity(
-                    this, 0, Intent(this, StreamActivity::class.java).addFlags(Intent.FLAG_ACTIVITY_SINGLE_TOP), PendingIntent.FLAG_IMMUTABLE,
-                ),
-            )
+            .setContentIntent(ForegroundLifecycle.openScreen(this, Intent(this, StreamActivity::class.java)))
             .also { ongoing = it }
         builder.clearActions()
         // Deny and Allow while a laptop asks (immutable: the request's id is fixed when the notification is posted).
@@ -211,12 +203,7 @@ class StreamService : Service() {
             builder.addAction(0, getString(R.string.stream_deny), answer(ACTION_DENY, 2, r.id))
             builder.addAction(0, getString(R.string.stream_allow), answer(ACTION_ALLOW, 3, r.id))
         }
-        builder.addAction(
-            0, getString(R.string.stream_stop),
-            PendingIntent.getService(
-                this, 1, Intent(this, StreamService::class.java).setAction(ACTION_STOP), PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
-            ),
-        )
+        builder.addAction(0, getString(R.string.stream_stop), ForegroundLifecycle.serviceAction(this, 1, Intent(this, StreamService::class.java).setAction(ACTION_STOP)))
         // On the lock screen the pairing code stays hidden: there the public version, without it, is shown.
         val public = NotificationCompat.Builder(this, Foreground.CHANNEL_STREAMING)
             .setSmallIcon(R.drawable.ic_stream)
@@ -226,10 +213,8 @@ class StreamService : Service() {
         return builder.setContentText(text).setVisibility(NotificationCompat.VISIBILITY_PRIVATE).setPublicVersion(public).build()
     }
 
-    private fun answer(action: String, requestCode: Int, id: Long): PendingIntent = PendingIntent.getService(
-        this, requestCode, Intent(this, StreamService::class.java).setAction(action).putExtra(EXTRA_CLIENT, id),
-        PendingIntent.FLAG_IMMUTABLE or PendingIntent.FLAG_UPDATE_CURRENT,
-    )
+    private fun answer(action: String, requestCode: Int, id: Long): PendingIntent =
+        ForegroundLifecycle.serviceAction(this, requestCode, Intent(this, StreamService::class.java).setAction(action).putExtra(EXTRA_CLIENT, id))
 
     companion object {
         internal const val ACTION_START = "dev.motionfusion.app.stream.START"
@@ -239,7 +224,7 @@ class StreamService : Service() {
 
         /** The id of the laptop answered ([StreamClientInfo.id]), with [ACTION_ALLOW] and [ACTION_DENY]. */
         internal const val EXTRA_CLIENT = "client"
-        internal const val NOTIFICATION_ID = 7003
+        internal const val NOTIFICATION_ID = 7004
 
         /** How often the wake lock's renewal is looked at (it renews once a minute of the clock). */
         internal const val RENEW_TICK_MS = 10_000L
@@ -276,12 +261,6 @@ class StreamService : Service() {
          * the background). Returns why the system refused (a string resource; the exception goes to the log), or null.
          */
         @StringRes
-        fun start(context: Context): Int? = try {
-            ContextCompat.startForegroundService(context, Intent(context, StreamService::class.java).setAction(ACTION_START))
-            null
-        } catch (e: IllegalStateException) {
-            Log.w("StreamService", "the system refused to start the stream's service", e)
-            Foreground.Refusal.BACKGROUND.text
-        }
+        fun start(context: Context): Int? = ForegroundLifecycle.start(context, Intent(context, StreamService::class.java).setAction(ACTION_START))?.text
     }
 }

@@ -102,12 +102,12 @@ public enum class Initialisation {
  *   reference, while the heading error is large (from above 2° until below 0.5°), the heading gain is
  *   at least 1/t (t the time since then, s), so a wrong first heading converges within seconds. 0
  *   disables it. Default 10 s.
- * @property magTrustSpread magnetic trust (MagneticTrust.kt): the heading gain, and the bias estimate in motion
- *   with it, is scaled by min(1, magTrustSpread²/σ²), σ² the field's wander (the mean square departure of its
- *   magnitude, as a ratio, and of the sine of its dip from their means over magTrustTime). Indoors, where a
- *   walk through a building meets a field that wanders, the heading is then held by the gyroscope. 0 disables
- *   it. ≥ 0. Default 0 (off): it wins on walks through buildings (ADVIO) and loses where the phone turns in
- *   one room (Tyrex, OxIOD); 0.01 is the value for the former (docs/ACCURACY.md).
+ * @property magTrustSpread magnetic trust (MagneticTrust.kt): with σ² the field's wander (the mean square
+ *   departure of its magnitude, as a ratio, and of the sine of its dip from their means over magTrustTime) and
+ *   r = min(1, magTrustSpread/σ), the heading gain is scaled by r and the bias estimate in motion by r³. Indoors,
+ *   where a walk through a building meets a field that wanders, the heading is then held by the gyroscope. 0
+ *   disables it. ≥ 0. Default 0 (off): it wins on walks through buildings (ADVIO) and loses where the phone
+ *   turns in one room (Tyrex, OxIOD); 0.005 is the value for the former (docs/ACCURACY.md).
  * @property magTrustTime with magTrustSpread, the time the field's means and wander are low-passed over, s.
  *   Default 10 s.
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the

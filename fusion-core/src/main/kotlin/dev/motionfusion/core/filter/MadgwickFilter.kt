@@ -104,7 +104,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         s.ux = estimate.upX(); s.uy = estimate.upY(); s.uz = estimate.upZ()
         bias.update(dt, x, y, z, s.accOk, s.ax, s.ay, s.az)
         s.wx = x - bias.x; s.wy = y - bias.y; s.wz = z - bias.z
-        s.useAcc = s.accOk; s.useMag = s.magOk; s.headingFactor = 1.0; s.newMagReference = false
+        s.useAcc = s.accOk; s.useMag = s.magOk; s.headingFactor = 1.0; s.biasFactor = 1.0; s.newMagReference = false
         for (check in checks) check.check(s)
         if (s.newMagReference) heading.newReference()
         if (recovery.stillError(dt, s.wx, s.wy, s.wz, s.accOk, s.ax, s.ay, s.az, s.ux, s.uy, s.uz)) lowPass.restart()
@@ -125,7 +125,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             val f = s.headingFactor
             val sinDelta = estimate.heading(dt * heading.gain(dt, f), s.mx, s.my, s.mz)
             heading.observe(sinDelta)
-            if (bias.inMotion) bias.motion(dt * f, sinDelta, estimate.upX(), estimate.upY(), estimate.upZ())
+            if (bias.inMotion) bias.motion(dt * f * s.biasFactor, sinDelta, estimate.upX(), estimate.upY(), estimate.upZ())
         }
     }
 

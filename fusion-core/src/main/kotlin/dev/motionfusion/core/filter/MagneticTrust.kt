@@ -6,12 +6,13 @@
  * building, both wander (steel, escalators, a train); outdoors they stay. The check follows the field's
  * magnitude and the sine of its dip (against the estimated up) with means low-passed over magTrustTime,
  * and the low-passed square of their departure from those means, σ² = mean of (|m|/|m|_mean − 1)² +
- * (sin dip − mean)²: the field's wander. The heading gain, and with it the bias estimate in motion (which
- * follows the heading step), is scaled by min(1, magTrustSpread²/σ²): full while the field wanders within
- * the spread, then falling with the square of the wander (what the data asked for; the first power, a
- * Kalman filter's steady state for white errors, left too much of a building's field in), down to a
- * gyroscope-only heading, and back as the wander decays. No reference is learnt, so a disturbed start
- * poisons nothing. Units: any field unit (only ratios enter), s. Allocation-free, no square root.
+ * (sin dip − mean)²: the field's wander. With r = min(1, magTrustSpread/σ), the heading gain is scaled by r
+ * (full while the field wanders within the spread, then falling as 1/σ, a Kalman filter's steady state for
+ * white errors) and the bias estimate in motion, which learns from the same heading error, by r³: a
+ * building's field may still steer the heading a little, but it must not teach the gyroscope a bias, for
+ * the gyroscope is what carries the heading through the building. Back to full as the wander decays. No
+ * reference is learnt, so a disturbed start poisons nothing. Units: any field unit (only ratios enter), s.
+ * Allocation-free.
  *
  * Off by default: the wander does not tell a building that misleads (ADVIO's walks) from one whose errors
  * average out as the phone turns in one room (Tyrex's, OxIOD's), and a gyroscope-only heading loses in the
@@ -20,14 +21,15 @@
 package dev.motionfusion.core.filter
 
 internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.State> {
-    private val spread2 = settings.magTrustSpread * settings.magTrustSpread
+    private val spread = settings.magTrustSpread
+    private val spread2 = spread * spread
     private val rate = 1.0 / settings.magTrustTime
 
     private var normMean = 0.0
     private var dipMean = 0.0
     private var wander2 = 0.0
 
-    /** The factor of the last step, 0…1. */
+    /** The heading gain's factor of the last step, r, 0…1 (the bias estimate in motion's is r³). */
     var trust = 1.0
         private set
 
@@ -48,8 +50,9 @@ internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.Sta
         val dn = norm / normMean - 1.0
         val dd = sinDip - dipMean
         wander2 += a * (dn * dn + dd * dd - wander2)
-        trust = if (wander2 <= spread2) 1.0 else spread2 / wander2
+        trust = if (wander2 <= spread2) 1.0 else spread * MadgwickSteps.invSqrt(wander2)
         s.headingFactor *= trust
+        s.biasFactor *= trust * trust
     }
 
     override fun reset() = restore(NEW)

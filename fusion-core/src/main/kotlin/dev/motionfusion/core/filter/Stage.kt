@@ -93,6 +93,9 @@ internal class Step {
     /** The heading gain's factor this step (1; the checks multiply theirs in). */
     @JvmField var headingFactor = 1.0
 
+    /** The bias estimate in motion's own factor this step, on top of the heading gain's (1; the checks multiply theirs in). */
+    @JvmField var biasFactor = 1.0
+
     /** A check took a new magnetic reference: the heading's fast convergence starts again. */
     @JvmField var newMagReference = false
 }

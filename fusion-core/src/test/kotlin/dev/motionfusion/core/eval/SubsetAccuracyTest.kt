@@ -135,9 +135,9 @@ class SubsetAccuracyTest {
     private val indoor = FilterSettings(magTrustSpread = INDOOR_TRUST_SPREAD)
 
     /**
-     * On ADVIO's walks, the magnetic trust at its indoor value: in every indoor venue ahead of VQF 9D and within
-     * [INDOOR_OF_BEST] of the better of VQF 9D and VQF 6D there; overall ahead of VQF 6D; the offline estimate
-     * overall ahead of VQF offline; outdoors (where the field is clean and the trust gains nothing) its measured figure.
+     * On ADVIO's walks, the magnetic trust at its value for walks through buildings: in every venue (outdoors
+     * too) ahead of VQF 9D and within [INDOOR_OF_BEST] of the better of VQF 9D and VQF 6D there; overall ahead
+     * of VQF 6D; the offline estimate ahead of VQF offline overall and in every venue.
      */
     @TestFactory
     fun `the magnetic trust on ADVIO's walks through buildings`(): List<DynamicTest> {
@@ -159,8 +159,10 @@ class SubsetAccuracyTest {
                         println(String.format(Locale.ROOT, "magnetic trust advio-subset offline: %.2f° (VQF offline %.2f°)", off, vqf.offline))
                         assertTrue(off <= vqf.offline, "offline $off°, VQF offline ${vqf.offline}°")
                     }
-                    "outdoor" -> assertTrue(ours <= INDOOR_OUTDOOR_MEASURED * (1 + BEHIND_MARGIN), "$msg; measured $INDOOR_OUTDOOR_MEASURED°")
                     else -> {
+                        val off = mean(offlineRuns, group)
+                        println(String.format(Locale.ROOT, "magnetic trust advio-subset %s offline: %.2f° (VQF offline %.2f°)", group, off, vqf.offline))
+                        assertTrue(off <= vqf.offline, "offline $off°, VQF offline ${vqf.offline}°")
                         assertTrue(ours <= vqf.nineD, msg)
                         assertTrue(ours <= minOf(vqf.nineD, vqf.sixD) * (1 + INDOOR_OF_BEST), msg)
                     }
@@ -210,13 +212,10 @@ class SubsetAccuracyTest {
         )
 
         /** FilterSettings.magTrustSpread for walks through buildings (docs/ACCURACY.md). */
-        const val INDOOR_TRUST_SPREAD = 0.01
+        const val INDOOR_TRUST_SPREAD = 0.005
 
-        /** How far above the better of VQF 9D and 6D an indoor venue may be with the trust (mall: +19 % measured). */
-        const val INDOOR_OF_BEST = 0.20
-
-        /** ADVIO's outdoor walk with the trust, measured (the defaults: 18.27°). */
-        const val INDOOR_OUTDOOR_MEASURED = 20.27
+        /** How far above the better of VQF 9D and 6D a venue may be with the trust (issue's target; mall +9 % measured). */
+        const val INDOOR_OF_BEST = 0.10
 
         /** How far above its measured figure a [BEHIND] group may be (noise of a rebuild, not a regression). */
         const val BEHIND_MARGIN = 0.02

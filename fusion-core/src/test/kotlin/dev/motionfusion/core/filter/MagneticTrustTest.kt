@@ -36,14 +36,7 @@ class MagneticTrustTest {
         for (i in 0..steps) {
             val t = i / rateHz
             val psi = heading(t)
-            val b = distortion(t)
-            val ex = b[0]
-            val ey = 20.0 + b[1]
-            val ez = -43.0 + b[2]
-            // Into the device frame: turned by −ψ about up.
-            val mx = cos(psi) * ex + sin(psi) * ey
-            val my = -sin(psi) * ex + cos(psi) * ey
-            filter.update((t * 1e9).toLong(), 0.0, 0.0, rate(t), 0.0, 0.0, 9.81, mx, my, ez)
+            step(filter, t, distortion)
             trace?.add(filter.magneticTrust)
             if (t >= scoreFrom) {
                 val q = filter.orientation()
@@ -58,6 +51,18 @@ class MagneticTrustTest {
         return sqrt(sum / n) * 180 / PI
     }
 
+    /** One sample at [t] s: the exact gyroscope, level, the earth's field plus [distortion] in the device frame. */
+    private fun step(filter: MadgwickFilter, t: Double, distortion: (Double) -> DoubleArray) {
+        val psi = heading(t)
+        val b = distortion(t)
+        val ex = b[0]
+        val ey = 20.0 + b[1]
+        // Into the device frame: turned by −ψ about up.
+        val mx = cos(psi) * ex + sin(psi) * ey
+        val my = -sin(psi) * ex + cos(psi) * ey
+        filter.update((t * 1e9).toLong(), 0.0, 0.0, rate(t), 0.0, 0.0, 9.81, mx, my, -43.0 + b[2])
+    }
+
     /** Outside for 20 s, then through a building whose steel adds up to 12 µT, changing over tens of seconds. */
     private val walkIn: (Double) -> DoubleArray = { t ->
         val u = maxOf(0.0, t - 20.0)
@@ -69,16 +74,61 @@ class MagneticTrustTest {
     @Test
     fun `in a wandering field the heading follows the gyroscope`() {
         val without = run(MadgwickFilter(FilterSettings()), 140.0, 20.0, walkIn)
-        val with = run(MadgwickFilter(FilterSettings(magTrustSpread = 0.01)), 140.0, 20.0, walkIn)
+        val with = run(MadgwickFilter(FilterSettings(magTrustSpread = 0.005)), 140.0, 20.0, walkIn)
         println(String.format(Locale.ROOT, "wandering field: heading RMS %.2f° without the trust, %.2f° with it", without, with))
         assertTrue(without > 2.0, "the wandering field should pull the default filter's heading: $without°")
         assertTrue(with < without / 2, "with the trust $with°, without $without°")
     }
 
+    /** Records the factors the checks before it left on each step. */
+    private class Factors : Check<Unit> {
+        var heading = 1.0
+        var bias = 1.0
+
+        override fun check(s: Step) {
+            heading = s.headingFactor
+            bias = s.biasFactor
+        }
+
+        override fun state() = Unit
+        override fun restore(state: Unit) = Unit
+        override fun reset() = Unit
+    }
+
+    @Test
+    fun `in a wandering field the bias estimate in motion learns far less than the heading`() {
+        // The bias is what carries the heading through the building: the field may steer the heading a little
+        // (the factor r) but teaches the bias with r³, the heading step's r times r².
+        val factors = Factors()
+        val f = MadgwickFilter(FilterSettings(magTrustSpread = 0.005)).withChecks(factors)
+        var checked = 0
+        val steps = (60.0 * rateHz).toInt()
+        for (i in 0..steps) {
+            val t = i / rateHz
+            step(f, t, walkIn)
+            if (t > 40.0) {
+                val r = f.magneticTrust
+                assertTrue(r < 0.5, "trust at $t s in the building: $r")
+                assertEquals(r, factors.heading, 1e-15)
+                assertEquals(r * r, factors.bias, 1e-15)
+                checked++
+            }
+        }
+        assertTrue(checked > 1000)
+        // The gyroscope is exact, so any bias learnt in motion is the building's field speaking through it.
+        val without = MadgwickFilter(FilterSettings())
+        run(without, 140.0, 20.0, walkIn)
+        val with = MadgwickFilter(FilterSettings(magTrustSpread = 0.005))
+        run(with, 140.0, 20.0, walkIn)
+        val deg = { g: MadgwickFilter -> g.diagnostics().gyroBias.let { sqrt(it.x * it.x + it.y * it.y + it.z * it.z) } * 180 / PI }
+        println(String.format(Locale.ROOT, "wandering field: bias learnt %.4f°/s without the trust, %.4f°/s with it", deg(without), deg(with)))
+        assertTrue(deg(with) < deg(without) / 5, "with the trust ${deg(with)}°/s, without ${deg(without)}°/s")
+    }
+
     @Test
     fun `in a clean field the trust changes nothing`() {
         val a = MadgwickFilter(FilterSettings())
-        val b = MadgwickFilter(FilterSettings(magTrustSpread = 0.01))
+        val b = MadgwickFilter(FilterSettings(magTrustSpread = 0.005))
         val trace = mutableListOf<Double>()
         run(a, 60.0, 0.0, clean)
         run(b, 60.0, 0.0, clean, trace)
@@ -88,7 +138,7 @@ class MagneticTrustTest {
 
     @Test
     fun `the trust comes back once the field is clean again`() {
-        val f = MadgwickFilter(FilterSettings(magTrustSpread = 0.01))
+        val f = MadgwickFilter(FilterSettings(magTrustSpread = 0.005))
         val trace = mutableListOf<Double>()
         // 20 s outside, 40 s in the building, then 90 s outside again.
         run(f, 150.0, 0.0, { t -> if (t < 60.0) walkIn(t) else clean(t) }, trace)

@@ -26,7 +26,8 @@ import kotlin.math.sin
  * horizontal part onto north) with a variance of [OfflineSettings.smootherRestNoise]² / Δt at rest (the
  * rest detector's flag, where the field holds steady in motion: [OfflineSettings.smootherRestSpread]) and
  * [OfflineSettings.smootherMotionNoise]² / Δt in motion; a reading the field check finds disturbed
- * ([FieldReference]) is left out. So where a recording rests, the heading is pinned there and the
+ * ([FieldReference]) is left out, and with the magnetic trust on (FilterSettings.magTrustSpread) a reading's
+ * variance is divided by r³, r the backward pass's trust at that step. So where a recording rests, the heading is pinned there and the
  * gyroscope's drift between rests is taken out, and the magnetometer in motion, which the rest of the
  * estimate follows, counts little.
  *
@@ -60,9 +61,9 @@ internal class HeadingSmoother(s: OfflineSettings) {
         started = true
     }
 
-    /** One step of the filter at the record at [at]: orientation [q], rate (bias-corrected) of the step into it. */
+    /** One step of the filter at the record at [at]: orientation [q], rate (bias-corrected) of the step into it; [trust] the pass's magnetic trust, 0…1. */
     fun filterStep(buf: ByteBuffer, at: Int, q: DoubleArray, linked: Boolean, wx: Double, wy: Double, wz: Double, dt: Double,
-                   magFresh: Boolean, m: DoubleArray, rest: Boolean, disturbed: Boolean) {
+                   magFresh: Boolean, m: DoubleArray, rest: Boolean, disturbed: Boolean, trust: Double) {
         var u = Double.NaN
         if (q[0].isNaN()) {
             started = false
@@ -90,7 +91,10 @@ internal class HeadingSmoother(s: OfflineSettings) {
             }
             if (magFresh && dt > 0.0 && !disturbed && usable(m)) {
                 // The reading's measure of x, its variance, and the update (P ← (I − K H) P, H = [1, 0]).
-                val r = (if (rest) rRest else rMotion) / dt
+                // Its variance grows as the pass's magnetic trust r falls (MagneticTrust: 1 without it) by 1/r³,
+                // as the causal filter's bias estimate weighs it: from these readings the smoother learns a bias too.
+                var r = (if (rest) rRest else rMotion) / dt
+                if (trust < 1.0) r /= trust * trust * trust
                 val e = wrap(magHeading(m, q) - x)
                 val sInv = 1.0 / (p11 + r)
                 val k1 = p11 * sInv

@@ -132,7 +132,7 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
             b.putDouble(at + Spill.RECENT, backRecent)
             if (smoother != null) {
                 back.gyroBiasInto(gb)
-                smoother.filterStep(b, at, q, linked, hx - gb[0], hy - gb[1], hz - gb[2], stepS, flags and MAG_FRESH != 0L, mb, back.atRest && trustRest, disturbed)
+                smoother.filterStep(b, at, q, linked, hx - gb[0], hy - gb[1], hz - gb[2], stepS, flags and MAG_FRESH != 0L, mb, back.atRest && trustRest, disturbed, back.magneticTrust)
             }
         }
         // Forward again, from where the backward pass ended.
