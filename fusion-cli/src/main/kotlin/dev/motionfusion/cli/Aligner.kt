@@ -94,7 +94,9 @@ internal class Aligner(private val err: PrintStream, private val command: String
             }
             if (found != null && !clear) {
                 ambiguous++
-                err.println("fusion $command: note: ${r.name}: the gyroscopes show no shared motion that singles one offset out (correlation %.3f, its best rival %.3f): ".format(Locale.ROOT, found.correlation, found.runnerUp) +
+                // The figures formatted apart: a name may hold a format directive.
+                val figures = "correlation %.3f, its best rival %.3f".format(Locale.ROOT, found.correlation, found.runnerUp)
+                err.println("fusion $command: note: ${r.name}: the gyroscopes show no shared motion that singles one offset out ($figures): " +
                     if (used == "utc") "the wall clocks are used" else "shake the phones together once, irregularly, while all record")
             }
             aligned += when (used) {

@@ -287,7 +287,8 @@ internal class ReplayCommand(
         for (a in result.aligned.drop(1)) {
             val bound = if (a.uncertaintyNs.isNaN()) "uncertainty not known (the phones' wall clocks: network time is typically within tens of ms)"
             else "± %.3f ms".format(java.util.Locale.ROOT, a.uncertaintyNs / 1e6)
-            err.println("fusion replay: ${a.input.name} on ${ref.name}'s timeline: ${a.method}, offset %.6f s, $bound".format(java.util.Locale.ROOT, a.offsetNs / 1e9))
+            val offset = "%.6f".format(java.util.Locale.ROOT, a.offsetNs / 1e9)
+            err.println("fusion replay: ${a.input.name} on ${ref.name}'s timeline: ${a.method}, offset $offset s, $bound")
         }
         return result
     }

@@ -113,7 +113,8 @@ class ReplayAlignedTest {
                 worst = maxOf(worst, abs(rows[i] - truth) * 1e9)
             }
             assertTrue(worst <= limit, "$name by $used: rows up to ${worst / 1e6} ms off the truth, stated ${limit / 1e6} ms")
-            println("replay --align $method: $name by $used: rows up to %.4f ms off the truth, stated %s ms".format(java.util.Locale.ROOT, worst / 1e6, stated?.let { "%.4f".format(java.util.Locale.ROOT, it / 1e6) }))
+            val figures = "%.4f ms off the truth, stated %s ms".format(java.util.Locale.ROOT, worst / 1e6, stated?.let { "%.4f".format(java.util.Locale.ROOT, it / 1e6) })
+            println("replay --align $method: $name by $used: rows up to $figures")
             assertTrue(r.err.contains("$name on $refName's timeline: $used"), r.err)
             worst
         }
@@ -142,13 +143,14 @@ class ReplayAlignedTest {
         val b = Clock(7_350_987_654_321L, 0.0)
         val phones = listOf(
             Triple("a", a, session("a", 8, 100, a, anchor = true, link = false, violent = null)),
-            Triple("b", b, session("b", 9, 100, b, anchor = true, link = false, violent = null)),
+            // A name with a format directive in it, as any file name may have.
+            Triple("b%s", b, session("b%s", 9, 100, b, anchor = true, link = false, violent = null)),
         )
         // Independent motions: the gyroscopes cannot tell, the wall clocks decide (their anchors here exact to the ns).
         check("utc", phones, "utc", 1_000.0)
         val worst = check("auto", phones, "utc", 1_000.0)
         assertTrue(worst.single() <= 1_000.0)
-        assertEquals(null, alignment(p("out-auto/"), "b").second)
+        assertEquals(null, alignment(p("out-auto/"), "b%s").second)
     }
 
     @Test
