@@ -130,6 +130,9 @@ internal class TestGraph(
     streamSettings: StreamServerSettings = StreamServerSettings(),
     /** Starts the stream's foreground service; Robolectric records the intent (the test creates the service from it). */
     streamKeepAlive: () -> Int? = { StreamService.start(RuntimeEnvironment.getApplication()) },
+    /** A laptop's remote start and stop (AppGraph's; the app passes RecordingService's entry points); default: not available. */
+    remoteRecordStart: (dev.motionfusion.core.session.RemoteStart) -> String? = { "recording is not available" },
+    remoteRecordStop: () -> Unit = {},
 ) {
     val app = RuntimeEnvironment.getApplication() as MotionFusionApp
     private val locks = FolderLocks()
@@ -153,7 +156,7 @@ internal class TestGraph(
         streamPort = streamPort, streamAddresses = { streamAddresses },
         streamControl = { r -> streamControl.execute(null) { r.run() } }, streamSettings = streamSettings, streamKeepAlive = streamKeepAlive,
         streamLookup = { r -> streamControl.execute(null) { r.run() } },
-        wifiLocks = wifiLocks,
+        wifiLocks = wifiLocks, remoteRecordStart = remoteRecordStart, remoteRecordStop = remoteRecordStop,
     ).also { app.graph = it }
     val capture get() = graph.capture
 

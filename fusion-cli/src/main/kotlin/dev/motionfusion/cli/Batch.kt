@@ -15,8 +15,8 @@ import java.util.concurrent.Executors
  * of the whole run is the worst one.
  */
 internal class Batch(private val command: String, private val err: PrintStream, private val threads: Int = Runtime.getRuntime().availableProcessors()) {
-    /** One input's job: the input, where its output goes, and the arguments of its own run. */
-    class Job(val input: String, val output: String, val args: List<String>)
+    /** One input's job: the input, where its output goes, the arguments of its own run, and its rows' times (replay --align). */
+    class Job(val input: String, val output: String, val args: List<String>, val rowTime: ((Long) -> Double)? = null)
 
     /**
      * The output of each input in [dir]: its file name without .csv/.csv.gz/.zip, then [extension].
@@ -98,7 +98,7 @@ internal class Batch(private val command: String, private val err: PrintStream, 
     /** Runs each job as its own run of the command (its own [Cli], so its own [Outputs]), then [summary]. */
     fun run(jobs: List<Job>, describe: (Outcome<Job>) -> String): Int {
         val outcomes = map(jobs, { it.input }) { job, e ->
-            val code = PrintStream(ByteArrayOutputStream(), true, "UTF-8").use { o -> Cli(o, e).run(listOf(command) + job.args) }
+            val code = PrintStream(ByteArrayOutputStream(), true, "UTF-8").use { o -> Cli(o, e, rowTime = job.rowTime).run(listOf(command) + job.args) }
             if (code != ExitCode.OK) throw Exited(code)
             job
         }

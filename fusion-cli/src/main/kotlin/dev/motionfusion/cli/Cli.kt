@@ -18,6 +18,8 @@ internal class Cli(
     private val err: PrintStream,
     private val outputs: Outputs = Outputs(),
     private val stdoutFailure: () -> IOException? = { null },
+    /** `fusion replay`'s row time of a timestamp (one input of `replay --align`, run by [Batch]); null: its own origin. */
+    private val rowTime: ((Long) -> Double)? = null,
 ) {
     constructor(out: PrintStream, err: PrintStream, stdoutFailure: () -> IOException?) : this(out, err, Outputs(), stdoutFailure)
 
@@ -26,7 +28,7 @@ internal class Cli(
     }
 
     private val commands: List<Command> = listOf(
-        ReplayCommand(err, outputs), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
+        ReplayCommand(err, outputs, rowTime), EvalCommand(err), CompareCommand(err, outputs), PlotCommand(err, outputs),
         SimulateCommand(outputs), RecoverCommand(), SummaryCommand(), CalibrateCommand(err, outputs), AllanCommand(err, outputs),
         ListenCommand(err), RecordCommand(err), ExportCommand(err, outputs), AlignCommand(err, outputs),
     )

@@ -11,6 +11,6 @@ public fun main(args: Array<String>) {
     dev.motionfusion.core.io.TemporaryFiles.owner = ProcessHandle.current().pid().toString()
     val stdout = RecordingOutput(FileOutputStream(FileDescriptor.out))
     val out = PrintStream(java.io.BufferedOutputStream(stdout, 1 shl 16), false, System.getProperty("sun.stdout.encoding") ?: java.nio.charset.Charset.defaultCharset().name())
-    val code = Cli(out, System.err) { stdout.failure }.run(args.toList())
+    val code = Cli(out, System.err, stdoutFailure = { stdout.failure }).run(args.toList())
     exitProcess(code)
 }

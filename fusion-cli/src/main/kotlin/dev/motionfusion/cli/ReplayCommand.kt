@@ -7,17 +7,24 @@ import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
 import dev.motionfusion.core.replay.Replayer
+import dev.motionfusion.core.replay.Retimed
 import java.io.BufferedOutputStream
 import java.io.PrintStream
 import java.util.zip.GZIPOutputStream
 
 /** `fusion replay INPUT [-o OUT] [filter settings]`. */
-internal class ReplayCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
+internal class ReplayCommand(
+    private val err: PrintStream,
+    private val outputs: Outputs,
+    /** The rows' time of a timestamp, s (one input of --align, given by [Batch]); null: seconds since the input's origin. */
+    private val rowTime: ((Long) -> Double)? = null,
+) : Command {
     override val name = "replay"
     override val summary = "run the filter over a recording and write the orientation as CSV"
     override val help = """
         |Usage: fusion replay INPUT [-o OUT.csv[.gz]] [filter settings]
         |       fusion replay INPUT... -o FOLDER/ [filter settings]
+        |       fusion replay INPUT INPUT... -o FOLDER/ --align auto|link|gyro|utc [--max-lag S]
         |
         |Merges the recording's streams by timestamp, runs the Madgwick filter over them
         |(accelerometer and magnetometer held, one step per gyroscope sample) and writes CSV,
@@ -77,19 +84,34 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         |killed outright (SIGKILL) are removed by the next run writing the same output, or
         |reading standard input, with a note.
         |A progress bar is drawn on standard error when it is a terminal.
+        |
+        |On one timeline (recordings of several phones, docs/SYNC.md):
+        |  --align METHOD       the rows of every INPUT on the first INPUT's clock, as 'fusion align'
+        |                       puts them there (METHOD auto, link, gyro or utc; see fusion align --help):
+        |                       t_s is then seconds since the first INPUT's origin, for every output.
+        |                       The filter runs on each recording's own timestamps; only t_s changes.
+        |                       FOLDER/alignment.csv gets fusion align's CSV: each input's method,
+        |                       offset, drift and uncertainty_ns, the bound on its rows' times (link: the
+        |                       clock exchanges' bound over the whole input; gyro: one sample period of the
+        |                       slower phone; utc: empty, as good as the phones' wall clocks). Inputs that
+        |                       cannot be aligned (no shared clock exchanges, wall clocks or motion that
+        |                       singles one offset out) are refused before anything is written.
+        |  --max-lag S          the gyroscopes' search range, as fusion align's
         |The output is written aside and moved into place only when the replay succeeds; an
         |output that is the input or lies inside it is refused.
         |Exit codes: 0 ok, 1 malformed input (FILE:LINE:COLUMN: reason), 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val valued = setOf("-o", "--output", "--calibration", "--rows") + FilterOptions.VALUED + InputOptions.VALUED + HeadingOptions.VALUED
+        val valued = setOf("-o", "--output", "--calibration", "--rows", "--align", "--max-lag") + FilterOptions.VALUED + InputOptions.VALUED + HeadingOptions.VALUED
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("replay needs an INPUT")
         val target = o.value("-o") ?: o.value("--output")
         if (o.positional.size > 1 || (target != null && target.endsWith("/"))) {
             return batch(args, o, valued, target ?: throw UsageException("with several inputs give -o FOLDER/ for their outputs"))
         }
+        if (o.value("--align") != null) throw UsageException("--align puts several recordings on one timeline: give two or more INPUTs and -o FOLDER/")
+        if (o.value("--max-lag") != null) throw UsageException("--max-lag goes with --align")
         val input = o.positional.single()
         FilterOptions.settings(o) // usage errors before the input is opened
         val heading = HeadingOptions.spec(o)
@@ -119,8 +141,9 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
 
                         override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = w.reference(stream, timestampNs, values)
                     }
-                    val tare = HeadingOptions.wrap(heading, plain, rec.name) { probe -> replay(rec, calibration, settings, offline, probe, null) }
-                    val counts = replay(rec, calibration, settings, offline, tare ?: plain, progress::update, replayer)
+                    val timed = rowTime?.let { Retimed(plain, it) } ?: plain
+                    val tare = HeadingOptions.wrap(heading, timed, rec.name) { probe -> replay(rec, calibration, settings, offline, probe, null) }
+                    val counts = replay(rec, calibration, settings, offline, tare ?: timed, progress::update, replayer)
                     if (tare != null && !o.has("--quiet")) err.println("fusion replay: note: ${rec.name}: ${HeadingOptions.note(heading!!, tare)}")
                     counts
                 }
@@ -165,6 +188,9 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
     }
 
     companion object {
+        /** Where --align writes the alignment in the output folder. */
+        const val ALIGNMENT_FILE = "alignment.csv"
+
         /** One replay of [rec] into [listener] (with [replayer], else a new one), as every command runs it. */
         fun replay(
             rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings, offline: dev.motionfusion.core.filter.offline.OfflineSettings?,
@@ -205,21 +231,69 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
         if (o.value("--rows") != null) throw UsageException("--rows takes one input; replay the inputs one at a time to keep their rows")
         FilterOptions.settings(o)
         FilterOptions.offline(o)
+        val method = o.value("--align")?.let { AlignCommand.method(it, "--align") }
+        val maxLag = AlignCommand.maxLag(o)
+        if (maxLag != null && method == null) throw UsageException("--max-lag goes with --align")
+        if (method != null && o.positional.size < 2) throw UsageException("--align puts several recordings on one timeline: give two or more INPUTs")
         val batch = Batch(name, err)
         val folder = java.nio.file.Path.of(dir)
         // Every check before the folder is made: a refused run creates nothing.
         val outputs = batch.outputs(o.positional, dir, ".csv")
+        val sidecar = folder.resolve(ALIGNMENT_FILE).toString()
+        if (method != null) {
+            outputs.indexOf(sidecar).takeIf { it >= 0 }?.let {
+                throw UsageException("${o.positional[it]} would be written to $sidecar, where --align writes the alignment; rename the input or replay it apart")
+            }
+            // As the outputs: checked against the inputs where the folder exists (a new folder lies in none).
+            if (java.nio.file.Files.isDirectory(folder)) Outputs().check(sidecar, o.positional)
+        }
+        val alignment = method?.let { aligned(o, it, maxLag) }
         val made = !java.nio.file.Files.isDirectory(folder)
         if (made) dev.motionfusion.core.io.AtomicFiles.named(folder) { java.nio.file.Files.createDirectory(folder) }
         try {
-            return batch(args, o, valued, batch, outputs)
+            val code = batch(args, o, valued, batch, outputs, alignment)
+            // The alignment beside the rows it put on one timeline, when any were written.
+            if (alignment != null && outputs.any { java.nio.file.Files.exists(java.nio.file.Path.of(it)) }) {
+                val files = Outputs().also { it.note = { n -> err.println("fusion: note: $n") } }
+                try {
+                    files.file(sidecar, o.positional).use { it.write(alignment.csv().toByteArray()) }
+                    files.commit()
+                } finally {
+                    files.abort()
+                }
+            }
+            return code
         } finally {
             // A folder this run made and no input succeeded into is removed again.
             if (made) runCatching { java.nio.file.Files.delete(folder) }
         }
     }
 
-    private fun batch(args: List<String>, o: Options, valued: Set<String>, batch: Batch, outputs: List<String>): Int {
+    /**
+     * The inputs on the first one's clock by [method] (the aligner of fusion align), with a line on standard error for
+     * each; inputs that cannot be aligned are refused.
+     */
+    private fun aligned(o: Options, method: String, maxLag: Double?): Aligner.Result {
+        val result = Aligner(err, name).align(o.positional, o, method, maxLag)
+        val ref = result.reference
+        result.aligned.firstOrNull { !it.certain }?.let {
+            throw dev.motionfusion.core.io.DataFormatException(
+                it.input.name, 0, 0,
+                "cannot be put on ${ref.name}'s timeline: " + (if (method == "auto") "no clock exchanges with the same laptop, no wall-clock anchors on both, and " else "") +
+                    "the gyroscopes show no shared motion that singles one offset out (shake the phones together once, irregularly, while all record); " +
+                    "replay without --align to keep each recording's own time",
+            )
+        }
+        for (a in result.aligned.drop(1)) {
+            val bound = if (a.uncertaintyNs.isNaN()) "uncertainty not known (the phones' wall clocks: network time is typically within tens of ms)"
+            else "± %.3f ms".format(java.util.Locale.ROOT, a.uncertaintyNs / 1e6)
+            val offset = "%.6f".format(java.util.Locale.ROOT, a.offsetNs / 1e9)
+            err.println("fusion replay: ${a.input.name} on ${ref.name}'s timeline: ${a.method}, offset $offset s, $bound")
+        }
+        return result
+    }
+
+    private fun batch(args: List<String>, o: Options, valued: Set<String>, batch: Batch, outputs: List<String>, alignment: Aligner.Result?): Int {
         // The options without the inputs and -o, for each input's own run.
         val rest = ArrayList<String>()
         var i = 0
@@ -230,14 +304,18 @@ internal class ReplayCommand(private val err: PrintStream, private val outputs: 
             when {
                 onlyPositional || !a.startsWith("-") || a == "-" -> Unit
                 a == "--" -> onlyPositional = true
-                optionName == "-o" || optionName == "--output" -> if (!a.contains('=')) i++
+                optionName == "-o" || optionName == "--output" || optionName == "--align" || optionName == "--max-lag" -> if (!a.contains('=')) i++
                 optionName in valued -> { rest += a; if (!a.contains('=')) rest += args[++i] }
                 else -> rest += a
             }
             i++
         }
         // The input after "--", so that one whose name starts with "-" is read as an input in its own run too.
-        val jobs = o.positional.mapIndexed { k, input -> Batch.Job(input, outputs[k], rest + listOf("-o", outputs[k], "--", input)) }
+        val origin = alignment?.reference?.originNs
+        val jobs = o.positional.mapIndexed { k, input ->
+            val rowTime = alignment?.aligned?.get(k)?.let { a -> { t: Long -> Replayer.secondsBetween(origin!!, a.toReference(t)) } }
+            Batch.Job(input, outputs[k], rest + listOf("-o", outputs[k], "--", input), rowTime)
+        }
         return batch.run(jobs) { r ->
             val m = r.messages.lineSequence().filter { it.isNotBlank() }.joinToString("\n  ")
             if (r.code == ExitCode.OK) "fusion replay: ${r.input} → ${r.value!!.output}" + (if (m.isEmpty()) "" else "\n  $m")

@@ -72,27 +72,6 @@ class StreamServiceTest {
 
     private fun text(n: Notification) = n.extras.getCharSequence(Notification.EXTRA_TEXT).toString()
 
-    /** Connects [client] on a thread of its own and allows it once the controller shows it asking; returns its hello. */
-    private fun connectAllowed(client: StreamClient): StreamMessage.Hello {
-        val pool = java.util.concurrent.Executors.newSingleThreadExecutor()
-        try {
-            val hello = pool.submit<StreamMessage.Hello> { client.connect() }
-            for (k in 0 until 10_000) {
-                shadowOf(Looper.getMainLooper()).idle()
-                val asking = (controller.state.value as? StreamState.On)?.clients?.firstOrNull { it.awaitingConfirmation }
-                if (asking != null) {
-                    controller.allow(asking.id)
-                    graph.settle()
-                    break
-                }
-                java.util.concurrent.locks.LockSupport.parkNanos(1_000_000)
-            }
-            return hello.get(10, TimeUnit.SECONDS)
-        } finally {
-            pool.shutdown()
-        }
-    }
-
     @Test
     @Config(minSdk = Sdks.MIN, maxSdk = Sdks.MAX)
     fun `streaming runs in the foreground as connectedDevice with a wake lock and the level's Wi-Fi locks, and Stop in the notification ends it`() {
@@ -209,7 +188,7 @@ class StreamServiceTest {
         val got = CountDownLatch(200)
         val client = StreamClient(URI("ws://127.0.0.1:${on.port}"), StreamMessage.Pair(on.code)) { if (it is StreamMessage.Sample) got.countDown() }
         try {
-            connectAllowed(client) // returns with the hello: the server lists the client as paired
+            graph.connectAllowed(client) // returns with the hello: the server lists the client as paired
             shadowOf(Looper.getMainLooper()).idleFor(Duration.ofSeconds(1)) // the state's refresh
             assertEquals("1 client · code ${on.code}", text(nm.getNotification(StreamService.NOTIFICATION_ID)))
             val updates = c.get().notificationUpdates
