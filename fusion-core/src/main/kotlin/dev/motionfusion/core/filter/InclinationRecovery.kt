@@ -17,6 +17,9 @@ import kotlin.math.sqrt
 internal class InclinationRecovery(settings: FilterSettings) : Stage<InclinationRecovery.State> {
     private val beta = settings.beta
     private val recovers = settings.inclinationRecoveryBeta != null
+
+    /** Whether [stillError] and [beta] read the estimated up (only with inclinationRecoveryBeta). */
+    val usesUp: Boolean get() = recovers
     private val recoveryBeta = settings.inclinationRecoveryBeta ?: 0.0
     private val accTrustTime = settings.accTrustTime
     private val accNormTolerance = settings.accNormTolerance

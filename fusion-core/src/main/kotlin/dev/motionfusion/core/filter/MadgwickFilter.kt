@@ -101,7 +101,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         }
         val dt = s.dt
         if (gate.saturated) saturated()
-        s.ux = estimate.upX(); s.uy = estimate.upY(); s.uz = estimate.upZ()
+        // The estimated up, for the checks and the inclination recovery (the report's filter has neither).
+        if (recovery.usesUp || checks.isNotEmpty()) { s.ux = estimate.upX(); s.uy = estimate.upY(); s.uz = estimate.upZ() }
         bias.update(dt, x, y, z, s.accOk, s.ax, s.ay, s.az)
         s.wx = x - bias.x; s.wy = y - bias.y; s.wz = z - bias.z
         s.useAcc = s.accOk; s.useMag = s.magOk; s.headingFactor = 1.0; s.biasFactor = 1.0; s.newMagReference = false
