@@ -303,7 +303,9 @@ apk() {
       key="$(basename "$jar" .jar)-$(sha1sum "$jar" | cut -c1-12)"
       out="$cache/$key.zip"
       if [ ! -f "$out" ]; then
-        $d8 com.android.tools.r8.D8 --debug --intermediate --min-api 26 \
+        # The libraries' own notes (D8 stripping locals tables they ship inconsistent) are infos about
+        # code that is not ours: not shown. Their warnings and errors still are.
+        $d8 com.android.tools.r8.D8 --debug --intermediate --min-api 26 --map-diagnostics info none \
           --lib "$android_jar" --lib "$jdk" --output "$out.tmp.zip" "$jar"
         mv "$out.tmp.zip" "$out"
       fi
