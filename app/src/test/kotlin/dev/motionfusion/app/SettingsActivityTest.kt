@@ -157,6 +157,33 @@ class SettingsActivityTest {
     }
 
     @Test
+    fun `Walking through buildings turns the magnetic trust on with the buildings' value and keeps one set under Advanced`() {
+        val a = start().get()
+        assertFalse(a.switch(Setting.BUILDINGS).isChecked)
+        assertEquals("Heading", (a.row(Setting.BUILDINGS).parent as View).findViewById<TextView>(R.id.section_title).text.toString())
+        a.switch(Setting.BUILDINGS).isChecked = true
+        assertEquals(FilterSettings(magTrustSpread = FilterSettings.BUILDINGS_TRUST_SPREAD), stored().filter)
+        shadowOf(android.os.Looper.getMainLooper()).idle()
+        assertEquals(FilterSettings.BUILDINGS_TRUST_SPREAD, graph!!.graph.capture.filterSettingsInUse().magTrustSpread!!, 0.0)
+        // The same setting under Advanced shows it, and a value chosen there is kept by the switch.
+        assertTrue(a.switch("mag_trust_spread").isChecked)
+        assertEquals(FilterSettings.BUILDINGS_TRUST_SPREAD.toFloat(), a.slider("mag_trust_spread").value, 1e-6f)
+        Screenshots.captureWhole(a, "settings-buildings-on-phone-light")
+        a.slider("mag_trust_spread").value = 0.01f
+        assertTrue(a.switch(Setting.BUILDINGS).isChecked)
+        assertEquals(0.01, stored().filter.magTrustSpread!!, 1e-6)
+        a.switch(Setting.BUILDINGS).isChecked = false
+        assertNull(stored().filter.magTrustSpread)
+        assertFalse(a.switch("mag_trust_spread").isChecked)
+        a.switch(Setting.BUILDINGS).isChecked = true
+        assertEquals(FilterSettings.BUILDINGS_TRUST_SPREAD, stored().filter.magTrustSpread!!, 0.0)
+        // Stored, both keys agree; read back in either order they give the same settings.
+        val s = stored()
+        assertEquals("true", offMainThread { RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE).getString(Setting.BUILDINGS, null) })
+        assertEquals(s, offMainThread { SettingsStore({ RuntimeEnvironment.getApplication().getSharedPreferences(SettingsStore.FILE, Context.MODE_PRIVATE) }, Setting.ALL.reversed()).load() })
+    }
+
+    @Test
     fun `reset puts one setting back, Defaults all of them`() {
         val a = start().get()
         a.slider("beta").value = 0.3f

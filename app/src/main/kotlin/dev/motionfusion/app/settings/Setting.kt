@@ -1,6 +1,7 @@
 package dev.motionfusion.app.settings
 
 import dev.motionfusion.app.sensor.SamplingRate
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.settings.FilterSettingDescriptor
 import dev.motionfusion.core.settings.FilterSettingDescriptors
 import dev.motionfusion.core.settings.SettingGroup
@@ -11,7 +12,7 @@ import dev.motionfusion.core.settings.SettingKind
  * under "Advanced" (folded until opened).
  */
 enum class Section(val advanced: Boolean = false) {
-    RECORDING, RECORDED_SENSORS, CALIBRATION, DISPLAY,
+    RECORDING, HEADING, RECORDED_SENSORS, CALIBRATION, DISPLAY,
     GAINS(true), REJECTION(true), BIAS(true), LOW_PASS(true), SATURATION(true);
 
     companion object {
@@ -94,6 +95,8 @@ class Setting(
         const val MAX_DURATION = "max_duration_s"
         const val STOP_BATTERY = "stop_battery_percent"
         const val START_DELAY = "start_delay_s"
+        /** The "Walking through buildings" switch: the filter's magnetic trust on ([FilterSettings.BUILDINGS_TRUST_SPREAD]) or off. */
+        const val BUILDINGS = "walking_through_buildings"
         /** An optional stream's switch: this and the stream's name in lower case ("record_rotation_vector"). */
         const val RECORD_PREFIX = "record_"
 
@@ -121,6 +124,10 @@ class Setting(
             Setting(STOP_BATTERY, "Stop recording at battery", Section.RECORDING, SettingKind.CHOICE, choices = RecordingLimits.BATTERY_CHOICES.map { it.toString() },
                 read = { it.limits.stopBatteryPercent.toString() },
                 write = { s, v -> s.copy(limits = s.limits.copy(stopBatteryPercent = (v as String).toInt())) }),
+            // A view of the filter's magTrustSpread (also under Advanced): on keeps a value set there, else takes the one for buildings.
+            Setting(BUILDINGS, "Walking through buildings", Section.HEADING, SettingKind.BOOLEAN,
+                read = { it.filter.magTrustSpread != null },
+                write = { s, v -> s.copy(filter = s.filter.copy(magTrustSpread = if (v as Boolean) s.filter.magTrustSpread ?: FilterSettings.BUILDINGS_TRUST_SPREAD else null)) }),
         ) + LiveSettings.OPTIONAL_STREAMS.sortedBy { it.ordinal }.map { stream ->
             Setting(RECORD_PREFIX + stream.name.lowercase(), "Record ${stream.name.lowercase().replace('_', ' ')}", Section.RECORDED_SENSORS, SettingKind.BOOLEAN,
                 read = { stream in it.optionalStreams },

@@ -147,6 +147,7 @@ class SettingsActivity : AppCompatActivity() {
         Section.LOW_PASS -> R.string.settings_section_low_pass
         Section.SATURATION -> R.string.settings_section_saturation
         Section.RECORDING -> R.string.settings_section_recording
+        Section.HEADING -> R.string.settings_section_heading
         Section.RECORDED_SENSORS -> R.string.settings_section_recorded_sensors
         Section.CALIBRATION -> R.string.settings_section_calibration
         Section.DISPLAY -> R.string.settings_section_display

@@ -113,7 +113,7 @@ public enum class Initialisation {
  *   r = min(1, magTrustSpread/σ), the heading gain is scaled by r and the bias estimate in motion by r³. Indoors,
  *   where a walk through a building meets a field that wanders, the heading is then held by the gyroscope. null:
  *   off. Default off: it wins on walks through buildings (ADVIO) and loses where the phone
- *   turns in one room (Tyrex, OxIOD); 0.005 is the value for the former (docs/ACCURACY.md).
+ *   turns in one room (Tyrex, OxIOD); [BUILDINGS_TRUST_SPREAD] is the value for the former (docs/ACCURACY.md).
  * @property magTrustTime with magTrustSpread, the time the field's means and wander are low-passed over, s.
  *   Default 10 s.
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
@@ -274,6 +274,12 @@ public data class FilterSettings(
             accLowPassTime = null,
             gyroSaturation = null,
         )
+
+        /**
+         * magTrustSpread for walks through buildings (a mall, a station, offices): the value chosen on ADVIO
+         * (docs/ACCURACY.md, "Walks through buildings"); the app's "Walking through buildings" switch sets it.
+         */
+        public const val BUILDINGS_TRUST_SPREAD: Double = 0.005
 
         private const val DEG = PI / 180.0
         private val SQRT_3_4 = kotlin.math.sqrt(0.75)

@@ -132,7 +132,7 @@ class SubsetAccuracyTest {
         }
 
     /** The magnetic trust at the value for walks through buildings (FilterSettings.magTrustSpread; off by default). */
-    private val indoor = FilterSettings(magTrustSpread = INDOOR_TRUST_SPREAD)
+    private val indoor = FilterSettings(magTrustSpread = FilterSettings.BUILDINGS_TRUST_SPREAD)
 
     /**
      * On ADVIO's walks, the magnetic trust at its value for walks through buildings: in every venue (outdoors
@@ -210,9 +210,6 @@ class SubsetAccuracyTest {
             "offline advio-subset office" to 11.36,
             "offline advio-subset outdoor" to 18.21,
         )
-
-        /** FilterSettings.magTrustSpread for walks through buildings (docs/ACCURACY.md). */
-        const val INDOOR_TRUST_SPREAD = 0.005
 
         /** How far above the better of VQF 9D and 6D a venue may be with the trust (issue's target; mall +9 % measured). */
         const val INDOOR_OF_BEST = 0.10
