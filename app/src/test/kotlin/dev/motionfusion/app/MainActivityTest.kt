@@ -242,6 +242,26 @@ class MainActivityTest {
     }
 
     @Test
+    fun `walking through a building with the switch on, the heading is shown held on the gyroscope without a figure-8 hint`() {
+        offMainThread { SettingsStore(RuntimeEnvironment.getApplication()).save(LiveSettings(filter = FilterSettings(magTrustSpread = FilterSettings.BUILDINGS_TRUST_SPREAD))) }
+        val c = start(acc, gyro, mag, rv)
+        // Level and still for 40 s in a field whose strength wanders by up to ±15 % (a building's steel passing by).
+        for (i in 0..4000) {
+            val k = (1.0 + 0.15 * sin(i * 0.02) * sin(i * 0.0071)).toFloat()
+            send(acc, t, floatArrayOf(0f, 0f, 9.81f))
+            send(mag, t + 1000, floatArrayOf(0f, 22f * k, -40f * k))
+            send(gyro, t + 2000, floatArrayOf(0f, 0f, 0f))
+            t += 10_000_000L
+        }
+        frame()
+        val a = c.get()
+        assertEquals(View.VISIBLE, a.findViewById<View>(R.id.mag_warning).visibility)
+        assertTrue(a.text(R.id.mag_warning), a.text(R.id.mag_warning).contains("holding the heading on the gyroscope"))
+        assertEquals(View.GONE, a.findViewById<View>(R.id.figure8_hint).visibility)
+        Screenshots.capture(a, "live-buildings-held")
+    }
+
+    @Test
     fun `a weak calibration and a strong field show the warning and the figure-8 hint`() {
         val c = start(acc, gyro, mag, rv)
         holdStill(floatArrayOf(0f, 0f, 9.81f), floatArrayOf(0f, 60f, -70f), magAccuracy = SensorManager.SENSOR_STATUS_ACCURACY_LOW)

@@ -49,8 +49,11 @@ data class LiveUiState(
     val orientation: Quaternion? = null,
     val rotationVector: Quaternion? = null,
 ) {
-    /** A figure-8 calibration hint is worth showing. */
-    val showCalibrationHint: Boolean get() = magWarnings.isNotEmpty()
+    /**
+     * A figure-8 calibration hint is worth showing: the phone's own calibration is in doubt (its accuracy, a field
+     * beyond the Earth's). Not for a disturbance alone: a magnet or a building's steel is not calibrated away.
+     */
+    val showCalibrationHint: Boolean get() = magWarnings.any { it != MagWarning.DISTURBED }
 
     companion object {
         /** The Earth's field at the surface spans about 25 to 65 µT. */

@@ -46,6 +46,30 @@ class LiveUiStateTest {
         assertEquals(HeadingQuality.WARNING, ui.headingQuality)
     }
 
+    /** Level and still for 40 s, in a field whose strength wanders by up to ±15 % (a building's steel passing by). */
+    private fun wanderingField(p: FusionPipeline) {
+        for (i in 0..4000) {
+            val t = i * 10 * ms
+            val k = (1.0 + 0.15 * kotlin.math.sin(i * 0.02) * kotlin.math.sin(i * 0.0071)).toFloat()
+            p.onSample(SensorSample(SensorKind.ACCELEROMETER, t, 0f, 0f, 9.81f, 3))
+            p.onSample(SensorSample(SensorKind.MAGNETOMETER, t, 0f, 22f * k, -40f * k, 3))
+            p.onSample(SensorSample(SensorKind.GYROSCOPE, t, 0f, 0f, 0f, 3))
+        }
+    }
+
+    @Test
+    fun `walking through a building with the switch on says the heading is held on the gyroscope, without a figure 8`() {
+        val p = FusionPipeline(all, LiveSettings(filter = FilterSettings(magTrustSpread = FilterSettings.BUILDINGS_TRUST_SPREAD)))
+        wanderingField(p)
+        val ui = LiveUiState.of(p.snapshot(), 0)
+        assertEquals(setOf(MagWarning.DISTURBED), ui.magWarnings)
+        assertFalse(ui.showCalibrationHint)
+        // The same field with the switch off: nothing held.
+        val off = FusionPipeline(all, LiveSettings())
+        wanderingField(off)
+        assertTrue(LiveUiState.of(off.snapshot(), 0).magWarnings.isEmpty())
+    }
+
     @Test
     fun `in 6D the heading is relative and the magnetometer is not judged`() {
         val p = FusionPipeline(all, LiveSettings(filter = FilterSettings(mode = FilterMode.IMU)))

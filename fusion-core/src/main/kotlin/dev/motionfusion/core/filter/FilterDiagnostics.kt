@@ -14,7 +14,8 @@ import dev.motionfusion.core.Vector3
  *   device frame.
  * @property atRest the rest detector currently sees the sensor at rest.
  * @property magneticDisturbance the magnetometer is currently left out as disturbed (by the disturbance
- *   detector, or a field stronger than any earth field: SensorRanges.MAX_EARTH_FIELD_UT, 200 µT).
+ *   detector, or a field stronger than any earth field: SensorRanges.MAX_EARTH_FIELD_UT, 200 µT), or the
+ *   magnetic trust (magTrustSpread) holds the heading on the gyroscope (heading gain below a quarter).
  * @property accelerometerRejected the accelerometer is currently left out (linear acceleration).
  * @property gyroscopeSteps gyroscope samples integrated.
  * @property skippedBeforeInit gyroscope samples dropped while waiting for initialisation.

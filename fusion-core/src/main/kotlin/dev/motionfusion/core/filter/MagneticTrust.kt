@@ -33,6 +33,9 @@ internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.Sta
     var trust = 1.0
         private set
 
+    /** Whether the trust holds the heading on the gyroscope: the heading gain below [HOLDS] of its own (FilterDiagnostics.magneticDisturbance). */
+    val holds: Boolean get() = trust < HOLDS
+
     override fun check(s: Step) {
         if (!s.useMag) return
         val n2 = s.mx * s.mx + s.my * s.my + s.mz * s.mz
@@ -70,6 +73,8 @@ internal class MagneticTrust(settings: FilterSettings) : Check<MagneticTrust.Sta
     }
 
     private companion object {
+        /** The factor below which the heading counts as held on the gyroscope. */
+        const val HOLDS = 0.25
         val NEW = State(0.0, 0.0, 0.0, 1.0)
     }
 }

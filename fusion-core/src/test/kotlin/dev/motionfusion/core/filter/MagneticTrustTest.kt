@@ -140,10 +140,19 @@ class MagneticTrustTest {
     fun `the trust comes back once the field is clean again`() {
         val f = MadgwickFilter(FilterSettings(magTrustSpread = 0.005))
         val trace = mutableListOf<Double>()
+        val held = mutableListOf<Boolean>()
         // 20 s outside, 40 s in the building, then 90 s outside again.
-        run(f, 150.0, 0.0, { t -> if (t < 60.0) walkIn(t) else clean(t) }, trace)
-        val at = { s: Double -> trace[(s * rateHz).toInt()] }
-        assertTrue(at(59.0) < 0.05, "trust in the building: ${at(59.0)}")
-        assertEquals(1.0, at(150.0), "trust 90 s after leaving it")
+        val walk = { t: Double -> if (t < 60.0) walkIn(t) else clean(t) }
+        for (i in 0..(150.0 * rateHz).toInt()) {
+            step(f, i / rateHz, walk)
+            trace.add(f.magneticTrust)
+            held.add(f.diagnostics().magneticDisturbance)
+        }
+        val at = { s: Double -> (s * rateHz).toInt() }
+        assertTrue(trace[at(59.0)] < 0.05, "trust in the building: ${trace[at(59.0)]}")
+        assertEquals(1.0, trace[at(150.0)], "trust 90 s after leaving it")
+        // The diagnostics (the app's "holding the heading on the gyroscope") say so while the gain is under a quarter.
+        for (i in trace.indices) assertEquals(trace[i] < 0.25, held[i], "shown as held at ${i / rateHz} s, trust ${trace[i]}")
+        assertTrue(held[at(59.0)] && !held[at(10.0)] && !held[at(150.0)])
     }
 }
