@@ -89,8 +89,7 @@ internal class SettingRow(
             SettingKind.BOOLEAN -> {
                 switch!!.text = title
                 switch.setOnCheckedChangeListener { _, on -> if (!showing) onChange(setting, on) }
-                help.text = if (setting.key == Setting.BUILDINGS) context.getString(R.string.settings_buildings_help)
-                else context.getString(R.string.settings_default, context.getString(if (setting.default == true) R.string.settings_on else R.string.settings_off))
+                help.text = SettingText.help(context, setting) ?: context.getString(R.string.settings_default, context.getString(if (setting.default == true) R.string.settings_on else R.string.settings_off))
             }
             SettingKind.CHOICE -> {
                 help.text = context.getString(R.string.settings_default, SettingText.label(context, setting, setting.default as String))

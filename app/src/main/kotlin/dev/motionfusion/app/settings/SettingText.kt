@@ -7,7 +7,7 @@ import dev.motionfusion.app.sensor.label
 
 /**
  * The words the screens show for a [Setting], from the resources of [Context]'s locale: its title
- * (`setting_<key>`), the label of a choice (`setting_choice_<NAME>`, rates, durations, start delays and battery
+ * (`setting_<key>`), a switch's own line of help where it needs one (`setting_help_<key>`), the label of a choice (`setting_choice_<NAME>`, rates, durations, start delays and battery
  * levels formatted), and numbers in the locale's format. `SettingTextTest` checks every setting has
  * them in every shipped language.
  */
@@ -22,6 +22,9 @@ internal object SettingText {
     fun titleRes(c: Context, s: Setting): Int = id(c, "setting_${s.key}")
 
     fun title(c: Context, s: Setting): String = titleRes(c, s).let { if (it == 0) s.title else c.getString(it) }
+
+    /** A line of help of its own (`setting_help_<key>`, which then says the default too), or null: the row shows "Default …". */
+    fun help(c: Context, s: Setting): String? = id(c, "setting_help_${s.key}").let { if (it == 0) null else c.getString(it) }
 
     /** The resource of choice [choice] of a setting whose choices are names (0 for rates, durations, levels). */
     fun choiceRes(c: Context, choice: String): Int = id(c, "setting_choice_$choice")
