@@ -165,7 +165,9 @@ public enum class Initialisation {
  *   Set it just below the sensor's range (Android: Sensor.getMaximumRange()). null: off.
  *   Default 34 rad/s, just below the ±2000°/s (34.9 rad/s) of most phones and IMUs.
  * @property maxGap longest accepted time between samples, s: a longer gyroscope gap is not
- *   integrated, and an accelerometer or magnetometer sample older than this is not used. Default 0.5 s.
+ *   integrated, and the filter then recovers as after a saturated reading (gyroSaturation), since the
+ *   phone may have turned any way meanwhile; an accelerometer or magnetometer sample older than this is
+ *   not used. Default 0.5 s.
  */
 public data class FilterSettings(
     val mode: FilterMode = FilterMode.MARG,

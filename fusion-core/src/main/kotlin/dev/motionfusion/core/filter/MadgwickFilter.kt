@@ -100,7 +100,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
             Admission.STEP -> {}
         }
         val dt = s.dt
-        if (gate.saturated) saturated()
+        if (gate.saturated || gate.afterGap) rotationUnknown()
         // The estimated up, for the checks and the inclination recovery (the report's filter has neither).
         if (recovery.usesUp || checks.isNotEmpty()) { s.ux = estimate.upX(); s.uy = estimate.upY(); s.uz = estimate.upZ() }
         bias.update(dt, x, y, z, s.accOk, s.ax, s.ay, s.az)
@@ -138,13 +138,14 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     }
 
     /**
-     * A gyroscope reading clipped at the sensor's range (gyroSaturation): the rotation it integrates
-     * is short of the true one by an unknown amount, so the estimate can be off in any direction. The
-     * low-passed accelerometer (whose frame turned with that rotation) starts again from the next
-     * reading, inclination recovery is armed (inclinationRecoveryBeta) and fast heading convergence
-     * starts again (headingRecoveryTime).
+     * A gyroscope reading clipped at the sensor's range (gyroSaturation), whose integrated rotation is
+     * short of the true one by an unknown amount, or the first step after a gap longer than maxGap, over
+     * which nothing was integrated: the estimate can be off in any direction. The low-passed
+     * accelerometer (whose frame turned with that rotation) starts again from the next reading,
+     * inclination recovery is armed (inclinationRecoveryBeta) and fast heading convergence starts again
+     * (headingRecoveryTime).
      */
-    private fun saturated() {
+    private fun rotationUnknown() {
         lowPass.restart()
         recovery.arm()
         heading.restart()

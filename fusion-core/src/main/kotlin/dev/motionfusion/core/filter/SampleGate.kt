@@ -11,7 +11,9 @@
  *
  * Start (Initialisation.FIRST_SAMPLE): the first gyroscope sample with a fresh accelerometer sample, and in
  * MARG mode a magnetometer sample too, waited for at most maxGap after the first accelerometer sample.
- * Gaps: a timestamp that does not advance, or a gap longer than maxGap, is counted and not integrated.
+ * Gaps: a timestamp that does not advance, or a gap longer than maxGap, is counted and not integrated; the
+ * step after such a gap is flagged (the phone may have turned any way meanwhile: the filter recovers as
+ * after a saturated reading).
  * Saturation: a gyroscope axis at or beyond gyroSaturation is flagged for the step and counted.
  * Timestamps ns, readings SI (rad/s, m/s², µT). Allocation-free.
  */
@@ -78,6 +80,13 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
     var saturated = false
         private set
 
+    /** The last step is the first after a gap longer than maxGap (its rotation unknown). */
+    var afterGap = false
+        private set
+
+    // A gap was skipped and no step has followed it yet.
+    private var gapPending = false
+
     val isInitialised: Boolean get() = initialised
 
     /** The held magnetometer reading is stronger than any earth field (and so left out). */
@@ -125,8 +134,11 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
         lastT = t
         if (gapNs > maxGapNs) {
             skippedGap++
+            gapPending = true
             return Admission.SKIP
         }
+        afterGap = gapPending
+        gapPending = false
         s.dt = gapNs * 1e-9
         s.gx = x; s.gy = y; s.gz = z
         steps++
@@ -199,14 +211,14 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
         val initialised: Boolean, val lastT: Long, val firstAccT: Long, val waitingForMag: Boolean,
         val steps: Long, val skippedBeforeInit: Long, val skippedNonFinite: Long, val skippedOutOfRange: Long,
         val skippedZero: Long, val skippedTimestamp: Long, val skippedGap: Long, val staleSamples: Long,
-        val tooStrong: Long, val saturations: Long, val saturated: Boolean,
+        val tooStrong: Long, val saturations: Long, val saturated: Boolean, val afterGap: Boolean, val gapPending: Boolean,
     )
 
     override fun state() = State(
         s.ax, s.ay, s.az, accT, hasAcc, s.mx, s.my, s.mz, magT, hasMag, magTooStrong,
         initialised, lastT, firstAccT, waitingForMag,
         steps, skippedBeforeInit, skippedNonFinite, skippedOutOfRange, skippedZero, skippedTimestamp, skippedGap, staleSamples,
-        tooStrong, saturations, saturated,
+        tooStrong, saturations, saturated, afterGap, gapPending,
     )
 
     override fun restore(state: State) = with(state) {
@@ -220,6 +232,7 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
         this@SampleGate.skippedZero = skippedZero; this@SampleGate.skippedTimestamp = skippedTimestamp
         this@SampleGate.skippedGap = skippedGap; this@SampleGate.staleSamples = staleSamples
         this@SampleGate.tooStrong = tooStrong; this@SampleGate.saturations = saturations; this@SampleGate.saturated = saturated
+        this@SampleGate.afterGap = afterGap; this@SampleGate.gapPending = gapPending
     }
 
     override fun reset() = restore(NEW)
@@ -228,7 +241,7 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
         val NEW = State(
             0.0, 0.0, 0.0, 0L, false, 0.0, 0.0, 0.0, 0L, false, false,
             false, 0L, 0L, false,
-            0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, false,
+            0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, 0L, false, false, false,
         )
     }
 }
