@@ -1,5 +1,6 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.io.AsciiNumbers
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.replay.ErrorStatistics
@@ -60,7 +61,9 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
             val diff: OutputStream? = output?.let { BufferedOutputStream(outputs.file(it, listOf(input)), 1 shl 16) }
             val buf = ByteArray(256)
             diff?.write("t_s,total_deg,heading_deg,inclination_deg\n".toByteArray())
-            val comparison = OrientationComparison(removeInitialHeadingOffset = o.has("--game")) { t, total, heading, incl ->
+            // The game rotation vector, and the filter in 6D, have no north: their headings compare from a common start.
+            val sixD = !live && settings.mode == FilterMode.IMU
+            val comparison = OrientationComparison(removeInitialHeadingOffset = o.has("--game") || sixD) { t, total, heading, incl ->
                 if (diff != null) {
                     var p = AsciiNumbers.fixed(buf, 0, Replayer.secondsBetween(origin ?: 0L, t), 9)
                     for (v in doubleArrayOf(total, heading, incl)) {
@@ -90,7 +93,8 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
             diff.use { rec.events().use { e -> Replayer(settings).run(e, rec.originNs, listener, progress::update, rec.name) } }
             progress.finish()
             if (comparison.total.count == 0L) throw DataFormatException(input, 0, 0, "no ${refStream.fileName} sample falls between two filter steps")
-            out.println("${if (live) "live orientation" else "Madgwick (replayed)"} vs ${refStream.key} in ${rec.name}: ${comparison.total.count} samples")
+            val what = if (live) "live orientation" else if (sixD) "Madgwick (replayed, 6D: heading from a common start)" else "Madgwick (replayed)"
+            out.println("$what vs ${refStream.key} in ${rec.name}: ${comparison.total.count} samples")
             out.println(statsTable(listOf("total" to comparison.total, "heading" to comparison.heading, "inclination" to comparison.inclination)))
         }
         return ExitCode.OK

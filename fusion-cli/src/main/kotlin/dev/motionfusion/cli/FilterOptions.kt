@@ -1,5 +1,6 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.settings.FilterSettingDescriptor
 import dev.motionfusion.core.settings.FilterSettingDescriptors
@@ -86,14 +87,21 @@ internal object FilterOptions {
 
     /**
      * The settings for [rec]: the options applied to the live filter's recorded settings when its
-     * meta.json has them (a note on [err] unless --quiet), else to the defaults.
+     * meta.json has them (a note on [err] unless --quiet), else to the defaults. A recording without a
+     * magnetometer runs in 6D (IMU mode; a note unless --quiet): in 9D the filter would wait maxGap for
+     * a field before starting, and the output would claim a magnetic heading it has not.
      */
     fun settings(o: Options, rec: Recording, err: PrintStream, command: String): FilterSettings {
         val recorded = rec.metadata?.filterSettings?.takeUnless { o.has("--report") || o.has("--default-settings") }
         if (recorded != null && !o.has("--quiet")) {
             err.println("fusion $command: note: ${rec.name}: starting from the live filter's settings in meta.json (--default-settings for the defaults)")
         }
-        return settings(o, recorded)
+        val s = settings(o, recorded)
+        if (s.mode != FilterMode.MARG || SessionStream.MAGNETOMETER in rec.streams) return s
+        if (!o.has("--quiet")) {
+            err.println("fusion $command: note: ${rec.name}: no magnetometer: 6D (the heading is the gyroscope's alone, its zero the start's)")
+        }
+        return s.copy(mode = FilterMode.IMU)
     }
 
     /** The options applied to [base], or to the defaults (FilterSettings.report() with --report). */

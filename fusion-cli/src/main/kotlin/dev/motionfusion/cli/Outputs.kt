@@ -16,7 +16,8 @@ import java.nio.file.StandardOpenOption
  * Every file a command writes goes through here (one per run of [Cli]):
  *  - an output that is an input, or lies inside an input folder, is refused (a
  *    [UsageException], exit 2) before anything is opened for writing; real paths are compared,
- *    so symbolic and hard links to an input are refused too;
+ *    so symbolic and hard links to an input are refused too; so is a second output of the run
+ *    that names the same file as another (`-o` and `--rows`);
  *  - an output is written aside (a temporary file, or folder, beside it) and moved into place
  *    by [commit], which [Cli] calls only when the run succeeded and standard output took
  *    everything; otherwise [abort] removes what was written aside and the previous file stays
@@ -40,6 +41,8 @@ internal class Outputs(
     private val direct = ArrayList<OutputStream>()
     /** The real path of each output and the name the user gave it, so that messages use the latter. */
     private val names = HashMap<String, String>()
+    /** The real path of each file and folder this run writes, and the name it was given first. */
+    private val claimed = HashMap<Path, String>()
 
     /** The output name the user gave for the real path [file], else [file]. */
     fun typed(file: String): String = names[file] ?: names[Path.of(file).toAbsolutePath().toString()] ?: file
@@ -55,6 +58,7 @@ internal class Outputs(
             val stream = AtomicFiles.named(target) { Files.newOutputStream(target, StandardOpenOption.WRITE) }
             return NamedStream(target, stream).also { direct += it }
         }
+        claim(target, output)
         removeStale(target)
         return atomic.open(target).also { pending += it }
     }
@@ -73,6 +77,7 @@ internal class Outputs(
      */
     fun folder(output: String, inputs: List<String>): Path {
         val target = check(output, inputs)
+        claim(target, output)
         if (Files.exists(target) && !(Files.isDirectory(target) && Files.list(target).use { !it.findAny().isPresent })) {
             throw UsageException("$output exists and is not an empty folder")
         }
@@ -88,6 +93,11 @@ internal class Outputs(
         }
         folders += tmp to target
         return tmp
+    }
+
+    /** Two outputs of one run that name the same file would leave only the one moved into place last. */
+    private fun claim(target: Path, output: String) {
+        claimed.putIfAbsent(target, output)?.let { throw UsageException("$output and $it name the same file; give each output its own name") }
     }
 
     /** Moves every output into place (and syncs its folder). */

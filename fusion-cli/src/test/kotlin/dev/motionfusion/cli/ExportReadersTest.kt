@@ -1,6 +1,7 @@
 package dev.motionfusion.cli
 
 import org.junit.jupiter.api.Assertions.assertEquals
+import org.junit.jupiter.api.Assertions.assertFalse
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.Assumptions.assumeTrue
 import org.junit.jupiter.api.BeforeAll
@@ -99,6 +100,9 @@ class ExportReadersTest {
             for (c in 0 until 6) assertEquals(rows[k][c].toDouble(), row[1 + c].toDouble(), "imu $k column ${c + 1}")
         }
         val yaml = read.getValue("yaml").associate { it[0] to it[1] }
+        // The noise file says 100 Hz; kalibr discretises at update_rate, which is the rows' own.
+        val rate = (times.size - 1) * 1e9 / (times.last() - times.first())
+        assertEquals(rate, yaml.getValue("update_rate").toDouble(), 0.0005, "update_rate: the rows' rate")
         assertEquals("0.00017", yaml["gyroscope_noise_density"])
         assertEquals("2.1e-05", yaml["gyroscope_random_walk"])
         assertEquals("'/imu0'", yaml["rostopic"])
@@ -448,6 +452,57 @@ class ExportReadersTest {
         assertTrue("bad-noise.yaml:2:" in n.err && "gyroscope_random_walk: 'lots'" in n.err, n.err)
         assertTrue(!Files.exists(out))
         assertTrue(Files.list(dir).use { s -> s.noneMatch { it.fileName.toString().startsWith(".inside") } })
+    }
+
+    @Test
+    fun `a clock that starts at 0 keeps ten digits for kalibr, and a pause leaves the rates alone`() {
+        // A table from t = 0 at 100 Hz, paused for 60 s after 3 s (every sensor silent), then 3 s more.
+        val table = dir.resolve("paused.csv")
+        val lines = mutableListOf("t_s,gx,gy,gz,ax,ay,az,mx,my,mz")
+        for (k in 0 until 600) {
+            val t = k * 0.01 + if (k >= 300) 60.0 else 0.0
+            lines += String.format(java.util.Locale.ROOT, "%.2f,0.01,0,0,0,0,9.81,20,0,-40", t)
+        }
+        Files.write(table, lines)
+        val out = dir.resolve("paused-kalibr")
+        val r = fusion("export", table.toString(), "--format", "kalibr", "-o", out.toString(), "--quiet")
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val stamps = Files.readAllLines(out.resolve("imu0.csv")).drop(1).map { it.substringBefore(',') }
+        assertEquals("0000000000", stamps[0], "the first time, padded")
+        for ((k, s) in stamps.withIndex()) {
+            assertTrue(s.length >= 10, "row $k: '$s' has fewer than ten digits")
+            // kalibr_bagcreater's split: seconds from all but the last nine digits.
+            val ns = s.substring(0, s.length - 9).toLong() * 1_000_000_000L + s.substring(s.length - 9).toLong()
+            assertEquals(Math.round((k * 0.01 + if (k >= 300) 60.0 else 0.0) * 1e9), ns, "row $k")
+        }
+        val yaml = Files.readAllLines(out.resolve("imu.yaml")).single { it.startsWith("update_rate:") }
+        assertTrue(yaml.startsWith("update_rate: 100.000"), "the pause is no part of the rate: $yaml")
+        val euroc = dir.resolve("paused-euroc")
+        assertEquals(ExitCode.OK, fusion("export", table.toString(), "--format", "euroc", "-o", euroc.toString(), "--quiet").code)
+        val sensor = Files.readAllLines(euroc.resolve("mav0/imu0/sensor.yaml")).single { it.startsWith("rate_hz:") }
+        assertTrue(sensor.startsWith("rate_hz: 100.000"), sensor)
+    }
+
+    @Test
+    fun `a recording without a magnetometer is replayed and exported in 6D, and says so`() {
+        val table = dir.resolve("no-mag.csv")
+        val lines = mutableListOf("t_s,gx,gy,gz,ax,ay,az")
+        for (k in 0 until 300) lines += String.format(java.util.Locale.ROOT, "%.2f,0.01,0,0,0,0,9.81", k * 0.01)
+        Files.write(table, lines)
+        val replay = fusion("replay", table.toString(), "-o", dir.resolve("no-mag-replay.csv").toString())
+        assertEquals(ExitCode.OK, replay.code, replay.err)
+        assertTrue("no magnetometer: 6D" in replay.err, replay.err)
+        // No half second waiting for a field: every row from the first has an orientation.
+        val rows = csv(dir.resolve("no-mag-replay.csv"))
+        assertEquals(300, rows.size)
+        assertTrue(rows.all { it[1] != "NaN" && it[1].isNotEmpty() }, "rows without an orientation: ${rows.count { it[1] == "NaN" || it[1].isEmpty() }}")
+        val out = dir.resolve("no-mag-euroc")
+        val r = fusion("export", table.toString(), "--format", "euroc", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val yaml = Files.readString(out.resolve("mav0/state_groundtruth_estimate0/sensor.yaml"))
+        assertTrue("Madgwick 6D" in yaml && "unknown heading" in yaml && "magnetic north" !in yaml, yaml)
+        // --quiet keeps the note off; --mode 9d is still the user's to ask for.
+        assertFalse("6D" in fusion("replay", table.toString(), "-o", dir.resolve("q.csv").toString(), "--quiet").err)
     }
 
     @Test

@@ -321,6 +321,56 @@ class HostileRoundTwoTest {
     // --- earlier corpus ---------------------------------------------------------------------------
 
     @Test
+    fun `-o and --rows naming the same file are refused and leave the file as it was`() {
+        val table = simulatedTable("same-out/table.csv")
+        val same = write("same-out/same.csv", "earlier\n")
+        fails(ExitCode.USAGE, "name the same file", "replay", table.toString(), "-o", same.toString(), "--rows", same.toString())
+        fails(ExitCode.USAGE, "name the same file", "replay", table.toString(), "-o", same.toString(), "--rows", tmp.resolve("same-out/../same-out/same.csv").toString())
+        assertEquals("earlier\n", Files.readString(same))
+        ok("replay", table.toString(), "-o", "/dev/null", "--rows", "/dev/null")
+    }
+
+    @Test
+    fun `a link out of a session folder is named, in the note and in the error it causes`() {
+        val table = simulatedTable("links/table.csv")
+        val session = tmp.resolve("links/session")
+        Files.createDirectories(session.parent)
+        ok("simulate", "-o", session.toString(), "--duration", "5", "--rate", "50")
+        val outside = tmp.resolve("links/outside")
+        Files.createDirectories(outside)
+        // The magnetometer linked out: the replay goes on in 6D and says which file it did not read.
+        Files.move(session.resolve("magnetometer.csv"), outside.resolve("magnetometer.csv"))
+        Files.createSymbolicLink(session.resolve("magnetometer.csv"), outside.resolve("magnetometer.csv"))
+        val r = ok("replay", session.toString(), "-o", p("links/out.csv"))
+        assertTrue("magnetometer.csv is a link out of the folder, not followed" in r.err, r.err)
+        // The gyroscope linked out too: the note comes before the error it causes.
+        Files.move(session.resolve("gyroscope.csv"), outside.resolve("gyroscope.csv"))
+        Files.createSymbolicLink(session.resolve("gyroscope.csv"), outside.resolve("gyroscope.csv"))
+        val e = fails(ExitCode.DATA_ERROR, "has no gyroscope samples", "replay", session.toString(), "-o", p("links/out2.csv"))
+        assertTrue(e.err.indexOf("gyroscope.csv, magnetometer.csv are links out of the folder, not followed") in 0 until e.err.indexOf("no gyroscope samples"), e.err)
+        // A folder whose every file is a link out: nothing is recognised, and the message says why.
+        val bare = tmp.resolve("links/bare")
+        Files.createDirectories(bare)
+        for (n in listOf("gyroscope.csv", "magnetometer.csv")) Files.createSymbolicLink(bare.resolve(n), outside.resolve(n))
+        fails(ExitCode.DATA_ERROR, "are links out of the folder, not followed", "replay", bare.toString(), "-o", p("links/out3.csv"))
+        assertTrue(Files.exists(table))
+    }
+
+    @Test
+    fun `compare in 6D compares the heading from a common start and says so`() {
+        // The simulated session's rotation vector is the truth 2° off in heading. 6D has no north: its heading
+        // starts wherever the first reading puts it (41° off here), so the offset at the start is removed.
+        val session = tmp.resolve("compare6d/session")
+        Files.createDirectories(session.parent)
+        ok("simulate", "-o", session.toString(), "--duration", "5", "--rate", "50")
+        val six = ok("compare", session.toString(), "--mode", "6d")
+        val median = six.out.lines().first { it.startsWith("| heading |") }.split('|')[4].trim().toDouble()
+        assertTrue("6D: heading from a common start" in six.out, six.out)
+        assertTrue(median < 5.0, "6D heading difference from a common start: ${six.out}")
+        assertFalse("common start" in ok("compare", session.toString()).out, "9D keeps north")
+    }
+
+    @Test
     fun `an accelerometer reading of 1e308 does not reach the linear acceleration`() {
         val rows = Files.readAllLines(simulatedTable("lin-table.csv")).toMutableList()
         rows[100] = rows[100].split(',').toMutableList().also { it[6] = "1e308" }.joinToString(",")

@@ -3,8 +3,8 @@
   read_export.py euroc MAV0_FOLDER   evo: the orientation with evo's EuRoC trajectory reader
                                      (file_interface.read_euroc_csv_trajectory), imu0 and mag0
                                      with evo's CSV reader (file_interface.csv_read_matrix)
-  read_export.py kalibr FOLDER       imu0.csv as kalibr_bagcreater parses it (csv module, int ns,
-                                     float values), imu.yaml with PyYAML as kalibr loads it
+  read_export.py kalibr FOLDER       imu0.csv as kalibr_bagcreater parses it (csv module, the
+                                     time string split into s and ns, float values), imu.yaml with PyYAML as kalibr loads it
   read_export.py ros2 FILE.mcap      the MCAP file with the mcap package and mcap-ros2-support's
                                      CDR decoder, and again with rosbags (AnyReader)
   read_export.py configs FOLDER      fusion allan's noise configurations with OpenCV's FileStorage
@@ -44,7 +44,8 @@ def kalibr(folder):
     print("header", ",".join(header))
     print("imu0", len(rows))
     for r in rows:
-        ns = int(r[0])
+        # As kalibr_bagcreater: the seconds are all but the last nine digits, the nanoseconds those nine.
+        ns = int(r[0][0:-9]) * 1000000000 + int(r[0][-9:])
         print("imu0_row", ns, *(repr(float(v)) for v in r[1:7]))
     with open(os.path.join(folder, "imu.yaml")) as f:
         conf = yaml.safe_load(f)

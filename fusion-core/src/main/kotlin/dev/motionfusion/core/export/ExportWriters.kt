@@ -29,6 +29,7 @@ internal class About(rec: Recording, generator: String, mode: String, offline: B
     companion object {
         const val AXES = "Android device axes: x right, y up (top edge), z out of the screen; right-handed"
         const val WORLD = "ENU: x east, y magnetic north, z up"
+        const val WORLD_6D = "ENU turned about up by an unknown heading (6D, no magnetometer: no north): x, y horizontal, z up"
         const val QUATERNION = "[w, x, y, z] Hamilton, rotating sensor (device) vectors into the world frame"
         const val TIME = "the recording's own clock, ns"
     }
@@ -42,8 +43,7 @@ internal abstract class ExportWriter : Closeable {
         protected set
     var magnetometerRows = 0L
         protected set
-    protected var firstNs = Long.MIN_VALUE
-    protected var lastNs = Long.MIN_VALUE
+    private val rows = RateMeter()
 
     /** One replay step (a gyroscope sample). */
     abstract fun step(step: ReplayStep)
@@ -55,15 +55,41 @@ internal abstract class ExportWriter : Closeable {
     open fun finish() {}
 
     protected fun counted(t: Long) {
-        if (imuRows == 0L) firstNs = t
-        lastNs = t
+        rows.add(t)
         imuRows++
     }
 
-    /** Mean rate of the IMU rows, Hz (NaN with fewer than two). */
-    protected fun rateHz(): Double = if (imuRows < 2 || lastNs <= firstNs) Double.NaN else (imuRows - 1) * 1e9 / (lastNs - firstNs)
+    /** Rate of the IMU rows, Hz, gaps left out (RateMeter; NaN with fewer than two). */
+    protected fun rateHz(): Double = rows.hz
 
     protected fun rate(): String = rateHz().let { if (it.isFinite()) String.format(Locale.ROOT, "%.3f", it) else ".nan" }
+}
+
+/**
+ * The sampling rate of a stream of timestamps (ns, in order), Hz: the number of intervals over their
+ * sum, leaving out the gaps longer than [MAX_INTERVAL_NS] (the filter's default maxGap), over which
+ * nothing was sampled, so that a recording paused for a minute still says its phone's rate; NaN
+ * before two timestamps.
+ */
+internal class RateMeter {
+    private var last = Long.MIN_VALUE
+    private var intervals = 0L
+    private var sumNs = 0L
+
+    fun add(t: Long) {
+        val d = t - last
+        if (last != Long.MIN_VALUE && d in 1..MAX_INTERVAL_NS) {
+            intervals++
+            sumNs += d
+        }
+        last = t
+    }
+
+    val hz: Double get() = if (intervals == 0L) Double.NaN else intervals * 1e9 / sumNs
+
+    companion object {
+        const val MAX_INTERVAL_NS = 500_000_000L
+    }
 }
 
 /** A CSV written row by row with the project's number formats: readings as the shortest decimal of their float, quaternions to 9 decimals. */
@@ -77,6 +103,17 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     fun line(text: String) = out.write((text + "\n").toByteArray(StandardCharsets.UTF_8))
 
     fun long(v: Long): CsvFile { sep(); p = AsciiNumbers.long(buf, p, v); return this }
+
+    /** [v] ≥ 0 with leading zeros to at least [digits] digits. */
+    fun padded(v: Long, digits: Int): CsvFile {
+        sep()
+        var n = 1
+        var x = v
+        while (x >= 10) { x /= 10; n++ }
+        repeat(maxOf(0, digits - n)) { buf[p++] = '0'.code.toByte() }
+        p = AsciiNumbers.long(buf, p, v)
+        return this
+    }
     fun floats(v: DoubleArray, n: Int = 3): CsvFile { for (k in 0 until n) { sep(); p = AsciiNumbers.float(buf, p, v[k].toFloat()) }; return this }
     fun fixed(v: Double, decimals: Int = 9): CsvFile { sep(); p = AsciiNumbers.fixed(buf, p, v, decimals); return this }
 
@@ -143,7 +180,7 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
             appendLine()
             appendLine("# The sensor is the body: T_BS is the identity.")
             appendIdentity()
-            appendLine("rate_hz: ${rate()}  # mean rate of the rows")
+            appendLine("rate_hz: ${rate()}  # rate of the rows, gaps over 0.5 s left out")
             appendLine()
             if (noise == null) {
                 appendLine("# No noise model known for this phone: run fusion allan on a still recording of it and")
@@ -212,7 +249,9 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
     override fun step(step: ReplayStep) {
         if (step.specificForce[0].isNaN()) return
         counted(step.timestampNs)
-        imu.long(step.timestampNs).floats(step.angularVelocity).floats(step.specificForce).end()
+        // At least ten digits: kalibr_bagcreater splits the string into seconds (all but the last nine) and ns.
+        val t = step.timestampNs
+        (if (t >= 0) imu.padded(t, 10) else imu.long(t)).floats(step.angularVelocity).floats(step.specificForce).end()
     }
 
     override fun finish() {
@@ -223,12 +262,14 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
             appendLine("# imu0.csv: omega (gyroscope, rad/s) and alpha (accelerometer, specific force, m/s^2) in the")
             appendLine("# ${About.AXES}; timestamp: ${About.TIME}.")
         }
-        val text = frames + (noise?.text ?: buildString {
+        // kalibr turns the densities into per-sample noise at update_rate: the rate of these rows, not the still recording's.
+        val rateLine = "update_rate: ${rate()}  # Hz, rate of imu0.csv, gaps over 0.5 s left out"
+        val text = frames + (noise?.let { withRate(it.text, rateLine) } ?: buildString {
             appendLine("# No noise model known for this phone: kalibr needs accelerometer_noise_density,")
             appendLine("# accelerometer_random_walk, gyroscope_noise_density and gyroscope_random_walk; run")
             appendLine("# fusion allan on a still recording of the phone and export with --noise IMU.yaml.")
             appendLine("rostopic: /imu0")
-            appendLine("update_rate: ${rate()}  # Hz, mean rate of imu0.csv")
+            appendLine(rateLine)
         })
         Files.write(root.resolve("imu.yaml"), text.toByteArray(StandardCharsets.UTF_8))
     }
@@ -237,6 +278,14 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
 
     companion object {
         const val HEADER = "timestamp,omega_x,omega_y,omega_z,alpha_x,alpha_y,alpha_z"
+
+        /** The noise file's [text] with its top-level update_rate line replaced by [line] (added when it has none). */
+        fun withRate(text: String, line: String): String {
+            val lines = text.lines().dropLastWhile { it.isEmpty() }
+            val i = lines.indexOfFirst { it.startsWith("update_rate:") }
+            val out = if (i < 0) lines + line else lines.toMutableList().also { it[i] = line }
+            return out.joinToString("\n", postfix = "\n")
+        }
     }
 }
 

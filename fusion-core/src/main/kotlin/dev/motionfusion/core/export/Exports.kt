@@ -10,6 +10,7 @@ import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.CalibratedEvents
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.input.Recording
@@ -124,18 +125,11 @@ public object Exports {
         }
     }
 
-    /** Mean rate of the gyroscope samples of [rec], Hz (the rate of the IMU rows; NaN with fewer than two). */
+    /** Rate of the gyroscope samples of [rec], Hz (the rate of the IMU rows, RateMeter; NaN with fewer than two). */
     private fun gyroscopeRate(rec: Recording): Double = rec.events(setOf(SessionStream.GYROSCOPE)).use { e ->
-        var n = 0L
-        var first = 0L
-        var last = 0L
-        while (e.next()) {
-            if (e.stream != SessionStream.GYROSCOPE) continue
-            if (n == 0L) first = e.timestampNs
-            last = e.timestampNs
-            n++
-        }
-        if (n < 2 || last <= first) Double.NaN else (n - 1) * 1e9 / (last - first)
+        val meter = RateMeter()
+        while (e.next()) if (e.stream == SessionStream.GYROSCOPE) meter.add(e.timestampNs)
+        meter.hz
     }
 
     private fun export(
@@ -145,7 +139,11 @@ public object Exports {
         val settings = options.settings
         // A heading tare is known before anything is written (a first replay finds the heading at its moment), so the metadata can name the frame.
         val tareRad = options.heading?.offsetRad(rec.name) { probe -> replay(rec, options, probe, null, null) }
-        val world = if (options.heading == null || tareRad == null) About.WORLD else options.heading.describe(Math.toDegrees(tareRad))
+        val world = when {
+            options.heading != null && tareRad != null -> options.heading.describe(Math.toDegrees(tareRad))
+            settings.mode == FilterMode.IMU -> About.WORLD_6D
+            else -> About.WORLD
+        }
         val about = About(rec, options.generator, settings.mode.name, options.offline != null, options.calibration != null, world)
         // The ROS 2 covariances need the rate before the first message: the gyroscope's, from a first pass.
         val rate = if (format == ExportFormat.ROS2 && options.noise != null) gyroscopeRate(rec) else Double.NaN

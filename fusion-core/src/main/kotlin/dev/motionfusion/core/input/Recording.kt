@@ -98,10 +98,22 @@ public class Recording private constructor(
             val files = FileSet.open(path, options.limits)
             try {
                 return open(files, path, options)
+            } catch (e: DataFormatException) {
+                files.close()
+                // What is missing may be what a link out of the folder held.
+                if (files.linksOut.isEmpty()) throw e
+                throw DataFormatException(e.source, e.line, e.column, "${e.reason} (${linksOut(files)})", e)
             } catch (e: Throwable) {
                 files.close()
                 throw e
             }
+        }
+
+        /** The links out of the folder of [files], said once. */
+        private fun linksOut(files: FileSet): String {
+            val l = files.linksOut.sorted()
+            val shown = l.take(5).joinToString(", ") + if (l.size > 5) ", …" else ""
+            return "$shown ${if (l.size == 1) "is a link" else "are links"} out of the folder, not followed: copy ${if (l.size == 1) "it" else "them"} in to have ${if (l.size == 1) "it" else "them"} read"
         }
 
         private fun open(files: FileSet, path: Path, options: ImportOptions): Recording {
@@ -111,26 +123,27 @@ public class Recording private constructor(
             // An EuRoC recording is named after the folder that holds its mav0/.
             val named = if (kind == RecordingFormat.EUROC && folders.lastOrNull().equals("mav0", ignoreCase = true)) folders.dropLast(1) else folders
             val name = named.lastOrNull() ?: own
+            val linkNotes = if (files.linksOut.isEmpty()) emptyList() else listOf(linksOut(files))
             return when (kind) {
                 RecordingFormat.SESSION -> {
                     val r = SessionReader.open(files, dir)
-                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, emptyList(), files, { r.events() }, r, r::markers, r::clockExchanges)
+                    Recording(name, kind, r.metadata, r.metadata.startAnchor?.elapsedRealtimeNs, r.streams, linkNotes, files, { r.events() }, r, r::markers, r::clockExchanges)
                 }
                 RecordingFormat.IMU_TABLE -> {
                     val table = files.find(dir, "input.csv.gz") ?: files.find(dir, "input.csv") ?: files.filesIn(dir).first { isTable(files, it) }
                     val hasMag = ImuTableReader(files.csv(table)).use { it.hasMagnetometer }
                     val streams = setOf(SessionStream.ACCELEROMETER, SessionStream.GYROSCOPE) + (if (hasMag) setOf(SessionStream.MAGNETOMETER) else emptySet())
-                    Recording(name, kind, null, 0L, streams, emptyList(), files, { ImuTableEvents(ImuTableReader(files.csv(table)), ahead = PARSE_AHEAD) }, files)
+                    Recording(name, kind, null, 0L, streams, linkNotes, files, { ImuTableEvents(ImuTableReader(files.csv(table)), ahead = PARSE_AHEAD) }, files)
                 }
                 RecordingFormat.PHYPHOX, RecordingFormat.SENSOR_LOGGER -> {
                     val plan = if (kind == RecordingFormat.PHYPHOX) PhyphoxImport.plan(files, dir) else SensorLoggerImport.plan(files, dir, options.platform)
                     val origin = if (kind == RecordingFormat.PHYPHOX) 0L else null
-                    Recording(name, kind, null, origin, plan.streams, plan.notes, files, { openAll(files, plan) }, files)
+                    Recording(name, kind, null, origin, plan.streams, linkNotes + plan.notes, files, { openAll(files, plan) }, files)
                 }
                 RecordingFormat.EUROC, RecordingFormat.KALIBR -> {
                     // Times of their own clock (EuRoC's are ns since the epoch): t = 0 s is the first event.
                     val plan = VioDatasetImport.plan(files, dir, kind)
-                    Recording(name, kind, null, null, plan.streams, plan.notes, files, { openAll(files, plan) }, files)
+                    Recording(name, kind, null, null, plan.streams, linkNotes + plan.notes, files, { openAll(files, plan) }, files)
                 }
             }
         }

@@ -109,7 +109,7 @@ internal object SensorLoggerImport {
                 platform = inferred ?: Platform.ANDROID
                 standardised = false
                 notes += if (inferred != null) {
-                    "no platform in Metadata.csv; ${inferred.name.lowercase()} inferred from the export's columns and units (override with --platform)"
+                    "${if (meta == null) "no Metadata.csv" else "no platform in Metadata.csv"}; ${inferred.name.lowercase()} inferred from the export's columns and units (override with --platform)"
                 } else {
                     "no Metadata.csv: assumed an Android export (if it comes from an iPhone, give --platform ios)"
                 }

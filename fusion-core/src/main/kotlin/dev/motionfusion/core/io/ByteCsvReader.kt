@@ -452,10 +452,11 @@ internal class ByteCsvReader(
 
     private fun special(s: Int, e: Int, i: Int): Double {
         if (e - s > 9) throw FieldError("'${excerpt(i)}' is not a number")
-        return when (String(buf, s, e - s, Charsets.UTF_8)) {
-            "NaN", "nan", "+NaN", "-NaN" -> Double.NaN
-            "Infinity", "+Infinity", "inf", "+inf" -> Double.POSITIVE_INFINITY
-            "-Infinity", "-inf" -> Double.NEGATIVE_INFINITY
+        // Any case, as the tools that write them spell them (Java NaN/Infinity, C and Python nan/inf, R and MATLAB Inf, NAN).
+        return when (String(buf, s, e - s, Charsets.UTF_8).lowercase().removePrefix("+")) {
+            "nan", "-nan" -> Double.NaN
+            "infinity", "inf" -> Double.POSITIVE_INFINITY
+            "-infinity", "-inf" -> Double.NEGATIVE_INFINITY
             else -> throw FieldError("'${excerpt(i)}' is not a number")
         }
     }

@@ -24,6 +24,9 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
     /** Relative paths of the regular files, shallowest first. */
     abstract val paths: List<String>
 
+    /** Relative paths of the links that point out of the folder: not part of the recording, not read. */
+    open val linksOut: List<String> get() = emptyList()
+
     protected abstract fun openRaw(path: String): InputStream
 
     /** How [path] is named in messages. */
@@ -74,6 +77,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
     private class Folder(private val dir: Path, guard: CompressionGuard) : FileSet(guard) {
         override val name: String = dir.toString()
         override val isFolder: Boolean get() = true
+        override val linksOut = ArrayList<String>()
         override val paths: List<String> = list()
 
         private fun list(): List<String> {
@@ -85,7 +89,10 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
                     val rel = dir.relativize(p).toString().replace('\\', '/')
                     if (rel.split('/').any { it.startsWith(".") || it == "__MACOSX" }) continue
                     // A link pointing out of the folder is not part of the recording.
-                    if (!p.toRealPath().startsWith(root)) continue
+                    if (!p.toRealPath().startsWith(root)) {
+                        linksOut += rel
+                        continue
+                    }
                     found += rel
                     if (found.size > MAX_FILES) throw DataFormatException(dir.toString(), 0, 0, "more than $MAX_FILES files: name the recording's own folder")
                 }

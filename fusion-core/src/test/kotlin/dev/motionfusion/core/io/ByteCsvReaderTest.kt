@@ -78,6 +78,25 @@ class ByteCsvReaderTest {
     }
 
     @Test
+    fun `not-a-number and infinity in the spellings other tools write`() {
+        // Java, C/Python, R/MATLAB, Excel-style upper case.
+        val nans = listOf("NaN", "nan", "NAN", "-NaN", "+nan")
+        val infs = listOf("Infinity", "inf", "Inf", "INF", "+Infinity", "infinity")
+        val negative = listOf("-Infinity", "-inf", "-Inf", "-INF", "-infinity")
+        val csv = reader((nans + infs + negative).joinToString(",") + "\n")
+        csv.nextLine()
+        var k = 0
+        for (s in nans) assertTrue(csv.parseDouble(k++).isNaN(), s)
+        for (s in infs) assertEquals(Double.POSITIVE_INFINITY, csv.parseDouble(k++), s)
+        for (s in negative) assertEquals(Double.NEGATIVE_INFINITY, csv.parseDouble(k++), s)
+        for (bad in listOf("nanx", "infinit", "in", "Infinityy")) {
+            val b = reader("$bad\n")
+            b.nextLine()
+            assertThrows(FieldError::class.java, { b.parseDouble(0) }, bad)
+        }
+    }
+
+    @Test
     fun `a line without end longer than the limit is an error, not a memory blow-up`() {
         val big = ByteArray(ByteCsvReader.MAX_LINE_BYTES + 10) { 'a'.code.toByte() }
         val csv = ByteCsvReader(ByteArrayInputStream(big), "big.csv")
