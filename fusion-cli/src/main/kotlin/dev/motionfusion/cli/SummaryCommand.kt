@@ -1,6 +1,7 @@
 package dev.motionfusion.cli
 
 import dev.motionfusion.core.input.ImuTableReader
+import dev.motionfusion.core.io.DataFormatException
 import java.io.PrintStream
 
 /** `fusion summary FILE`: counts, duration, rate and per-axis means of a plain IMU table. */
@@ -13,7 +14,8 @@ internal class SummaryCommand : Command {
         |Reads a plain IMU table (CSV, optionally gzip-compressed; - for standard input) with the header
         |  t_s,gx,gy,gz,ax,ay,az[,mx,my,mz]
         |(s, rad/s, m/s², µT; device frame) and prints the number of samples, the
-        |duration, the sample rate, timestamp problems and the mean of every axis.
+        |duration, the sample rate (gaps, an interval over five times the mean, left out and
+        |counted), timestamp problems and the mean of every axis.
         |Malformed input stops with FILE:LINE:COLUMN and the reason (exit code 1).
         |""".trimMargin()
 
@@ -25,6 +27,7 @@ internal class SummaryCommand : Command {
         val stats = ImuTableReader.open(InputOptions.path(file)).use { reader ->
             TableStats(reader.hasMagnetometer).also { s -> while (reader.next()) s.add(reader.timeS, reader.row) }
         }
+        if (stats.samples == 0L) throw DataFormatException(file, 0, 0, "no rows after the header: nothing to summarise")
         out.print(stats.report(file))
         return ExitCode.OK
     }

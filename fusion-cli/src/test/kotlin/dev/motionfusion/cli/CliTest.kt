@@ -60,6 +60,23 @@ class CliTest {
     }
 
     @Test
+    fun `summary of a table paused for a minute, one in reverse and one with a header only`() {
+        // 100 Hz for 3 s, 60 s of nothing, 3 s more: the phone's rate, and the pause named.
+        val paused = (0 until 600).joinToString("\n") { i -> "${i * 0.01 + if (i >= 300) 60.0 else 0.0},0,0,0,0,0,9.8" }
+        val r = fusion("summary", table("paused.csv", "t_s,gx,gy,gz,ax,ay,az\n$paused\n"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(r.out.contains("rate        100.000 Hz"), r.out)
+        assertTrue(r.out.contains("gaps        1, the longest 60.010 s (left out of the rate)"), r.out)
+        val reversed = (100 downTo 0).joinToString("\n") { i -> "${i * 0.01},0,0,0,0,0,9.8" }
+        val back = fusion("summary", table("reversed.csv", "t_s,gx,gy,gz,ax,ay,az\n$reversed\n"))
+        assertEquals(ExitCode.OK, back.code, back.err)
+        assertTrue(back.out.contains("(times span 1.000 s: rows out of order)") && back.out.contains("100 backwards"), back.out)
+        val empty = fusion("summary", table("header.csv", "t_s,gx,gy,gz,ax,ay,az\n"))
+        assertEquals(ExitCode.DATA_ERROR, empty.code, empty.out)
+        assertTrue("no rows after the header" in empty.err, empty.err)
+    }
+
+    @Test
     fun `summary counts timestamps that go back or repeat`() {
         val f = table("t.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n1,0,0,0,0,0,9.8\n0.5,0,0,0,0,0,9.8\n")
         val r = fusion("summary", f)

@@ -12,6 +12,7 @@
  */
 package dev.motionfusion.core.calib
 
+import dev.motionfusion.core.event.SampleRate
 import kotlin.math.floor
 import kotlin.math.pow
 import kotlin.math.sqrt
@@ -23,11 +24,9 @@ internal class AllanAccumulator {
     private val first = DoubleArray(3)
     private val prev = DoubleArray(3)
     private val x = DoubleArray(3) // running sums of (sample − first sample), in samples
-    private var lastNs = 0L
     private var gaps = 0L
-    /** Sum and number of the intervals between samples, gaps left out: the sample interval is their mean. */
-    private var intervalSumNs = 0L
-    private var intervals = 0L
+    /** The intervals between samples, gaps left out: the sample interval is their mean. */
+    private val clock = SampleRate()
     /** Samples since the last gap, and the most in one stretch between gaps. */
     private var stretch = 0L
     private var longestStretch = 0L
@@ -51,25 +50,21 @@ internal class AllanAccumulator {
             return
         }
         prev[0] = vx; prev[1] = vy; prev[2] = vz
-        if (count == 0L) {
-            first[0] = vx; first[1] = vy; first[2] = vz
-            for (lv in levels) lv.restart(x) // x_0 = 0: the sum before the first sample
-        } else {
-            val dt = timestampNs - lastNs
-            if (dt <= 0L) {
-                gaps++
-            } else if (intervals > 10 && dt.toDouble() > 5.0 * intervalSumNs / intervals) {
-                // A gap: a new stretch, whose clusters do not reach back over it.
+        when (clock.add(timestampNs)) {
+            SampleRate.Interval.FIRST -> {
+                first[0] = vx; first[1] = vy; first[2] = vz
+                for (lv in levels) lv.restart(x) // x_0 = 0: the sum before the first sample
+            }
+            SampleRate.Interval.STALL -> gaps++
+            SampleRate.Interval.GAP -> {
+                // A new stretch, whose clusters do not reach back over it.
                 gaps++
                 splits++
                 stretch = 0L
                 for (lv in levels) lv.restart(x)
-            } else {
-                intervalSumNs += dt
-                intervals++
             }
+            SampleRate.Interval.SAMPLE -> {}
         }
-        lastNs = timestampNs
         x[0] += vx - first[0]; x[1] += vy - first[1]; x[2] += vz - first[2]
         count++
         stretch++
@@ -84,7 +79,7 @@ internal class AllanAccumulator {
 
     /** The Allan deviation from what was added; τ from the mean sample interval. */
     fun curve(): AllanCurve {
-        val tau0 = if (intervals > 0) intervalSumNs * 1e-9 / intervals else Double.NaN
+        val tau0 = if (clock.intervals > 0) clock.intervalSumNs * 1e-9 / clock.intervals else Double.NaN
         val ms = ArrayList<Long>()
         val dev = Array(3) { ArrayList<Double>() }
         val weights = ArrayList<Long>()

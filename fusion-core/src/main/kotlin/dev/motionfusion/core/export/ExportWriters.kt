@@ -8,6 +8,7 @@
 package dev.motionfusion.core.export
 
 import dev.motionfusion.core.event.SensorEvents
+import dev.motionfusion.core.event.SampleRate
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.io.AsciiNumbers
@@ -43,7 +44,7 @@ internal abstract class ExportWriter : Closeable {
         protected set
     var magnetometerRows = 0L
         protected set
-    private val rows = RateMeter()
+    private val rows = SampleRate()
 
     /** One replay step (a gyroscope sample). */
     abstract fun step(step: ReplayStep)
@@ -59,37 +60,10 @@ internal abstract class ExportWriter : Closeable {
         imuRows++
     }
 
-    /** Rate of the IMU rows, Hz, gaps left out (RateMeter; NaN with fewer than two). */
+    /** Rate of the IMU rows, Hz, gaps left out (SampleRate; NaN with fewer than two). */
     protected fun rateHz(): Double = rows.hz
 
     protected fun rate(): String = rateHz().let { if (it.isFinite()) String.format(Locale.ROOT, "%.3f", it) else ".nan" }
-}
-
-/**
- * The sampling rate of a stream of timestamps (ns, in order), Hz: the number of intervals over their
- * sum, leaving out the gaps longer than [MAX_INTERVAL_NS] (the filter's default maxGap), over which
- * nothing was sampled, so that a recording paused for a minute still says its phone's rate; NaN
- * before two timestamps.
- */
-internal class RateMeter {
-    private var last = Long.MIN_VALUE
-    private var intervals = 0L
-    private var sumNs = 0L
-
-    fun add(t: Long) {
-        val d = t - last
-        if (last != Long.MIN_VALUE && d in 1..MAX_INTERVAL_NS) {
-            intervals++
-            sumNs += d
-        }
-        last = t
-    }
-
-    val hz: Double get() = if (intervals == 0L) Double.NaN else intervals * 1e9 / sumNs
-
-    companion object {
-        const val MAX_INTERVAL_NS = 500_000_000L
-    }
 }
 
 /** A CSV written row by row with the project's number formats: readings as the shortest decimal of their float, quaternions to 9 decimals. */
@@ -180,7 +154,7 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
             appendLine()
             appendLine("# The sensor is the body: T_BS is the identity.")
             appendIdentity()
-            appendLine("rate_hz: ${rate()}  # rate of the rows, gaps over 0.5 s left out")
+            appendLine("rate_hz: ${rate()}  # rate of the rows, gaps left out")
             appendLine()
             if (noise == null) {
                 appendLine("# No noise model known for this phone: run fusion allan on a still recording of it and")
@@ -263,7 +237,7 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
             appendLine("# ${About.AXES}; timestamp: ${About.TIME}.")
         }
         // kalibr turns the densities into per-sample noise at update_rate: the rate of these rows, not the still recording's.
-        val rateLine = "update_rate: ${rate()}  # Hz, rate of imu0.csv, gaps over 0.5 s left out"
+        val rateLine = "update_rate: ${rate()}  # Hz, rate of imu0.csv, gaps left out"
         val text = frames + (noise?.let { withRate(it.text, rateLine) } ?: buildString {
             appendLine("# No noise model known for this phone: kalibr needs accelerometer_noise_density,")
             appendLine("# accelerometer_random_walk, gyroscope_noise_density and gyroscope_random_walk; run")

@@ -8,6 +8,7 @@ package dev.motionfusion.core.export
 
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.calib.CalibratedEvents
+import dev.motionfusion.core.event.SampleRate
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
@@ -125,9 +126,9 @@ public object Exports {
         }
     }
 
-    /** Rate of the gyroscope samples of [rec], Hz (the rate of the IMU rows, RateMeter; NaN with fewer than two). */
+    /** Rate of the gyroscope samples of [rec], Hz (the rate of the IMU rows, SampleRate; NaN with fewer than two). */
     private fun gyroscopeRate(rec: Recording): Double = rec.events(setOf(SessionStream.GYROSCOPE)).use { e ->
-        val meter = RateMeter()
+        val meter = SampleRate()
         while (e.next()) if (e.stream == SessionStream.GYROSCOPE) meter.add(e.timestampNs)
         meter.hz
     }
