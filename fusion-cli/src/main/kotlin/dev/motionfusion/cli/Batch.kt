@@ -89,7 +89,7 @@ internal class Batch(private val command: String, private val err: PrintStream, 
         outcomes.forEach { r -> describe(r)?.let { err.println(it) } }
         val failed = outcomes.filter { it.code != ExitCode.OK }
         err.println(
-            "fusion $command: ${outcomes.size} inputs: ${outcomes.size - failed.size} ok, ${failed.size} failed" +
+            "fusion $command: ${outcomes.size} input${if (outcomes.size == 1) "" else "s"}: ${outcomes.size - failed.size} ok, ${failed.size} failed" +
                 failed.joinToString("") { "\n  ${it.input}: exit ${it.code}: ${lastLine(it.messages)}" },
         )
         return outcomes.maxOfOrNull { it.code } ?: ExitCode.OK

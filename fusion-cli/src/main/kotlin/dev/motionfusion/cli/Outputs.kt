@@ -163,6 +163,7 @@ internal class Outputs(
                     // Named as given; a dangling link also says where it points.
                     val missing = e is java.nio.file.NoSuchFileException
                     val why = when {
+                        link == null && missing -> "its folder ${p.parent} does not exist; create it first"
                         link == null -> AtomicFiles.reason(e)
                         missing -> "a link to $link, whose folder does not exist"
                         else -> "a link to $link: ${AtomicFiles.reason(e)}"

@@ -336,7 +336,11 @@ internal class ByteCsvReader(
         val expected = headerFields
         check(expected >= 0) { "no header read" }
         if (count == expected) return
-        val hint = if (count > expected && separator == COMMA) " (a decimal comma in a comma-separated file? numbers must use '.')" else ""
+        val hint = when {
+            count > expected && separator == COMMA -> " (a decimal comma in a comma-separated file? numbers must use '.')"
+            !endedWithNewline -> " (the last line, without an end of line: cut short when the recording stopped? delete it)"
+            else -> ""
+        }
         throw error(minOf(count, expected), "row has $count fields, the header has $expected$hint")
     }
 

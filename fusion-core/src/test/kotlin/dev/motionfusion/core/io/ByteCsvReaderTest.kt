@@ -97,6 +97,19 @@ class ByteCsvReaderTest {
     }
 
     @Test
+    fun `a last line cut short is named as such, a short line inside the file is not`() {
+        val cut = reader("t,a,b\n1,2,3\n4,5")
+        cut.header(null)
+        assertTrue(cut.nextRecord())
+        val e = assertThrows(DataFormatException::class.java) { cut.nextRecord() }
+        assertTrue("t.csv:3:" in e.message!! && "the last line, without an end of line" in e.message!!, e.message)
+        val inside = reader("t,a,b\n4,5\n1,2,3\n")
+        inside.header(null)
+        val e2 = assertThrows(DataFormatException::class.java) { inside.nextRecord() }
+        assertFalse("last line" in e2.message!!, e2.message)
+    }
+
+    @Test
     fun `a line without end longer than the limit is an error, not a memory blow-up`() {
         val big = ByteArray(ByteCsvReader.MAX_LINE_BYTES + 10) { 'a'.code.toByte() }
         val csv = ByteCsvReader(ByteArrayInputStream(big), "big.csv")
