@@ -139,7 +139,7 @@ class ExportReadersTest {
         val out = dir.resolve("walk.mcap")
         val r = fusion("export", session.toString(), "--format", "ros2", "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
-        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel")
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel, yaml")
         for (reader in listOf("mcap", "rosbags")) {
             for (topic in listOf("imu/data_raw", "imu/data")) {
                 val messages = read.getValue("$reader:$topic")
@@ -170,8 +170,10 @@ class ExportReadersTest {
                 for (c in 0 until 3) assertEquals(magnetometer[k][1 + c].toFloat().toDouble() * 1e-6, m[4 + c].toDouble(), "$reader mag $k axis $c")
             }
         }
+        val chunks = indexed(read, mapOf("imu/data_raw" to times, "imu/data" to times, "imu/mag" to magnetometer.map { it[0].toLong() }))
         println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} imu/data_raw, ${times.size} imu/data, ${magnetometer.size} imu/mag messages each; " +
-            "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals)")
+            "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals); " +
+            "$chunks chunk(s) with message indexes, statistics and summary as written, CRCs valid; offered_qos_profiles: sensor data (keep last 5, best effort, volatile)")
     }
 
     @Test
@@ -180,7 +182,7 @@ class ExportReadersTest {
         val out = dir.resolve("walk-noise.mcap")
         val r = fusion("export", session.toString(), "--format", "ros2", "--noise", noise.toString(), "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
-        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel")
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel, yaml")
         // One sample's white-noise variance N²·f at the gyroscope's mean rate f, on the diagonal.
         val f = (times.size - 1) * 1e9 / (times.last() - times.first())
         val gyro = 0.00017 * 0.00017 * f
@@ -201,7 +203,71 @@ class ExportReadersTest {
             // The magnetometer has no noise model: unknown.
             for (m in read.getValue("$reader:imu/mag")) for (c in 3 until 8) assertEquals(0.0, m[4 + c].toDouble())
         }
+        indexed(read, mapOf("imu/data_raw" to times, "imu/data" to times, "imu/mag" to magnetometer.map { it[0].toLong() }))
         println("ros2 covariances via mcap and rosbags: angular velocity $gyro rad²/s², linear acceleration $acc m²/s⁴ at f = $f Hz on every message")
+    }
+
+    @Test
+    fun `ros2 over several chunks, every message read back once and in order`(@TempDir temp: Path) {
+        // 40 s: about 3.5 MB of messages, so several chunks of 1 MiB.
+        val long = temp.resolve("long")
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", long.toString(), "--duration", "40", "--seed", "5").code)
+        val gyroscope = csv(long.resolve("gyroscope.csv")).map { it[0].toLong() }
+        val field = csv(long.resolve("magnetometer.csv")).map { it[0].toLong() }
+        val out = temp.resolve("long.mcap")
+        val r = fusion("export", long.toString(), "--format", "ros2", "-o", out.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel, yaml")
+        // imu/data starts at the filter's first orientation: the last of the gyroscope's times.
+        val oriented = read.getValue("mcap:imu/data").size
+        assertTrue(oriented > gyroscope.size - 100, "imu/data messages: $oriented of ${gyroscope.size}")
+        val expected = mapOf("imu/data_raw" to gyroscope, "imu/data" to gyroscope.takeLast(oriented), "imu/mag" to field)
+        val chunks = indexed(read, expected)
+        assertTrue(chunks >= 3, "chunks: $chunks")
+        // Both readers: every message of each topic once, at its time, in order across the chunks' boundaries.
+        for (reader in listOf("mcap", "rosbags")) for ((topic, t) in expected) {
+            assertEquals(t, read.getValue("$reader:$topic").map { it[0].toLong() }, "$reader $topic log times")
+            assertEquals(t, read.getValue("$reader:$topic").map { it[1].toLong() * 1_000_000_000L + it[2].toLong() }, "$reader $topic stamps")
+        }
+        val sizes = read.getValue("chunk").map { it[2].toLong() }
+        assertTrue(sizes.dropLast(1).all { it in (1L shl 20) until (1L shl 20) + 4096 }, "chunk record sizes $sizes: closed at 1 MiB")
+        println("ros2 over ${chunks} chunks (record bytes $sizes): ${expected.values.sumOf { it.size }} messages " +
+            "(${gyroscope.size} imu/data_raw, $oriented imu/data, ${field.size} imu/mag), each once and in log-time order by mcap's index and by rosbags")
+    }
+
+    /**
+     * The MCAP file's index and summary as [read] found them, against [expected] log times per topic:
+     * Statistics (counts, first and last time, per channel), every chunk's checks ("ok": CRC, sizes,
+     * times, message indexes pointing at each of its messages once), the summary's CRC and offset
+     * groups, all messages again from start to end with the data section's CRC, the indexed read in
+     * log-time order with each channel's sequence 0, 1, 2 … once; offered_qos_profiles as PyYAML and
+     * rosbags read it. Returns the number of chunks.
+     */
+    private fun indexed(read: Map<String, List<List<String>>>, expected: Map<String, List<Long>>): Int {
+        val total = expected.values.sumOf { it.size }
+        val all = expected.values.flatten()
+        val statistics = read.getValue("statistics").single().map { it.toLong() }
+        val chunks = read.getValue("chunk")
+        assertEquals(listOf(total.toLong(), 2L, 3L, chunks.size.toLong(), all.min(), all.max()), statistics, "statistics: messages, schemas, channels, chunks, first, last")
+        assertEquals(expected.mapValues { it.value.size.toString() }, read.getValue("statistics_channel").associate { it[0] to it[1] }, "statistics per channel")
+        for (c in chunks) assertEquals("ok", c[3], "chunk ${c[0]}: failed ${c[3]}")
+        assertEquals(total, chunks.sumOf { it[1].toInt() }, "messages in the chunks")
+        assertEquals(listOf("crc_ok", "03:ok", "04:ok", "0b:ok", "08:ok"), read.getValue("summary").single(), "summary CRC and offset groups")
+        assertEquals(total, read.getValue("streamed").single()[0].toInt(), "messages read from start to end")
+        val order = read.getValue("indexed")
+        assertEquals(total, order.size, "messages through the index")
+        for (k in 1 until order.size) assertTrue(order[k][2].toLong() >= order[k - 1][2].toLong(), "indexed message $k before its predecessor: ${order[k]} after ${order[k - 1]}")
+        for ((topic, t) in expected) assertEquals((0 until t.size).map { it.toString() }, order.filter { it[0] == topic }.map { it[1] }, "$topic sequence numbers")
+        // offered_qos_profiles: one profile, rosbag2's keys, rmw_qos_profile_sensor_data's values.
+        val keys = listOf("history", "depth", "reliability", "durability", "deadline", "lifespan", "liveliness", "liveliness_lease_duration", "avoid_ros_namespace_conventions")
+        val values = listOf("1", "5", "2", "2", "0/0", "0/0", "0", "0/0", "False")
+        for (topic in expected.keys) {
+            assertEquals(listOf(topic, "1"), read.getValue("qos_profiles").single { it[0] == topic }, "$topic profiles")
+            assertEquals(listOf(topic) + keys, read.getValue("qos_keys").single { it[0] == topic })
+            assertEquals(keys.zip(values).toMap(), read.getValue("qos").filter { it[0] == topic }.associate { it[1] to it[2] }, "$topic offered_qos_profiles")
+            assertEquals(listOf(topic, "KEEP_LAST", "5", "BEST_EFFORT", "VOLATILE", "SYSTEM_DEFAULT", "False"), read.getValue("rosbags_qos").single { it[0] == topic }, "$topic QoS as rosbags parses it")
+        }
+        return chunks.size
     }
 
     /** A noise model as fusion allan writes it (N_a 0.0012, K_a 0.0003, N_g 0.00017, K_g 2.1e-05) in [name]. */

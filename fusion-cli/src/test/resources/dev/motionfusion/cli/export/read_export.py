@@ -5,8 +5,13 @@
                                      with evo's CSV reader (file_interface.csv_read_matrix)
   read_export.py kalibr FOLDER       imu0.csv as kalibr_bagcreater parses it (csv module, the
                                      time string split into s and ns, float values), imu.yaml with PyYAML as kalibr loads it
-  read_export.py ros2 FILE.mcap      the MCAP file with the mcap package and mcap-ros2-support's
-                                     CDR decoder, and again with rosbags (AnyReader)
+  read_export.py ros2 FILE.mcap      the MCAP file with the mcap package through its summary and
+                                     chunk indexes (log-time order, chunk CRCs checked) and
+                                     mcap-ros2-support's CDR decoder, again from start to end (data
+                                     section and chunk CRCs checked), again with rosbags (AnyReader);
+                                     its chunks, message indexes, summary offsets and summary CRC
+                                     walked byte by byte; each channel's offered_qos_profiles with
+                                     PyYAML and as rosbags parses it
   read_export.py configs FOLDER      fusion allan's noise configurations with OpenCV's FileStorage
                                      (cv2), the reader OpenVINS, VINS and ORB-SLAM3 load them with,
                                      and imu.yaml with PyYAML as kalibr loads it
@@ -54,16 +59,102 @@ def kalibr(folder):
 
 
 def ros2(path):
+    import yaml
     from pathlib import Path
-    from mcap.reader import make_reader
+    from mcap.reader import NonSeekingReader, make_reader
     from mcap_ros2.decoder import DecoderFactory
     from rosbags.highlevel import AnyReader
     with open(path, "rb") as f:
-        for _, channel, message, m in make_reader(f, decoder_factories=[DecoderFactory()]).iter_decoded_messages():
+        reader = make_reader(f, validate_crcs=True, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        if summary is None or summary.statistics is None or not summary.chunk_indexes:
+            raise SystemExit("no summary with statistics and chunk indexes: the file is not indexed")
+        s = summary.statistics
+        print("statistics", s.message_count, s.schema_count, s.channel_count, s.chunk_count, s.message_start_time, s.message_end_time)
+        for cid, n in sorted(s.channel_message_counts.items()):
+            print("statistics_channel", summary.channels[cid].topic, n)
+        for channel in summary.channels.values():
+            profiles = yaml.safe_load(channel.metadata["offered_qos_profiles"])
+            print("qos_profiles", channel.topic, len(profiles))
+            print("qos_keys", channel.topic, *profiles[0].keys())
+            for k, v in profiles[0].items():
+                print("qos", channel.topic, k, "%d/%d" % (v["sec"], v["nsec"]) if isinstance(v, dict) else repr(v))
+        # Through the chunk indexes (the file has a summary), in log-time order.
+        for _, channel, message, m in reader.iter_decoded_messages(log_time_order=True):
+            print("indexed", channel.topic, message.sequence, message.log_time)
             ros2_row("mcap", channel.topic, message.log_time, m)
+    with open(path, "rb") as f:
+        n = sum(1 for _ in NonSeekingReader(f, validate_crcs=True).iter_messages())
+        print("streamed", n)
+    mcap_layout(Path(path).read_bytes(), summary)
     with AnyReader([Path(path)]) as reader:
+        for connection in reader.connections:
+            for q in connection.ext.offered_qos_profiles:
+                print("rosbags_qos", connection.topic, q.history.name, q.depth, q.reliability.name, q.durability.name,
+                      q.liveliness.name, q.avoid_ros_namespace_conventions)
         for connection, t, raw in reader.messages():
             ros2_row("rosbags", connection.topic, t, reader.deserialize(raw, connection.msgtype))
+
+
+def mcap_layout(data, summary):
+    """Walks the file's bytes: each chunk against its Chunk Index (one "chunk" line: index, messages,
+    record bytes, "ok" or the failed checks) and its Message Index records (right after it, one per
+    channel, each entry the log time and offset of a message of that channel, all of them once); the
+    Summary Offset groups and the footer's summary CRC (one "summary" line)."""
+    import struct
+    import zlib
+    for k, ci in enumerate(summary.chunk_indexes):
+        o = ci.chunk_start_offset
+        op, length = struct.unpack_from("<BQ", data, o)
+        start, end, size, crc, n = struct.unpack_from("<QQQII", data, o + 9)
+        compression = data[o + 41:o + 41 + n].decode()
+        (records_length,) = struct.unpack_from("<Q", data, o + 41 + n)
+        records = data[o + 49 + n:o + 49 + n + records_length]
+        messages, p = {}, 0
+        while p < len(records):
+            rop, rlength = struct.unpack_from("<BQ", records, p)
+            if rop == 0x05:
+                channel, sequence, log_time = struct.unpack_from("<HIQ", records, p + 9)
+                messages[p] = (channel, log_time)
+            p += 9 + rlength
+        indexed, offsets, sorted_index, q = {}, {}, True, o + ci.chunk_length
+        while q < o + ci.chunk_length + ci.message_index_length:
+            iop, ilength = struct.unpack_from("<BQ", data, q)
+            channel, n = struct.unpack_from("<HI", data, q + 9)
+            offsets[channel] = q
+            times = []
+            for j in range(n // 16):
+                log_time, offset = struct.unpack_from("<QQ", data, q + 15 + 16 * j)
+                indexed.setdefault(offset, []).append((channel, log_time))
+                times.append(log_time)
+            sorted_index &= iop == 0x07 and times == sorted(times)
+            q += 9 + ilength
+        logs = [t for _, t in messages.values()]
+        checks = [
+            ("opcode", op == 0x06 and 9 + length == ci.chunk_length),
+            ("records", p == len(records) == records_length),
+            ("compression", compression == ci.compression == ""),
+            ("sizes", size == records_length == ci.uncompressed_size == ci.compressed_size),
+            ("crc", crc == zlib.crc32(records)),
+            ("times", bool(logs) and start == ci.message_start_time == min(logs) and end == ci.message_end_time == max(logs)),
+            ("index_offsets", offsets == ci.message_index_offsets and q == o + ci.chunk_length + ci.message_index_length),
+            ("index_entries", sorted_index and indexed == {p: [m] for p, m in messages.items()}),
+        ]
+        print("chunk", k, len(messages), records_length, ",".join(c for c, good in checks if not good) or "ok")
+    footer = len(data) - 8 - 29
+    op, length, summary_start, summary_offset_start, summary_crc = struct.unpack_from("<BQQQI", data, footer)
+    groups, p = [], summary_offset_start
+    while p < footer:
+        sop, slength, group, group_start, group_length = struct.unpack_from("<BQBQQ", data, p)
+        ops, q = set(), group_start
+        while q < group_start + group_length:
+            rop, rlength = struct.unpack_from("<BQ", data, q)
+            ops.add(rop)
+            q += 9 + rlength
+        groups.append("%02x:%s" % (group, "ok" if sop == 0x0E and ops == {group} and q == group_start + group_length else "bad"))
+        p += 9 + slength
+    crc_ok = op == 0x02 and summary_crc == zlib.crc32(data[summary_start:footer + 25])
+    print("summary", "crc_ok" if crc_ok else "crc_bad", *groups)
 
 
 def ros2_row(reader, topic, log_time, m):
