@@ -1,5 +1,6 @@
 package dev.motionfusion.core.filter
 
+import dev.motionfusion.core.filter.SimulatedRuns.assertSplitRunEqualsWhole
 import dev.motionfusion.core.filter.SimulatedRuns.index
 import dev.motionfusion.core.filter.SimulatedRuns.max
 import dev.motionfusion.core.filter.SimulatedRuns.run
@@ -49,16 +50,7 @@ class GapRecoveryTest {
     @TestFactory
     fun `a run stopped at the gap continues bit for bit`() = listOf(0, 1, 2).map { afterGap ->
         DynamicTest.dynamicTest("$afterGap samples after the gap") {
-            val split = index(data, gapTo) + afterGap
-            val whole = MadgwickFilter(FilterSettings())
-            data.forEach { whole.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            val first = MadgwickFilter(FilterSettings())
-            data.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            val second = MadgwickFilter(FilterSettings())
-            second.restore(first.state())
-            data.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            assertEquals(whole.state(), second.state())
-            assertEquals(whole.orientation(), second.orientation())
+            assertSplitRunEqualsWhole(FilterSettings(), data, index(data, gapTo) + afterGap)
         }
     }
 }

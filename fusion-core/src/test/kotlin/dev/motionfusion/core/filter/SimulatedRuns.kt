@@ -2,6 +2,7 @@ package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.Quaternion
 import dev.motionfusion.core.sim.SimulatedSample
+import org.junit.jupiter.api.Assertions.assertEquals
 import kotlin.math.abs
 import kotlin.math.acos
 import kotlin.math.atan
@@ -32,6 +33,22 @@ internal object SimulatedRuns {
 
     fun max(est: List<Quaternion>, data: List<SimulatedSample>, from: Int, to: Int = data.size, metric: (Quaternion, Quaternion) -> Double): Double =
         (from until to).maxOf { metric(est[it], data[it].truth) }
+
+    /**
+     * A run over [data] stopped after [split] samples and continued in a new filter from the first one's state ends
+     * in the same state and orientation as the unbroken run.
+     */
+    fun assertSplitRunEqualsWhole(settings: FilterSettings, data: List<SimulatedSample>, split: Int) {
+        val whole = MadgwickFilter(settings)
+        data.forEach { whole.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+        val first = MadgwickFilter(settings)
+        data.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+        val second = MadgwickFilter(settings)
+        second.restore(first.state())
+        data.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
+        assertEquals(whole.state(), second.state())
+        assertEquals(whole.orientation(), second.orientation())
+    }
 
     /** Index of the first sample at or after [timeS]. */
     fun index(data: List<SimulatedSample>, timeS: Double): Int = data.indexOfFirst { it.timestampNs >= (timeS * 1e9).toLong() }

@@ -1,6 +1,7 @@
 package dev.motionfusion.core.filter
 
 import dev.motionfusion.core.STANDARD_GRAVITY
+import dev.motionfusion.core.filter.SimulatedRuns.assertSplitRunEqualsWhole
 import dev.motionfusion.core.filter.SimulatedRuns.inclinationDeg
 import dev.motionfusion.core.filter.SimulatedRuns.index
 import dev.motionfusion.core.filter.SimulatedRuns.max
@@ -10,7 +11,6 @@ import dev.motionfusion.core.sim.SimulationSettings
 import dev.motionfusion.core.sim.TimeWindow
 import dev.motionfusion.core.sim.ViolentMotion
 import dev.motionfusion.core.sim.ViolentMotionKind
-import org.junit.jupiter.api.Assertions.assertEquals
 import org.junit.jupiter.api.Assertions.assertTrue
 import org.junit.jupiter.api.DynamicTest
 import org.junit.jupiter.api.TestFactory
@@ -54,16 +54,7 @@ class ViolentMotionRecoveryTest {
     fun `a run stopped and restored while still or recovering continues bit for bit`() = listOf(0.1, 0.25, 0.6, 1.0).map { after ->
         DynamicTest.dynamicTest("${after} s after the shake") {
             val d = data(ViolentMotionKind.SHAKE)
-            val whole = MadgwickFilter(FilterSettings())
-            d.forEach { whole.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            val split = index(d, 6.0 + ViolentMotionKind.SHAKE.durationS + after)
-            val first = MadgwickFilter(FilterSettings())
-            d.take(split).forEach { first.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            val second = MadgwickFilter(FilterSettings())
-            second.restore(first.state())
-            d.drop(split).forEach { second.update(it.timestampNs, it.gyro, it.acc, it.mag) }
-            assertEquals(whole.state(), second.state())
-            assertEquals(whole.orientation(), second.orientation())
+            assertSplitRunEqualsWhole(FilterSettings(), d, index(d, 6.0 + ViolentMotionKind.SHAKE.durationS + after))
         }
     }
 }
