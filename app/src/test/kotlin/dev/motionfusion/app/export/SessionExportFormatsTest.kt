@@ -272,15 +272,20 @@ class SessionExportFormatsTest {
     }
 
     /** The topics of an MCAP file's channels and each one's message log times, read record by record (opcode, u64 length, content). */
+    /** The log times of every message per topic, read through the chunks (a Channel record may repeat in the summary). */
     private class McapRead(bytes: ByteArray) {
         val logTimes = LinkedHashMap<String, MutableList<Long>>()
+        private val topics = HashMap<Int, String>()
 
         init {
             val magic = byteArrayOf(0x89.toByte(), 'M'.code.toByte(), 'C'.code.toByte(), 'A'.code.toByte(), 'P'.code.toByte(), '0'.code.toByte(), '\r'.code.toByte(), '\n'.code.toByte())
             assertTrue("leading magic", bytes.copyOfRange(0, 8).contentEquals(magic))
             assertTrue("trailing magic", bytes.copyOfRange(bytes.size - 8, bytes.size).contentEquals(magic))
-            val b = ByteBuffer.wrap(bytes, 8, bytes.size - 16).order(ByteOrder.LITTLE_ENDIAN)
-            val topics = HashMap<Int, String>()
+            assertTrue("footer", records(ByteBuffer.wrap(bytes, 8, bytes.size - 16).order(ByteOrder.LITTLE_ENDIAN)))
+        }
+
+        /** Reads the records of [b] to its end; true when one was the footer. */
+        private fun records(b: ByteBuffer): Boolean {
             var footer = false
             while (b.hasRemaining()) {
                 val op = b.get().toInt() and 0xff
@@ -293,18 +298,25 @@ class SessionExportFormatsTest {
                         val n = b.int
                         val topic = ByteArray(n).also { b.get(it) }.toString(Charsets.UTF_8)
                         topics[id] = topic
-                        logTimes[topic] = ArrayList()
+                        logTimes.getOrPut(topic) { ArrayList() }
                     }
                     0x05 -> {
                         val id = b.short.toInt() and 0xffff
                         b.int
                         logTimes.getValue(topics.getValue(id)) += b.long
                     }
+                    0x06 -> {
+                        b.long; b.long; b.long; b.int // start and end time, uncompressed size and CRC
+                        val compression = b.int
+                        assertEquals("uncompressed chunks", 0, compression)
+                        val n = b.long.toInt()
+                        records(ByteBuffer.wrap(b.array(), b.arrayOffset() + b.position(), n).slice().order(ByteOrder.LITTLE_ENDIAN))
+                    }
                     0x02 -> footer = true
                 }
                 b.position(start + len)
             }
-            assertTrue("footer", footer)
+            return footer
         }
     }
 }
