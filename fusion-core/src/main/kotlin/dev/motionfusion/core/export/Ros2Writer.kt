@@ -15,7 +15,7 @@ import java.util.zip.CRC32
  *  - `imu/data_raw` sensor_msgs/msg/Imu: gyroscope and accelerometer, orientation not provided
  *    (orientation_covariance[0] = −1), as REP-145 says; the angular velocity and linear
  *    acceleration covariances from the [noise] model when one is known: the variance of one
- *    sample's white noise, σ² = N²·f (noise density N, the gyroscope's mean rate [rateHz] f), on the
+ *    sample's white noise, σ² = N²·f (noise density N, the gyroscope's rate [rateHz] f, gaps left out), on the
  *    diagonal; unknown (zeros) without one;
  *  - `imu/data` sensor_msgs/msg/Imu: the same with the replay's orientation (sensor → ENU, as
  *    REP-103's world), its covariance unknown (zeros); from the filter's first orientation on;
@@ -76,7 +76,7 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
             "covariance" to if (gyroscopeVariance > 0.0 || accelerometerVariance > 0.0) {
                 "angular_velocity and linear_acceleration covariances: one sample's white-noise variance N^2 * f on the diagonal " +
                     "(gyroscope N = ${yamlNumber(noise!!.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), accelerometer N = ${yamlNumber(noise.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), " +
-                    "f = ${yamlNumber(rateHz)} Hz, the gyroscope's mean rate); orientation and magnetic field covariances unknown (0)"
+                    "f = ${yamlNumber(rateHz)} Hz, the gyroscope's rate, gaps left out); orientation and magnetic field covariances unknown (0)"
             } else {
                 "unknown (0), no noise model given; orientation_covariance[0] = -1 on imu/data_raw (not provided)"
             },
