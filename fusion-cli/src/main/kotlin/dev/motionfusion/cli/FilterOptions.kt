@@ -21,7 +21,8 @@ internal object FilterOptions {
         |a session whose meta.json records the live filter's settings starts from those instead, so
         |its replay reproduces orientation.csv; a note says so; the options below change them):
         |  --default-settings   start from FilterSettings() even for such a session
-        |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d)
+        |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d;
+        |                       6d for a recording without a magnetometer, with a note)
         |  --beta B             gradient step gain β, rad/s (default ${FilterSettings().beta})
         |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default off; 0 is off)
         |  --init identity|first-sample   start at the identity or from the first readings
