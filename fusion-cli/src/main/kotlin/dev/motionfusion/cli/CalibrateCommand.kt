@@ -201,7 +201,7 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
             r to rec.name
         }
         val source = "fusion allan ${Cli.VERSION} from $name"
-        NoiseModel.checkLongEnough(result, input)
+        NoiseModel.checkUsable(result, input)
         if (!o.has("--quiet")) err.print(AllanPlot.table(result))
         val yaml = result.kalibrYaml(source)
         if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }

@@ -22,7 +22,8 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
         |
         |Replays INPUT (any input of fusion replay) and draws an SVG figure: the Euler angles
         |over time (degrees), and below them the angle error (total, heading, inclination, as
-        |BROAD's metric) against, in this order of preference:
+        |BROAD's metric, over every sample: fusion eval scores a trial's scored rows only) against,
+        |in this order of preference:
         |  the truth: a session's truth.csv, --truth FILE (t_s,qw,qx,qy,qz; t_s on the replay's
         |  time axis), or truth.csv[.gz] beside input.csv[.gz] of a trial folder;
         |  the phone's rotation vector recorded in the session.
@@ -78,11 +79,13 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 errors[0].add(ts, total); errors[1].add(ts, heading); errors[2].add(ts, incl)
             }
             val derived = DoubleArray(9)
+            var truthRows = 0L
             val listener = object : ReplayListener {
                 override fun step(step: ReplayStep) {
                     if (origin == null) origin = step.timestampNs - (step.timeS * 1e9).roundToLong()
                     if (truthTable != null) {
                         while (truthPending && truthTable.timeS <= step.timeS + 1e-7) {
+                            truthRows++
                             val q = truthTable.q
                             comparison.reference(origin!! + (truthTable.timeS * 1e9).roundToLong(), q[0], q[1], q[2], q[3])
                             truthPending = truthTable.next()
@@ -102,9 +105,19 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 }
             }
             val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
-            truthTable.use { rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) } }
+            truthTable.use {
+                rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) }
+                if (truthTable != null) while (truthPending) { truthRows++; truthPending = truthTable.next() }
+            }
             progress.finish()
             if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
+            // A truth on another time axis (ms, or another clock) meets the replay in a few rows at most: refused, as eval --truth refuses it.
+            if (truthTable != null) {
+                if (comparison.total.count * 2 < truthRows) {
+                    throw dev.motionfusion.core.io.DataFormatException(truthPath.toString(), 0, 0, "only ${comparison.total.count} of its $truthRows rows " +
+                        "fall within the replay (0–${String.format(Locale.ROOT, "%.3f", angles[0].lastT)} s): t_s must be seconds on the replay's time axis")
+                }
+            }
             val tMax = angles.maxOf { it.lastT }
             val marks = markers.map { SvgFigure.Mark(Replayer.secondsBetween(origin ?: 0L, it.timestampNs), it.label) }
             val outside = marks.count { it.t < 0.0 || it.t > tMax }
@@ -119,7 +132,8 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
                 fig.panel(SvgFigure.Panel("error vs $refLabel (°)", labels.indices.map { errors[it].curve(labels[it], c2[it], wraps = false) }, 0.0))
             }
             outputs.file(output, listOfNotNull(input, truthPath?.toString())).use { it.write(fig.render().toByteArray(Charsets.UTF_8)) }
-            val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""
+            // Over every sample with a reference: fusion eval scores a trial's scored rows only (BROAD's movement column).
+            val stats = if (comparison.total.count > 0) String.format(Locale.ROOT, "; error vs %s over every sample: total RMS %.2f°, max %.2f°", refLabel, comparison.total.rms, comparison.total.max) else ""
             val markerNote = when {
                 markers.isEmpty() -> ""
                 outside > 0 -> "; ${markers.size} markers ($outside outside the replayed time, not drawn)"

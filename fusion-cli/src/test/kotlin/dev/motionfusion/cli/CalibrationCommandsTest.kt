@@ -187,8 +187,18 @@ class CalibrationCommandsTest {
         val r = fusion("calibrate", s.toString(), "--quiet")
         assertEquals(ExitCode.OK, r.code, r.err)
         assertTrue((CalibrationJson.parse(r.out, "out").gyroscope!!.bias - gyroBias).norm() < 3e-4)
+        // The turning phone has no noise figures to give: refused, naming the axes.
         val a = fusion("allan", s.toString(), "--quiet")
-        assertEquals(ExitCode.OK, a.code, a.err)
-        assertTrue("# 9000 samples at 100 Hz, 0 gaps" in a.out && "# 9000 samples at 100 Hz, 1 gaps" in a.out, a.out)
+        assertEquals(ExitCode.DATA_ERROR, a.code, a.err)
+        assertTrue("no white-noise line" in a.err && "gyroscope y" in a.err, a.err)
+        // Lying still for 70 s, one NaN reading: held at the previous sample, counted as a gap.
+        val still = session("still", turning.copy(durationS = 70.0, restWindows = listOf(TimeWindow(0.0, 71.0)), hardIronWindow = TimeWindow(0.0, 71.0)))
+        val stillGyro = still.resolve("gyroscope_uncalibrated.csv")
+        val stillLines = Files.readAllLines(stillGyro).toMutableList()
+        stillLines[5] = stillLines[5].split(',').toMutableList().also { it[1] = "NaN" }.joinToString(",")
+        Files.write(stillGyro, stillLines)
+        val n = fusion("allan", still.toString(), "--quiet")
+        assertEquals(ExitCode.OK, n.code, n.err)
+        assertTrue("# 7000 samples at 100 Hz, 0 gaps" in n.out && "# 7000 samples at 100 Hz, 1 gaps" in n.out, n.out)
     }
 }

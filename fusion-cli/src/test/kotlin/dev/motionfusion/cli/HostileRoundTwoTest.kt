@@ -190,6 +190,28 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `allan of a phone that moved is refused, naming the axes without a white-noise line`() {
+        val moving = simulatedTable("allan-moving.csv", 90)
+        val r = fails(ExitCode.DATA_ERROR, "no white-noise line .* the phone moved or was handled", "allan", "--quiet", moving.toString(), "-o", p("allan-moving.yaml"))
+        assertFalse(Files.exists(tmp.resolve("allan-moving.yaml")), "nothing written")
+        assertFalse(".nan" in r.out, r.out)
+    }
+
+    @Test
+    fun `plot refuses a truth on another time axis, as eval --truth does`() {
+        val table = simulatedTable("plot-truth/table.csv")
+        trial("plot-truth/trial", table, null)
+        val truth = tmp.resolve("plot-truth/trial/truth.csv")
+        val r = ok("plot", table.toString(), "--truth", truth.toString(), "-o", p("plot-truth/s.svg"))
+        assertTrue("over every sample: total RMS" in r.out + r.err, r.out + r.err)
+        val ms = write("plot-truth/truth-ms.csv", Files.readAllLines(truth).mapIndexed { i, l ->
+            if (i == 0) l else (l.substringBefore(',').toDouble() * 1000).toString() + "," + l.substringAfter(',')
+        }.joinToString("\n", postfix = "\n"))
+        fails(ExitCode.DATA_ERROR, "t_s must be seconds on the replay's time axis", "plot", table.toString(), "--truth", ms.toString(), "-o", p("plot-truth/ms.svg"))
+        assertFalse(Files.exists(tmp.resolve("plot-truth/ms.svg")))
+    }
+
+    @Test
     fun `allan refuses a plot that is a link to its YAML`() {
         val t = stillTable("allan-still.csv", listOf(0.0), 70.0, 0.001, 0.02)
         val yaml = write("noise.yaml", "an earlier output\n")

@@ -46,11 +46,11 @@ public class NoiseModel private constructor(
 
         /**
          * The noise model of an Allan analysis of the still recording [input] (its kalibr imu.yaml, made by
-         * [source]). @throws DataFormatException when the recording is too short for noise figures ([checkLongEnough])
-         * or a figure could not be read off (a stream missing).
+         * [source]). @throws DataFormatException when the recording is too short for noise figures or was not
+         * still ([checkUsable]), or a figure could not be read off (a stream missing).
          */
         internal fun of(result: AllanResult, source: String, input: String): NoiseModel {
-            checkLongEnough(result, input)
+            checkUsable(result, input)
             return parse(result.kalibrYaml(source), "the noise model of $input")
         }
 
@@ -64,6 +64,24 @@ public class NoiseModel private constructor(
             if (!(seconds >= MIN_ALLAN_S)) {
                 throw DataFormatException(input, 0, 0, "${String.format(Locale.ROOT, "%.1f", seconds)} s of samples is too short for noise figures: " +
                     "the noise density needs at least ${MIN_ALLAN_S.toInt()} s of still recording (the random walk and bias instability hours)")
+            }
+        }
+
+        /**
+         * [checkLongEnough], and every axis has the white-noise line a still sensor's Allan deviation has
+         * (slope −½ about τ = 1 s): a phone that moved has none, and its figures would be NaN or meaningless.
+         * @throws DataFormatException naming the axes without one.
+         */
+        @JvmStatic
+        public fun checkUsable(result: AllanResult, input: String) {
+            checkLongEnough(result, input)
+            val missing = ArrayList<String>()
+            for ((name, terms) in listOf("gyroscope" to result.gyroscopeTerms, "accelerometer" to result.accelerometerTerms)) {
+                terms?.forEachIndexed { axis, t -> if (!t.whiteNoise.isFinite()) missing += "$name ${"xyz"[axis]}" }
+            }
+            if (missing.isNotEmpty()) {
+                throw DataFormatException(input, 0, 0, "no white-noise line (slope -1/2 near 1 s) on the ${missing.joinToString(", ")}: " +
+                    "the phone moved or was handled; noise figures need it lying untouched throughout")
             }
         }
 
