@@ -299,6 +299,8 @@ class MainActivityTest {
         assertEquals(a.getString(R.string.compass_relative_description, "0°"), a.findViewById<View>(R.id.compass).contentDescription)
         assertTrue(a.text(R.id.convention_note).contains(a.getString(R.string.convention_relative_heading)))
         assertEquals(FilterMode.IMU, engine().filterSettingsInUse().mode)
+        // No north: the 3-D phone's ground ring has no cardinal points either.
+        assertFalse(a.findViewById<dev.motionfusion.app.ui.PhoneModelView>(R.id.phone_model).northKnown)
         Screenshots.capture(a, "live-no-magnetometer")
     }
 

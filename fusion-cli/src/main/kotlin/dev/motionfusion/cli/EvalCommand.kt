@@ -29,15 +29,17 @@ internal class EvalCommand(private val err: PrintStream) : Command {
     override val name = "eval"
     override val summary = "BROAD error metrics against ground truth, per trial and mean"
     override val help = """
-        |Usage: fusion eval [filter settings] TRIAL_DIR|DATASET_DIR|SESSION ...
+        |Usage: fusion eval [filter settings] [--6d] TRIAL_DIR|DATASET_DIR|SESSION ...
         |       fusion eval [--6d] --truth TRUTH.csv[.gz] ORIENTATION.csv[.gz]
         |       fusion eval --rows ROWS.csv[.gz] [--after FROM:TO] ORIENTATION.csv[.gz]
         |
         |BROAD's metric (Laidig et al. 2021): error e = q_est ⊗ q_truth*; total 2·acos|e_w|,
         |heading 2·atan|e_z/e_w|, inclination 2·acos √(e_w² + e_z²); RMSE in degrees over the
         |scored samples (truth column movement = 1; all rows without that column), samples
-        |without truth skipped. A 6D filter (--mode 6d) is scored with one constant heading
-        |offset per trial removed. Prints a Markdown table: one row per trial, then the mean
+        |without truth skipped. One constant heading offset per trial is removed before scoring
+        |with --6d, for a 6D filter (--mode 6d, or no magnetometer) and for a trial whose
+        |meta.json says "scoring": "6d…" (ADVIO's truth has no north). Filter options go with
+        |the first form only. Prints a Markdown table: one row per trial, then the mean
         |(--csv: CSV for scripts, trial,total_deg,heading_deg,inclination_deg to 1e-6°, one row per
         |trial, no mean row and no filter line).
         |Rows are named by trial folder; where two trials share a name (t01 of two data sets) by
@@ -85,6 +87,15 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val csv = o.has("--csv")
         if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
         val rowsFile = o.value("--rows")
+        // Scoring a table that is already an orientation: the options of a replay would do nothing, so they are refused.
+        val filterOptions = FilterOptions.VALUED.filter { o.value(it) != null } + FilterOptions.FLAGS.filter { o.has(it) }
+        if ((rowsFile != null || o.value("--truth") != null) && filterOptions.isNotEmpty()) {
+            throw UsageException("${filterOptions.joinToString(" ")}: ${if (rowsFile != null) "--rows" else "--truth"} scores an orientation table as it is; filter options apply to replays (replay first, or give a trial folder)")
+        }
+        if (rowsFile != null && (o.value("--truth") != null || o.has("--6d"))) {
+            throw UsageException("--rows scores the tilt against the accelerometer; --truth and --6d go with a truth, not with --rows")
+        }
+        if (rowsFile == null && o.value("--after") != null) throw UsageException("--after goes with --rows")
         if (rowsFile != null) {
             val est = o.positional.singleOrNull() ?: throw UsageException("with --rows give exactly one ORIENTATION file")
             val window = o.value("--after")?.let { w ->
@@ -120,7 +131,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val batch = Batch(name, err)
         val outcomes = batch.map(units, { it.input }) { u, messages ->
             u.error?.let { throw it }
-            u.trial?.let { evaluateTrial(it, settings, offline) } ?: (evaluateSession(u.input, settings, offline, o, messages) to null)
+            u.trial?.let { evaluateTrial(it, settings, offline, o.has("--6d")) } ?: (evaluateSession(u.input, settings, offline, o, messages) to null)
         }
         if (outcomes.size == 1 && outcomes[0].code != ExitCode.OK) {
             err.println(outcomes[0].messages)
@@ -174,13 +185,13 @@ internal class EvalCommand(private val err: PrintStream) : Command {
     }
 
     /** Scores [d], and the phone's rotation vector when the trial has one. */
-    private fun evaluateTrial(d: File, settings: FilterSettings, offline: OfflineSettings?): Pair<TrialResult, ErrorRmse?> {
+    private fun evaluateTrial(d: File, settings: FilterSettings, offline: OfflineSettings?, headingOffset: Boolean): Pair<TrialResult, ErrorRmse?> {
         val trial = try {
             Trial.load(d)
         } catch (e: IllegalArgumentException) {
             throw DataFormatException(d.path, 0, 0, e.message ?: "malformed trial")
         }
-        val result = Evaluation.evaluate(trial, settings, offline)
+        val result = Evaluation.evaluate(trial, settings, offline, headingOffset)
         if (result.error.samples == 0) {
             throw DataFormatException(d.path, 0, 0, "no scored sample: no row has both a truth (movement = 1, a known quaternion) and a filter orientation; nothing to score")
         }
@@ -199,7 +210,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
     private fun evaluateSession(input: String, settings: FilterSettings, offline: OfflineSettings?, o: Options, messages: PrintStream): TrialResult {
         InputOptions.open(input, o, messages, name).use { rec ->
             if (SessionStream.TRUTH !in rec.streams) throw DataFormatException(input, 0, 0, "no truth.csv in this ${rec.format.description}: nothing to score against")
-            val sixD = settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
+            val sixD = o.has("--6d") || settings.mode == FilterMode.IMU || SessionStream.MAGNETOMETER !in rec.streams
             var steps = 0L
             val e = BroadMetric.streamed(sixD) { add ->
                 val lastTruth = DoubleArray(4) { Double.NaN }

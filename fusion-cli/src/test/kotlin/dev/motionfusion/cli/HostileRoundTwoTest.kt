@@ -212,6 +212,36 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `eval removes the heading offset with --6d and where the trial's meta json says so, and refuses options that would do nothing`() {
+        // A phone lying still, top edge north, and a truth 30° off in heading: 30° in 9D, none without the offset.
+        val rows = (0 until 500).map { f(it * 0.01) }
+        val h = Math.toRadians(30.0) / 2
+        fun still(dir: String): Path {
+            write("$dir/input.csv", "t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + rows.joinToString("") { "$it,0,0,0,0,0,9.81,0,20,-40\n" })
+            write("$dir/truth.csv", "t_s,qw,qx,qy,qz\n" + rows.joinToString("") { "$it,${cos(h)},0,0,${sin(h)}\n" })
+            return tmp.resolve(dir)
+        }
+        fun total(vararg args: String) = ok("eval", "--csv", *args).out.lines()[1].split(',')[1].toDouble()
+        val plain = still("six-d/north")
+        assertEquals(30.0, total(plain.toString()), 0.5)
+        assertTrue(total("--6d", plain.toString()) < 0.5)
+        val scored = still("six-d/tagged")
+        write("six-d/tagged/meta.json", "{\"scoring\": \"6d: one constant heading offset removed per trial\"}")
+        assertTrue(total(scored.toString()) < 0.5, "the trial's own scoring")
+        // Options that a table scored as it is would ignore are refused.
+        val est = tmp.resolve("six-d/est.csv")
+        ok("replay", plain.toString(), "-o", est.toString())
+        fails(ExitCode.USAGE, "--beta: --truth scores an orientation table as it is", "eval", "--truth", plain.resolve("truth.csv").toString(), est.toString(), "--beta", "0.5")
+        fails(ExitCode.USAGE, "--truth and --6d go with a truth, not with --rows", "eval", "--rows", plain.resolve("input.csv").toString(), "--truth", plain.resolve("truth.csv").toString(), est.toString())
+        // An all-zero quaternion is no orientation: skipped as an empty row is, not a NaN score.
+        val lines = Files.readAllLines(est).toMutableList()
+        lines[10] = lines[10].split(',').toMutableList().also { for (k in 1..4) it[k] = "0" }.joinToString(",")
+        val zero = write("six-d/zero.csv", lines.joinToString("\n", postfix = "\n"))
+        val z = ok("eval", "--truth", plain.resolve("truth.csv").toString(), zero.toString())
+        assertFalse("NaN" in z.out, z.out)
+    }
+
+    @Test
     fun `allan refuses a plot that is a link to its YAML`() {
         val t = stillTable("allan-still.csv", listOf(0.0), 70.0, 0.001, 0.02)
         val yaml = write("noise.yaml", "an earlier output\n")

@@ -7,9 +7,11 @@ import dev.motionfusion.app.record.RecordingState
 import dev.motionfusion.app.ui.Formats
 import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.calib.Calibration
+import dev.motionfusion.core.calib.EllipsoidModel
 import dev.motionfusion.core.calib.Fit
 import dev.motionfusion.core.calib.RefusalKind
 import dev.motionfusion.core.calib.SensorCorrection
+import dev.motionfusion.core.event.SessionStream
 import java.util.Locale
 
 /** The calibration screen's words and figures for a [CalibrationUiState]. */
@@ -46,6 +48,21 @@ internal object CalibrationText {
         )
     }
 
+    /** Which readings a fit used, in words: the phone's calibrated stream or the uncalibrated one. */
+    private fun source(c: Context, stream: SessionStream): String = c.getString(
+        if (stream == SessionStream.MAGNETOMETER_UNCALIBRATED || stream == SessionStream.GYROSCOPE_UNCALIBRATED) R.string.calibration_source_raw
+        else R.string.calibration_source_phone,
+    )
+
+    /** What a fit corrects, in words. */
+    private fun model(c: Context, m: EllipsoidModel): String = c.getString(
+        when (m) {
+            EllipsoidModel.FULL -> R.string.calibration_model_full
+            EllipsoidModel.AXIS_ALIGNED -> R.string.calibration_model_axis_aligned
+            EllipsoidModel.SPHERE -> R.string.calibration_model_sphere
+        },
+    )
+
     /** The fitted values with their quality figures; refusals with their reasons (fusion-core's words, as the detail). */
     fun result(c: Context, s: CalibrationUiState): String {
         if (s.stage != CalibrationStage.RESULT) return ""
@@ -54,9 +71,9 @@ internal object CalibrationText {
         when (s.step) {
             CalibrationStep.MAGNETOMETER -> when (val f = s.magFit) {
                 is Fit.Done -> f.value.let { m ->
-                    lines += c.getString(R.string.calibration_result_mag, m.stream.key, m.model.name)
+                    lines += c.getString(R.string.calibration_result_mag, source(c, m.stream), model(c, m.model))
                     lines += c.getString(R.string.calibration_result_hard_iron, vec(l, m.correction.offset, "%.1f"))
-                    if (m.model.name != "SPHERE") lines += rows(l, c.getString(R.string.calibration_result_soft_iron), m.correction)
+                    if (m.model != EllipsoidModel.SPHERE) lines += rows(l, c.getString(R.string.calibration_result_soft_iron), m.correction)
                     lines += c.getString(R.string.calibration_result_field, m.fieldStrength, m.residualRms)
                     lines += c.getString(R.string.calibration_result_coverage, 100 * m.coverage, m.magnitudeStdBefore, m.magnitudeStdAfter)
                 }
@@ -67,7 +84,7 @@ internal object CalibrationText {
             CalibrationStep.POSES -> {
                 when (val f = s.accFit) {
                     is Fit.Done -> f.value.let { a ->
-                        lines += c.resources.getQuantityString(R.plurals.calibration_result_acc, a.poses, a.model.name, a.poses)
+                        lines += c.resources.getQuantityString(R.plurals.calibration_result_acc, a.poses, model(c, a.model), a.poses)
                         lines += c.getString(R.string.calibration_result_offset, vec(l, a.correction.offset, "%.3f"))
                         lines += rows(l, c.getString(R.string.calibration_result_scale), a.correction)
                         lines += c.getString(R.string.calibration_result_acc_residual, a.residualRms, a.gravity)
@@ -77,7 +94,7 @@ internal object CalibrationText {
                 }
                 when (val f = s.gyroFit) {
                     is Fit.Done -> f.value.let { g ->
-                        lines += c.getString(R.string.calibration_result_gyro, g.stream.key)
+                        lines += c.getString(R.string.calibration_result_gyro, source(c, g.stream))
                         lines += c.getString(R.string.calibration_result_bias, vec(l, g.bias, "%.5f"))
                         lines += c.getString(R.string.calibration_result_bias_error, vec(l, g.biasStdError, "%.5f"))
                         lines += c.getString(R.string.calibration_result_noise, vec(l, g.noiseStd, "%.4f"), g.stillTimeS)

@@ -83,6 +83,7 @@ class LiveScreen(private val activity: Activity, private val sensorInfo: Map<Sen
         yawLabel.setTextIfChanged(yawName)
         plot.setYawName(yawName)
         model.setOrientation(ui.orientation, ui.rotationVector)
+        model.northKnown = ui.headingQuality != HeadingQuality.RELATIVE
         val a = ui.angles
         if (a != null) {
             yaw.setTextIfChanged(heading(a.yaw))

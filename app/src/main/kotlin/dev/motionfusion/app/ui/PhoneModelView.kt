@@ -69,6 +69,16 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
         invalidate()
     }
 
+    /**
+     * Whether the heading has a north (false in 6D, without a magnetometer: the heading's zero is the
+     * start's). Without one the ground ring is drawn without its cardinal points, as the compass then
+     * shows degrees.
+     */
+    var northKnown: Boolean = true
+        set(value) {
+            if (field != value) { field = value; invalidate() }
+        }
+
     override fun onMeasure(widthMeasureSpec: Int, heightMeasureSpec: Int) {
         val w = MeasureSpec.getSize(widthMeasureSpec)
         // As tall as wide up to the dial's size: a phone standing upright must fit.
@@ -107,7 +117,7 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
         }
     }
 
-    /** A ring on the ground below the phone with the four cardinal points (ENU: E = x, N = y). */
+    /** A ring on the ground below the phone with the four cardinal points (ENU: E = x, N = y) when [northKnown]. */
     private fun drawGround(canvas: Canvas, cx: Float, cy: Float, scale: Float) {
         val radius = 1.25f
         val down = -0.9f
@@ -118,6 +128,7 @@ class PhoneModelView @JvmOverloads constructor(context: Context, attrs: Attribut
             if (k == 0) path.moveTo(cx + p[0] * scale, cy + p[1] * scale) else path.lineTo(cx + p[0] * scale, cy + p[1] * scale)
         }
         canvas.drawPath(path, ring)
+        if (!northKnown) return
         val r = radius * 1.14f
         label(canvas, cardinals[0], 0f, r, down, cx, cy, scale, north)
         label(canvas, cardinals[1], r, 0f, down, cx, cy, scale, cardinal)

@@ -119,7 +119,7 @@ class CalibrationScreensTest {
     @Test
     fun `fit accepted`() = render("mag-accepted", readings.fullTurn, { click(it, R.id.primary_action); click(it, R.id.primary_action) }) { a, b ->
         val r = text(a, R.id.result)
-        assertTrue(r, r.startsWith("Magnetometer (magnetometer_uncalibrated, FULL)\nHard iron  35.0 -20.0 60.0 µT"))
+        assertTrue(r, r.startsWith("Magnetometer (uncalibrated readings; offset, scale and axis misalignment)\nHard iron  35.0 -20.0 60.0 µT"))
         assertTrue(r, Regex("Coverage \\d+ %").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
         assertEquals(a.getString(R.string.calibration_again), text(a, R.id.primary_action))
@@ -145,8 +145,8 @@ class CalibrationScreensTest {
     @Test
     fun `poses fitted`() = render("poses-accepted", readings.sixPoses, { click(it, R.id.step_poses); click(it, R.id.primary_action); click(it, R.id.primary_action) }) { a, _ ->
         val r = text(a, R.id.result)
-        assertTrue(r, Regex("^Accelerometer \\(AXIS_ALIGNED, 6 poses\\)\nOffset  0\\.1[12]\\d -0\\.(199|200|201) 0\\.1(49|50|51) m/s²").containsMatchIn(r))
-        assertTrue(r, Regex("Gyroscope bias \\(gyroscope_uncalibrated\\)\nBias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
+        assertTrue(r, Regex("^Accelerometer \\(offset and scale per axis; 6 poses\\)\nOffset  0\\.1[12]\\d -0\\.(199|200|201) 0\\.1(49|50|51) m/s²").containsMatchIn(r))
+        assertTrue(r, Regex("Gyroscope bias \\(uncalibrated readings\\)\nBias  0\\.0(099|100)\\d -0\\.0(199|200)\\d 0\\.01(49|50|51)\\d rad/s").containsMatchIn(r))
         assertTrue(a.findViewById<Button>(R.id.save).isEnabled)
         assertTrue(text(a, R.id.progress_text), Regex("^6 poses · \\d+ s$").matches(text(a, R.id.progress_text)))
     }

@@ -44,12 +44,13 @@ public object Evaluation {
     }
 
     /**
-     * Scores [settings] on [trial]; a 6D filter (or a trial without magnetometer) has its heading
-     * offset removed, which takes a first pass over the trial to find the offset.
+     * Scores [settings] on [trial]; a 6D filter, a trial without magnetometer, a trial scored so by its
+     * meta.json ([Trial.headingOffsetScored]) or [headingOffset] has its heading offset removed, which
+     * takes a first pass over the trial to find the offset.
      */
     @JvmOverloads
-    public fun evaluate(trial: Trial, settings: FilterSettings, offline: OfflineSettings? = null): TrialResult {
-        val sixD = settings.mode == FilterMode.IMU || !trial.hasMag
+    public fun evaluate(trial: Trial, settings: FilterSettings, offline: OfflineSettings? = null, headingOffset: Boolean = false): TrialResult {
+        val sixD = headingOffset || settings.mode == FilterMode.IMU || !trial.hasMag || trial.headingOffsetScored
         return TrialResult(
             trial.name,
             BroadMetric.streamed(sixD) { add -> if (offline == null) run(trial, settings, add) else runOffline(trial, settings, offline, add) },

@@ -11,6 +11,7 @@ import dev.motionfusion.core.input.ImuTableReader
 import dev.motionfusion.core.input.QuaternionTableReader
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.io.InputLimits
+import dev.motionfusion.core.io.Json
 import java.io.Closeable
 import java.io.File
 
@@ -18,6 +19,16 @@ import java.io.File
 public class Trial private constructor(public val name: String, public val input: File, public val truth: File) {
     /** True when the input table has magnetometer columns. */
     public val hasMag: Boolean by lazy { ImuTableReader.open(input.toPath()).use { it.hasMagnetometer } }
+
+    /**
+     * True when the trial's meta.json says it is scored "6d…": with one constant heading offset removed
+     * for every method (ADVIO's truth has no north). Every score of it then removes the offset.
+     */
+    public val headingOffsetScored: Boolean by lazy {
+        val meta = File(input.parentFile, "meta.json")
+        meta.isFile && meta.length() < 1_000_000 &&
+            (Json.parse(meta.readText(), meta.path) as? Map<*, *>)?.get("scoring").let { it is String && it.trim().lowercase().startsWith("6d") }
+    }
 
     /** The trial's rows from the start; the caller closes the reader. */
     @JvmOverloads

@@ -1,8 +1,9 @@
 /*
  * A table of orientations over time: `t_s,qw,qx,qy,qz[,movement]` (columns found by name, others
  * ignored, gzip detected by its magic bytes). Both the output of `fusion replay` and BROAD's
- * truth.csv.gz are such tables. Quaternions sensor → world, Hamilton, scalar first; an empty
- * or NaN quaternion means "unknown" (occluded markers). movement 1 marks scored samples.
+ * truth.csv.gz are such tables. Quaternions sensor → world, Hamilton, scalar first; an empty,
+ * NaN or all-zero quaternion means "unknown" (occluded markers, no orientation yet). movement 1
+ * marks scored samples.
  */
 package dev.motionfusion.core.input
 
@@ -63,6 +64,8 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
                 field = cols[k + 1]
                 q[k] = csv.parseDouble(field, emptyIsNaN = true)
             }
+            // All zero is no rotation at all (some tools write it for "none yet"): unknown, as an empty row is.
+            if (q[0] == 0.0 && q[1] == 0.0 && q[2] == 0.0 && q[3] == 0.0) q.fill(Double.NaN)
             field = movement
             scored = movement < 0 || csv.parseDouble(movement, emptyIsNaN = true) == 1.0
         } catch (e: FieldError) {
