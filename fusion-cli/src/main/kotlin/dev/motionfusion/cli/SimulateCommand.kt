@@ -55,7 +55,7 @@ internal class SimulateCommand(private val outputs: Outputs) : Command {
         |  --rate HZ            sample rate (default 100)
         |  --seed N             random seed (default 8)
         |  --motion calibration a calibration recording instead (docs/CALIBRATION.md): still on
-        |                       each of the six faces (1.5 s moving, 4 s still), then turning
+        |                       each of the six faces (1.5 s turning onto it, 4 s still), then turning
         |                       at up to 2.5 rad/s for the rest of --duration (default 100 s)
         |
         |Sensor errors (device frame; vectors as X,Y,Z, matrices as XX,YY,ZZ,XY,XZ,YZ of a

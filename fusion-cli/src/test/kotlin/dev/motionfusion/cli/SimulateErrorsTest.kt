@@ -26,6 +26,17 @@ class SimulateErrorsTest {
     private val accScale = Matrix3.diagonal(1.02, 0.97, 1.01)
 
     @Test
+    fun `a calibration recording replays like a real one, its gyroscope recording every turn between faces`() {
+        // Before, the truth jumped from one face to the next while the gyroscope read nothing: eval gave 78°.
+        val session = dir.resolve("cal-replay")
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", session.toString(), "--motion", "calibration", "--duration", "60", "--seed", "3").code)
+        val r = fusion("eval", "--csv", session.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        val total = r.out.lines()[1].split(',')[1].toDouble()
+        assertTrue(total < 5.0, "total error over the calibration motion: ${r.out}")
+    }
+
+    @Test
     fun `calibrate recovers the errors simulate put in`() {
         val zip = dir.resolve("cal-session.zip")
         val s = fusion(

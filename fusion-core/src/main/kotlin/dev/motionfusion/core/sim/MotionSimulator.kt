@@ -39,7 +39,13 @@ public data class SimulatedSample(
     val truth: Quaternion,
 )
 
-public class MotionSimulator(public val settings: SimulationSettings) {
+public class MotionSimulator internal constructor(
+    public val settings: SimulationSettings,
+    /** A constant device-frame angular velocity in place of the random motion (a slew from one pose to another), rad/s. */
+    private val constantRate: Vector3?,
+) {
+    public constructor(settings: SimulationSettings) : this(settings, null)
+
     private val random = Random(settings.seed)
     private val freq = DoubleArray(9) { 2.0 * PI * (0.1 + 0.9 * random.nextDouble()) }
     private val phase = DoubleArray(9) { 2.0 * PI * random.nextDouble() }
@@ -48,6 +54,7 @@ public class MotionSimulator(public val settings: SimulationSettings) {
     public fun angularVelocity(t: Double): Vector3 {
         violentAt(t)?.let { return it.rate(t) }
         if (settings.restWindows.any { t in it }) return Vector3.ZERO
+        constantRate?.let { return it }
         val a = settings.angularRate / 3.0
         fun axis(k: Int) = a * (sin(freq[3 * k] * t + phase[3 * k]) + sin(freq[3 * k + 1] * t + phase[3 * k + 1]) + sin(freq[3 * k + 2] * t + phase[3 * k + 2]))
         return Vector3(axis(0), axis(1), axis(2))
