@@ -26,8 +26,9 @@ internal class AlignCommand(private val err: PrintStream, private val outputs: O
         |(link: the clock exchanges' largest over the input; gyro: one sample period of the slower
         |phone; utc: not known), the wall clocks' offset and their difference, and the correlation at
         |the offset beside the best one at least 0.5 s away. The gyroscopes
-        |decide only with a correlation of at least 0.8 and 0.1 above that rival; else the motion
-        |was not shared, or repeats (shake once, irregularly, while all record).
+        |decide only with a correlation of at least 0.8 and 0.1 above that rival, at a peak inside
+        |the --max-lag window; else the motion was not shared, or repeats (shake once, irregularly,
+        |while all record), and without wall clocks to fall back on the run fails (exit 1).
         |  -o, --output FILE   also write input,method,offset_ns,drift_ppm,uncertainty_ns,utc_offset_ns,
         |                      correlation,runner_up as CSV
         |  --max-lag S         search range around the wall-clock offset (default 5 s; 60 s without one)
@@ -62,7 +63,8 @@ internal class AlignCommand(private val err: PrintStream, private val outputs: O
         if (output != null) {
             outputs.file(output, inputs).use { it.write(result.csv().toByteArray()) }
         }
-        return if (method == "gyro" && result.ambiguous > 0) ExitCode.DATA_ERROR else ExitCode.OK
+        // An offset the gyroscopes guessed (gyro asked for, or auto with no wall clock to fall back on) is no result.
+        return if (result.aligned.any { it.method == "gyro" && !it.certain }) ExitCode.DATA_ERROR else ExitCode.OK
     }
 
     private fun seconds(ns: Long) = "%.6f".format(Locale.ROOT, ns / 1e9)

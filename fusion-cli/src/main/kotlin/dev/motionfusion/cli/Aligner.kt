@@ -83,8 +83,9 @@ internal class Aligner(private val err: PrintStream, private val command: String
                     null
                 }
             }
-            val clear = found != null && found.correlation >= MIN_CORRELATION &&
-                found.correlation - (found.runnerUp.takeIf { !it.isNaN() } ?: -1.0) >= MIN_MARGIN
+            // A peak the window cuts off, or one without a rival to stand above (a window under a second), proves nothing.
+            val clear = found != null && found.correlation >= MIN_CORRELATION && !found.atSearchEdge &&
+                !found.runnerUp.isNaN() && found.correlation - found.runnerUp >= MIN_MARGIN
             val used = when {
                 method != "auto" -> method
                 linked -> "link"
@@ -95,7 +96,8 @@ internal class Aligner(private val err: PrintStream, private val command: String
             if (found != null && !clear) {
                 ambiguous++
                 // The figures formatted apart: a name may hold a format directive.
-                val figures = "correlation %.3f, its best rival %.3f".format(Locale.ROOT, found.correlation, found.runnerUp)
+                val figures = "correlation %.3f, its best rival %.3f".format(Locale.ROOT, found.correlation, found.runnerUp) +
+                    if (found.atSearchEdge) ", the best at the edge of the --max-lag window" else if (found.runnerUp.isNaN()) ", no rival in a window this narrow" else ""
                 err.println("fusion $command: note: ${r.name}: the gyroscopes show no shared motion that singles one offset out ($figures): " +
                     if (used == "utc") "the wall clocks are used" else "shake the phones together once, irregularly, while all record")
             }

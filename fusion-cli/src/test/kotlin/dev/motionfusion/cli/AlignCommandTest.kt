@@ -61,6 +61,25 @@ class AlignCommandTest {
     }
 
     @Test
+    fun `auto without wall clocks fails where the gyroscopes only guess, and --max-lag bounds the search`() {
+        val a = phone("a.csv", seed = 8, rate = 100, shiftS = 0.0, violent = null)
+        val b = phone("b.csv", seed = 9, rate = 100, shiftS = 1.0, violent = null)
+        val guess = fusion("align", a, b, "-o", p("guess.csv"))
+        assertEquals(ExitCode.DATA_ERROR, guess.code, guess.out + guess.err)
+        assertFalse(Files.exists(Path.of(p("guess.csv"))))
+        // A shared shake 2.5 s apart, searched within 0.3 s of 0: the window's best is no peak, and no offset outside it is given.
+        val c = phone("c.csv", seed = 8, rate = 100, shiftS = 0.0)
+        val d = phone("d.csv", seed = 9, rate = 100, shiftS = 2.5)
+        val narrow = fusion("align", c, d, "--max-lag", "0.3", "--method", "gyro")
+        assertEquals(ExitCode.DATA_ERROR, narrow.code, narrow.out + narrow.err)
+        assertTrue("the best at the edge of the --max-lag window" in narrow.err || "no rival in a window this narrow" in narrow.err, narrow.err)
+        val offset = narrow.out.lines().first { it.startsWith("| d.csv") }.split('|')[3].trim().toDouble()
+        assertTrue(Math.abs(offset) <= 0.3, "the offset stays in the window: $offset")
+        // Wide enough, the same pair is found.
+        assertEquals(ExitCode.OK, fusion("align", c, d, "--max-lag", "5", "--method", "gyro").code)
+    }
+
+    @Test
     fun `sessions use their wall clocks where the motion cannot tell`() {
         for (n in listOf("s1.zip", "s2.zip")) assertEquals(ExitCode.OK, fusion("simulate", "-o", p(n), "--duration", "10", "--seed", if (n == "s1.zip") "3" else "4").code)
         val r = fusion("align", p("s1.zip"), p("s2.zip"))

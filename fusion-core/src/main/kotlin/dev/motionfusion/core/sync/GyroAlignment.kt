@@ -19,6 +19,8 @@ import kotlin.math.sqrt
  *   close to [correlation] means the motion repeats and the offset is ambiguous.
  * @property periodNs the fine grid's period, the resolution before the parabola.
  * @property overlapNs how long the two recordings overlap at that offset.
+ * @property atSearchEdge the best lag lies at an end of the searched window, so the peak may lie
+ *   beyond it: the offset is not a maximum of the correlation, only the window's best.
  */
 public data class GyroAlignmentResult(
     val offsetNs: Long,
@@ -26,6 +28,7 @@ public data class GyroAlignmentResult(
     val runnerUp: Double,
     val periodNs: Long,
     val overlapNs: Long,
+    val atSearchEdge: Boolean = false,
 )
 
 public object GyroAlignment {
@@ -59,10 +62,13 @@ public object GyroAlignment {
         // The coarse search over the whole range.
         val best = search(aTimesNs, aRates, bTimesNs, bRates, coarse, expectedNs - maxLagNs, expectedNs + maxLagNs, minOverlapNs)
             ?: throw IllegalArgumentException("the recordings do not overlap by ${minOverlapNs / 1e9} s anywhere within ${expectedNs / 1e9} ± ${maxLagNs / 1e9} s")
-        // The fine search around it, then the parabola.
-        val around = search(aTimesNs, aRates, bTimesNs, bRates, fine, best.lag - 2 * coarse, best.lag + 2 * coarse, minOverlapNs) ?: best
-        val runnerUp = best.runnerUp
-        return GyroAlignmentResult(around.refined, around.peak, runnerUp, fine, around.overlap)
+        // The fine search around it, within the window, then the parabola (which stays within half a fine period).
+        val from = maxOf(best.lag - 2 * coarse, expectedNs - maxLagNs)
+        val to = minOf(best.lag + 2 * coarse, expectedNs + maxLagNs)
+        val around = search(aTimesNs, aRates, bTimesNs, bRates, fine, from, to, minOverlapNs) ?: best
+        val refined = around.refined.coerceIn(expectedNs - maxLagNs, expectedNs + maxLagNs)
+        val edge = refined - (expectedNs - maxLagNs) < fine || (expectedNs + maxLagNs) - refined < fine
+        return GyroAlignmentResult(refined, around.peak, best.runnerUp, fine, around.overlap, edge)
     }
 
     private class Found(val lag: Long, val peak: Double, val refined: Long, val runnerUp: Double, val overlap: Long)
