@@ -23,9 +23,9 @@ internal fun TextView.isCutShort(): Boolean {
 }
 
 /**
- * Lays the children of the horizontal [row] one under the other, each as wide as the row, once side by
- * side one of them does not fit: a text cut short or broken inside a word, or a child reaching past the
- * row's edge (a large font size, a long translation). Until then the row is as its layout says. Stacked,
+ * Lays the children of the horizontal [row] one under the other, each as wide as the row (a switch keeps
+ * its own width, at the start), once side by side one of them does not fit: a text cut short or broken
+ * inside a word, or a child reaching past the row's edge (a large font size, a long translation). Until then the row is as its layout says. Stacked,
  * it stays stacked while the screen lives (a configuration change makes a new one). Works for any
  * LinearLayout, MaterialButtonToggleGroup included (it draws its vertical segments itself).
  */
@@ -40,7 +40,8 @@ internal fun stackWhenCrowded(row: LinearLayout, gapDp: Int = 6) {
             for (i in 0 until row.childCount) {
                 val child = row.getChildAt(i)
                 val lp = child.layoutParams as LinearLayout.LayoutParams
-                if (lp.weight > 0f || lp.width == 0 || child is android.widget.Button) {
+                // Buttons take the width; a switch (a CompoundButton) keeps its own, at the start, next to its label's line.
+                if (lp.weight > 0f || lp.width == 0 || (child is android.widget.Button && child !is android.widget.CompoundButton)) {
                     lp.width = ViewGroup.LayoutParams.MATCH_PARENT
                     lp.weight = 0f
                 }
