@@ -38,7 +38,7 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
         |  --min-coverage F    least fraction of the sphere of directions for the magnetometer
         |                       (default ${CalibrationSettings().minCoverage})
         |  --mag-model M        full (hard and soft iron, default) or sphere (hard iron only)
-        |  --gravity G          magnitude of gravity for the accelerometer, m/s² (default 9.80665)
+        |  --gravity G          local gravity for the accelerometer, 9.7–9.9 m/s² (default 9.80665)
         |  --quiet              no report on standard error
         |Exit codes: 0 at least one sensor calibrated, 1 malformed input or nothing could be
         |calibrated (the reasons are printed), 2 usage, 3 file not found/unwritable.

@@ -98,7 +98,9 @@ internal object FilterOptions {
             err.println("fusion $command: note: ${rec.name}: starting from the live filter's settings in meta.json (--default-settings for the defaults)")
         }
         val s = settings(o, recorded)
-        if (s.mode != FilterMode.MARG || SessionStream.MAGNETOMETER in rec.streams) return s
+        // A session's meta.json may count no magnetometer sample (a file holding its header alone): none either.
+        val magnetometer = SessionStream.MAGNETOMETER in rec.streams && rec.metadata?.streams?.get(SessionStream.MAGNETOMETER)?.samples != 0L
+        if (s.mode != FilterMode.MARG || magnetometer) return s
         if (!o.has("--quiet")) {
             err.println("fusion $command: note: ${rec.name}: no magnetometer: 6D (the heading is the gyroscope's alone, its zero the start's)")
         }

@@ -242,6 +242,22 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `a session whose magnetometer file holds its header alone replays in 6D from the first row`() {
+        val session = tmp.resolve("mag-header/session")
+        Files.createDirectories(session.parent)
+        ok("simulate", "-o", session.toString(), "--duration", "5", "--rate", "50")
+        val mag = session.resolve("magnetometer.csv")
+        Files.write(mag, listOf(Files.readAllLines(mag)[0]))
+        val meta = session.resolve("meta.json")
+        Files.writeString(meta, Regex(""""magnetometer"\s*:\s*\{[^}]*?"samples"\s*:\s*\d+""").replace(Files.readString(meta)) { it.value.replace(Regex("""\d+$"""), "0") })
+        val r = ok("replay", session.toString(), "-o", p("mag-header/out.csv"))
+        assertTrue("no magnetometer: 6D" in r.err, r.err)
+        assertTrue("0 before start" in r.err, r.err)
+        // Calibrate refuses a gravity that is no earth's, naming the option.
+        fails(ExitCode.USAGE, "--gravity must be the earth's, 9.7–9.9 m/s²", "calibrate", session.toString(), "--gravity", "20")
+    }
+
+    @Test
     fun `allan refuses a plot that is a link to its YAML`() {
         val t = stillTable("allan-still.csv", listOf(0.0), 70.0, 0.001, 0.02)
         val yaml = write("noise.yaml", "an earlier output\n")

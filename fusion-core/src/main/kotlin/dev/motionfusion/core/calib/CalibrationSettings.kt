@@ -16,7 +16,7 @@ import dev.motionfusion.core.STANDARD_GRAVITY
  * @property minStillS least total still time for a gyroscope bias, s.
  * @property minPoseS least still time of one accelerometer pose, s.
  * @property poseSeparation angle between the gravity directions of two poses for them to count as distinct, rad.
- * @property gravity the magnitude of gravity the accelerometer is scaled to, m/s².
+ * @property gravity the magnitude of gravity the accelerometer is scaled to, m/s² (the earth's, 9.7–9.9).
  */
 public data class CalibrationSettings(
     val magModel: EllipsoidModel = EllipsoidModel.FULL,
@@ -41,5 +41,7 @@ public data class CalibrationSettings(
             "minStillS" to minStillS, "minPoseS" to minPoseS, "poseSeparation" to poseSeparation, "gravity" to gravity,
         )) require(v.isFinite() && v > 0.0) { "$name must be finite and > 0: $v" }
         require(minPoseS >= stillWindowS) { "minPoseS must be at least stillWindowS" }
+        // The earth's gravity is 9.76–9.84 m/s² from the equator to the poles and up mountains: anything else scales every reading wrongly.
+        require(gravity in 9.7..9.9) { "gravity must be the earth's, 9.7–9.9 m/s² (local gravity, or 9.80665): $gravity" }
     }
 }
