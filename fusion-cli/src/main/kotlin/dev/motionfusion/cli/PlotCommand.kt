@@ -112,11 +112,9 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             progress.finish()
             if (angles[0].isEmpty) throw dev.motionfusion.core.io.DataFormatException(input, 0, 0, "the filter produced no orientation (no gyroscope with accelerometer samples)")
             // A truth on another time axis (ms, or another clock) meets the replay in a few rows at most: refused, as eval --truth refuses it.
-            if (truthTable != null) {
-                if (comparison.total.count * 2 < truthRows) {
-                    throw dev.motionfusion.core.io.DataFormatException(truthPath.toString(), 0, 0, "only ${comparison.total.count} of its $truthRows rows " +
-                        "fall within the replay (0–${String.format(Locale.ROOT, "%.3f", angles[0].lastT)} s): t_s must be seconds on the replay's time axis")
-                }
+            if (truthTable != null && comparison.total.count * 2 < truthRows) {
+                throw dev.motionfusion.core.io.DataFormatException(truthPath.toString(), 0, 0, "only ${comparison.total.count} of its $truthRows rows " +
+                    "fall within the replay (0–${String.format(Locale.ROOT, "%.3f", angles[0].lastT)} s): t_s must be seconds on the replay's time axis")
             }
             val tMax = angles.maxOf { it.lastT }
             val marks = markers.map { SvgFigure.Mark(Replayer.secondsBetween(origin ?: 0L, it.timestampNs), it.label) }

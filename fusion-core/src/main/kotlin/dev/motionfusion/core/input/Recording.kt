@@ -113,7 +113,8 @@ public class Recording private constructor(
         private fun linksOut(files: FileSet): String {
             val l = files.linksOut.sorted()
             val shown = l.take(5).joinToString(", ") + if (l.size > 5) ", …" else ""
-            return "$shown ${if (l.size == 1) "is a link" else "are links"} out of the folder, not followed: copy ${if (l.size == 1) "it" else "them"} in to have ${if (l.size == 1) "it" else "them"} read"
+            val (are, them) = if (l.size == 1) "is a link" to "it" else "are links" to "them"
+            return "$shown $are out of the folder, not followed: copy $them in to have $them read"
         }
 
         private fun open(files: FileSet, path: Path, options: ImportOptions): Recording {
