@@ -116,6 +116,10 @@ public enum class Initialisation {
  *   turns in one room (Tyrex, OxIOD); [BUILDINGS_TRUST_SPREAD] is the value for the former (docs/ACCURACY.md).
  * @property magTrustTime with magTrustSpread, the time the field's means and wander are low-passed over, s.
  *   Default 10 s.
+ * @property hardIronThreshold the magnetometer's hard-iron offset estimated from the recording (HardIronEstimate.kt:
+ *   the field's change against what the gyroscope's rotation predicts) and taken off every reading, shrunk by
+ *   this length, µT: an estimate shorter than it takes nothing off. null: off.
+ * @property hardIronTime with hardIronThreshold, the time over which older turns are forgotten, s. null: never.
  * @property magNewFieldTime with magDisturbanceRejection, a disturbed field that stays within the
  *   tolerances of its own running mean for this long is trusted as the new reference, s. null: off
  *   (then only magMaxRejectionTime ends a rejection). Default off.
@@ -194,6 +198,8 @@ public data class FilterSettings(
     val magUndisturbedTime: Double? = null,
     val magTrustSpread: Double? = null,
     val magTrustTime: Double = 10.0,
+    val hardIronThreshold: Double? = 1.5,
+    val hardIronTime: Double? = 600.0,
     val accRejection: Boolean = false,
     val accNormTolerance: Double = 2.0,
     val accAngleTolerance: Double = 10.0 * DEG,
@@ -235,6 +241,8 @@ public data class FilterSettings(
         requireOnOrOff("headingRecoveryTime", headingRecoveryTime)
         requireOnOrOff("magTrustSpread", magTrustSpread)
         requirePositive("magTrustTime", magTrustTime)
+        requireOnOrOff("hardIronThreshold", hardIronThreshold)
+        requireOnOrOff("hardIronTime", hardIronTime)
         requireOnOrOff("magNewFieldTime", magNewFieldTime)
         requireOnOrOff("magNewFieldMinGyro", magNewFieldMinGyro)
         requireOnOrOff("magResumeTime", magResumeTime)
@@ -271,6 +279,7 @@ public data class FilterSettings(
             motionBiasGain = null,
             headingRecoveryTime = null,
             magNewFieldTime = null,
+            hardIronThreshold = null,
             inclinationRecoveryBeta = null,
             recoveryAngle = null,
             accLowPassTime = null,

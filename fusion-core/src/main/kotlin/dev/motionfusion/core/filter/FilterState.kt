@@ -19,6 +19,8 @@ public data class FilterState internal constructor(
     internal val lowPass: AccelerometerLowPass.State,
     internal val recovery: InclinationRecovery.State,
     internal val heading: HeadingCorrection.State,
+    /** The hard-iron estimate's (null when off). */
+    internal val hardIron: HardIronEstimate.State?,
     /** The states of the filter's checks (Check), in the order of its list. */
     internal val checks: List<Any>,
 )

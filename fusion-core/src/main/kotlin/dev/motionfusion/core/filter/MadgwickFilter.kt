@@ -54,6 +54,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     private val accRejection = if (settings.accRejection) AccelerometerRejection(settings) else null
     private val magDetector = if (settings.magDisturbanceRejection) MagneticDisturbanceDetector(settings) else null
     private val magTrust = if (settings.magTrustSpread != null) MagneticTrust(settings) else null
+    private val hardIron = if (settings.hardIronThreshold != null && settings.mode == FilterMode.MARG) HardIronEstimate(settings) else null
 
     /** Which readings enter each step, in this order (a new detector: one more line here). */
     private var checks: Array<Check<*>> = listOfNotNull<Check<*>>(
@@ -84,7 +85,11 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** Holds a magnetometer sample (µT, device frame) for the next gyroscope steps; ignored in IMU mode. */
     public fun updateMagnetometer(timestampNs: Long, x: Double, y: Double, z: Double) {
-        gate.holdMagnetometer(timestampNs, x, y, z)
+        val h = hardIron
+        if (h == null) return gate.holdMagnetometer(timestampNs, x, y, z)
+        h.hold(x, y, z)
+        if (h.takesOff(x, y, z)) gate.holdMagnetometer(timestampNs, x - h.x, y - h.y, z - h.z)
+        else gate.holdMagnetometer(timestampNs, x, y, z)
     }
 
     /**
@@ -106,6 +111,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         bias.update(dt, x, y, z, s.accOk, s.ax, s.ay, s.az)
         s.wx = x - bias.x; s.wy = y - bias.y; s.wz = z - bias.z
         s.useAcc = s.accOk; s.useMag = s.magOk; s.headingFactor = 1.0; s.biasFactor = 1.0; s.newMagReference = false
+        hardIron?.update(s)
         for (check in checks) check.check(s)
         if (s.newMagReference) heading.newReference()
         if (recovery.stillError(dt, s.wx, s.wy, s.wz, s.accOk, s.ax, s.ay, s.az, s.ux, s.uy, s.uz)) lowPass.restart()
@@ -146,6 +152,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      * (headingRecoveryTime).
      */
     private fun rotationUnknown() {
+        hardIron?.dropWindow()
         lowPass.restart()
         recovery.arm()
         heading.restart()
@@ -235,7 +242,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The complete state, for [restore] (allocates; not for every sample). */
     public fun state(): FilterState = FilterState(
         settings, gate.state(), estimate.state(), bias.state(), lowPass.state(), recovery.state(), heading.state(),
-        checks.map { it.state() },
+        hardIron?.state(), checks.map { it.state() },
     )
 
     /**
@@ -250,6 +257,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         lowPass.restore(state.lowPass)
         recovery.restore(state.recovery)
         heading.restore(state.heading)
+        state.hardIron?.let { hardIron?.restore(it) }
         for (i in checks.indices) checks[i].restoreAny(state.checks[i])
     }
 
@@ -261,6 +269,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         lowPass.reset()
         recovery.reset()
         heading.reset()
+        hardIron?.reset()
         for (check in checks) check.reset()
     }
 
@@ -275,6 +284,20 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
 
     /** The rest detector's verdict of the last step (false without rest bias estimation; the offline heading smoother's). */
     internal val atRest: Boolean get() = bias.atRest
+
+    /** The magnetometer reading [m] (µT, device frame) as a step now takes it, its hard-iron offset taken off, into [out] (the offline passes'). */
+    internal fun fieldSeenInto(m: DoubleArray, out: DoubleArray) {
+        val h = hardIron
+        val take = h != null && h.takesOff(m[0], m[1], m[2])
+        out[0] = if (take) m[0] - h!!.x else m[0]
+        out[1] = if (take) m[1] - h!!.y else m[1]
+        out[2] = if (take) m[2] - h!!.z else m[2]
+    }
+
+    /** The hard-iron offset taken off the magnetometer's readings now, µT, device frame, into [out] (0 without the estimate). */
+    internal fun hardIronInto(out: DoubleArray) {
+        out[0] = hardIron?.x ?: 0.0; out[1] = hardIron?.y ?: 0.0; out[2] = hardIron?.z ?: 0.0
+    }
 
     /** The gyroscope bias estimate ω_b, rad/s, device frame, into [out] (the offline heading smoother's; allocates nothing). */
     internal fun gyroBiasInto(out: DoubleArray) {
@@ -291,6 +314,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
      */
     internal fun turnAround(timestampNs: Long) {
         bias.reverse()
+        hardIron?.dropWindow()
         gate.turnAround(timestampNs)
     }
 

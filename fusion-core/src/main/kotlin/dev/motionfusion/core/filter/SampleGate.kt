@@ -110,6 +110,7 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
     /** A table row without magnetometer: no magnetometer reading held. */
     fun dropMagnetometer() {
         hasMag = false
+        magTooStrong = false
     }
 
     /** A gyroscope sample ([x], [y], [z] rad/s at [t] ns): validation, pairing, start, timing. */
@@ -124,6 +125,7 @@ internal class SampleGate(settings: FilterSettings, private val s: Step) : Stage
         }
         s.accOk = hasAcc && fresh(t, accT)
         s.magOk = hasMag && fresh(t, magT)
+        s.magFresh = (hasMag || magTooStrong) && fresh(t, magT)
         if (!initialised) return if (mayStart(t)) Admission.START else Admission.SKIP
         if (t <= lastT) {
             skippedTimestamp++

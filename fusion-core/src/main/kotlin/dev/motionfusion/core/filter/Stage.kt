@@ -81,6 +81,9 @@ internal class Step {
     @JvmField var accOk = false
     @JvmField var magOk = false
 
+    /** The held magnetometer reading is finite, in range and no older than maxGap, even if too strong for a heading (HardIronEstimate's). */
+    @JvmField var magFresh = false
+
     /** The estimated up in the sensor frame before the step (unit). */
     @JvmField var ux = 0.0
     @JvmField var uy = 0.0

@@ -171,6 +171,8 @@ public object FilterSettingDescriptors {
         offable("magUndisturbedTime", "mag_undisturbed_time_s", "s", G.REJECTION, "Disturbance ends after agreeing for", 0.0..10.0, { it.magUndisturbedTime }, absent = 0.0) { s, v -> s.copy(magUndisturbedTime = v) },
         offable("magTrustSpread", "mag_trust_spread", "", G.REJECTION, "Heading gain falls once the field wanders beyond", 0.0..0.2, { it.magTrustSpread }, absent = 0.0) { s, v -> s.copy(magTrustSpread = v) },
         number("magTrustTime", "mag_trust_time_s", "s", G.REJECTION, "Field wander measured over", 1.0..120.0, { it.magTrustTime }) { s, v -> s.copy(magTrustTime = v) },
+        offable("hardIronThreshold", "hard_iron_threshold_ut", "µT", G.REJECTION, "Magnetometer offset taken off beyond", 0.0..20.0, { it.hardIronThreshold }, absent = 0.0) { s, v -> s.copy(hardIronThreshold = v) },
+        offable("hardIronTime", "hard_iron_time_s", "s", G.REJECTION, "Magnetometer offset: older turns forgotten over", 0.0..3600.0, { it.hardIronTime }, absent = 0.0) { s, v -> s.copy(hardIronTime = v) },
         flag("accRejection", "acc_rejection", G.REJECTION, "Ignore the accelerometer in strong acceleration", { it.accRejection }) { s, v -> s.copy(accRejection = v) },
         number("accNormTolerance", "acc_norm_tolerance_m_s2", "m/s²", G.REJECTION, "Acceleration tolerance", 0.1..10.0, { it.accNormTolerance }) { s, v -> s.copy(accNormTolerance = v) },
         number("accAngleTolerance", "acc_angle_tolerance_rad", "rad", G.REJECTION, "Angle from up tolerance", 0.01..1.0, { it.accAngleTolerance }) { s, v -> s.copy(accAngleTolerance = v) },

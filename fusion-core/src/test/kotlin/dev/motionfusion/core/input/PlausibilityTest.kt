@@ -27,10 +27,13 @@ class PlausibilityTest {
     @TempDir
     lateinit var tmp: Path
 
-    /** One row of a 100 Hz table turning slowly about z: t, gyroscope, accelerometer, magnetometer. */
+    /** One row of a 100 Hz table of a phone lying flat and turning slowly about z: t, gyroscope, accelerometer, magnetometer (the field turning with it). */
     private class Row(var t: Double, val g: DoubleArray, val a: DoubleArray, val m: DoubleArray)
 
-    private fun rows(n: Int = 2000) = (0 until n).map { i -> Row(i * 0.01, doubleArrayOf(0.0, 0.0, 0.2), doubleArrayOf(0.3, 0.1, 9.8), doubleArrayOf(0.0, 22.0, -40.0)) }
+    private fun rows(n: Int = 2000) = (0 until n).map { i ->
+        val turned = 0.2 * i * 0.01
+        Row(i * 0.01, doubleArrayOf(0.0, 0.0, 0.2), doubleArrayOf(0.0, 0.0, 9.805), doubleArrayOf(22.0 * kotlin.math.sin(turned), 22.0 * kotlin.math.cos(turned), -40.0))
+    }
 
     private fun write(name: String, rows: List<Row>, mag: Boolean = true): Path {
         val header = "t_s,gx,gy,gz,ax,ay,az" + if (mag) ",mx,my,mz\n" else "\n"

@@ -80,7 +80,7 @@ class FilterSettingDescriptorsTest {
             // "0 turns it off" needs 0 to be a value of the range, and 0 accepted.
             if (d.zeroDisables) assertEquals(0.0, r.start, d.name)
         }
-        assertEquals(setOf("zeta", "magNewFieldTime", "magNewFieldMinGyro", "magResumeTime", "magRejectionFactor", "magFirstFieldTime", "magUndisturbedTime", "magTrustSpread", "inclinationRecoveryBeta", "recoveryAngle", "accLowPassTime", "gyroSaturation", "headingGain", "headingRecoveryTime", "motionBiasGain"),
+        assertEquals(setOf("zeta", "magNewFieldTime", "magNewFieldMinGyro", "magResumeTime", "magRejectionFactor", "magFirstFieldTime", "magUndisturbedTime", "magTrustSpread", "hardIronThreshold", "hardIronTime", "inclinationRecoveryBeta", "recoveryAngle", "accLowPassTime", "gyroSaturation", "headingGain", "headingRecoveryTime", "motionBiasGain"),
             FilterSettingDescriptors.all.filter { it.zeroDisables }.map { it.name }.toSet())
         assertEquals(SettingGroup.entries.toSet(), FilterSettingDescriptors.all.map { it.group }.toSet())
     }
@@ -89,7 +89,7 @@ class FilterSettingDescriptorsTest {
 
     @Test
     fun `a mechanism is off by null, and 0 is refused so off has one form`() {
-        assertEquals(15, offable.size)
+        assertEquals(17, offable.size)
         for (d in offable) {
             val on = d.with(FilterSettings(), d.range!!.endInclusive / 10)
             assertNull(d.value(d.with(on, null)), d.name)
@@ -131,6 +131,8 @@ class FilterSettingDescriptorsTest {
             beta = 0.05, zeta = null, magNewFieldTime = null, magNewFieldMinGyro = null, magResumeTime = null, magRejectionFactor = null,
             magFirstFieldTime = null, magUndisturbedTime = null, magTrustSpread = null, inclinationRecoveryBeta = null, recoveryAngle = null,
             accLowPassTime = null, gyroSaturation = null, headingGain = null, headingRecoveryTime = null, motionBiasGain = null,
+            // Written before the hard-iron estimate existed: absent, so off (the replay is the filter that ran then).
+            hardIronThreshold = null, hardIronTime = null,
         )
         assertEquals(expected, s)
         // Written again, off is 0 as before, so an older reader takes these files too; "off" and null read as off as well.

@@ -51,6 +51,13 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
     private val field = FieldReference(forward.settings)
     // The heading smoother uses the magnetometer, so not in IMU mode (where the passes leave it out).
     private val smoother = if (offline.headingSmoothing > 0.0 && forward.settings.mode == FilterMode.MARG) HeadingSmoother(offline) else null
+    // A magnetometer reading as a pass's filter takes it (its hard-iron offset taken off).
+    private val seen = DoubleArray(3)
+
+    private fun seen(filter: MadgwickFilter, m: DoubleArray): DoubleArray {
+        filter.fieldSeenInto(m, seen)
+        return seen
+    }
 
     /**
      * The first pass's step at [timestampNs] ([timeS] s from the origin): gyroscope [g], the held accelerometer
@@ -62,7 +69,7 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
         if (fresh(timestampNs, accNs)) flags = flags or ACC_FRESH
         if (fresh(timestampNs, magNs)) {
             flags = flags or MAG_FRESH
-            field.add(m, q, forward.atRest)
+            field.add(seen(forward, m), q, forward.atRest)
         }
         spill.putStep(flags, timestampNs, timeS, g, a, m, q)
     }
@@ -126,6 +133,7 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
             var disturbed = false
             if (flags and MAG_FRESH != 0L) {
                 for (k in 0 until 3) mb[k] = b.getDouble(at + Spill.MAG + 8 * k)
+                back.fieldSeenInto(mb, mb)
                 disturbed = field.disturbed(mb, q)
                 if (disturbed) backRecent = 1.0
             }
@@ -166,7 +174,7 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
             if (earlier != Long.MIN_VALUE) foreRecent = field.decay(foreRecent, t - earlier)
             earlier = t
             if (again.isInitialised) again.orientationInto(o) else o.fill(Double.NaN)
-            if (flags and MAG_FRESH != 0L && field.disturbed(m, o)) foreRecent = 1.0
+            if (flags and MAG_FRESH != 0L && field.disturbed(seen(again, m), o)) foreRecent = 1.0
             for (k in 0 until 4) q[k] = b.getDouble(at + Spill.Q + 8 * k)
             Blend.combine(o, q, Blend.headingWeight(w0, foreRecent, b.getDouble(at + Spill.RECENT)), wi)
             if (smoother != null && smoother.smoothStep(b, at, t, q)) Blend.combine(o, q, offline.headingSmoothing, 0.0)
