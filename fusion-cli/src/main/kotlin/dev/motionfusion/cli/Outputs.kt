@@ -27,6 +27,9 @@ import java.nio.file.StandardOpenOption
  *    (SIGKILL: nothing runs) are removed when an output of the same name is next written, and
  *    [note] says so.
  */
+/** The output name that means standard output where a command writes a stream there (`replay -o -`). */
+internal const val STDOUT = "-"
+
 internal class Outputs(
     files: FileOperations = FileOperations.SYSTEM,
     /** When this process started, ms since the epoch: only temporary files older than that can be an earlier run's. */
@@ -134,6 +137,7 @@ internal class Outputs(
      * it against [inputs].
      */
     fun check(output: String, inputs: List<String>): Path {
+        if (output == STDOUT) throw UsageException("'-' (standard output) is not an output of this command here; give a file name")
         val target = destination(Path.of(output))
         names[target.toString()] = output
         for (i in inputs) {

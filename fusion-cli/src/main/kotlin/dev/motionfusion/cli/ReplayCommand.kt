@@ -10,6 +10,7 @@ import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.replay.Retimed
 import java.io.BufferedOutputStream
 import java.io.PrintStream
+import java.util.Locale
 import java.util.zip.GZIPOutputStream
 
 /** `fusion replay INPUT [-o OUT] [filter settings]`. */
@@ -51,7 +52,7 @@ internal class ReplayCommand(
         |What an import assumed (a platform, a file left out) is printed as a note.
         |
         |Options:
-        |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output
+        |  -o, --output FILE    write there (gzip if it ends in .gz) instead of standard output (- is standard output)
         |  --rows FILE          also write the rows the filter stepped on, one per output row, as
         |                       an IMU table t_s,gx,gy,gz,ax,ay,az[,mx,my,mz] (gzip if it ends in
         |                       .gz): each gyroscope sample with the accelerometer and magnetometer
@@ -107,6 +108,7 @@ internal class ReplayCommand(
         val o = Options(args, valued, setOf("--quiet") + FilterOptions.FLAGS)
         if (o.positional.isEmpty()) throw UsageException("replay needs an INPUT")
         val target = o.value("-o") ?: o.value("--output")
+        if (o.positional.size > 1 && target == STDOUT) throw UsageException("-o - writes one replay to standard output; with several inputs give -o FOLDER/")
         if (o.positional.size > 1 || (target != null && target.endsWith("/"))) {
             return batch(args, o, valued, target ?: throw UsageException("with several inputs give -o FOLDER/ for their outputs"))
         }
@@ -116,7 +118,8 @@ internal class ReplayCommand(
         FilterOptions.settings(o) // usage errors before the input is opened
         val heading = HeadingOptions.spec(o)
         val offline = FilterOptions.offline(o)
-        val output = o.value("-o") ?: o.value("--output")
+        // "-o -" is standard output, as without -o.
+        val output = (o.value("-o") ?: o.value("--output")).takeUnless { it == STDOUT }
         val file = calibrationFile(o)
         InputOptions.open(input, o, err, name).use { rec ->
             val settings = FilterOptions.settings(o, rec, err, name)
@@ -155,7 +158,10 @@ internal class ReplayCommand(
                     "fusion replay: ${rec.format.description} ${rec.name}: ${counts.events} events, ${writer.rows} rows " +
                         "(${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer); " +
                         "skipped: ${d.skippedBeforeInit} before start, ${d.skippedTimestamp} bad timestamps, ${d.skippedGap} after gaps, " +
-                        "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero",
+                        "${d.skippedOutOfRange} beyond any phone's range, ${d.skippedNonFinite} not finite, ${d.skippedZero} zero" +
+                        d.magnetometerOffset.takeIf { it.norm() > 0.0 }?.let { m ->
+                            String.format(Locale.ROOT, "; the magnetometer's hard-iron offset (%.1f, %.1f, %.1f) µT estimated and taken off", m.x, m.y, m.z)
+                        }.orEmpty(),
                 )
             }
             // A raw magnetometer (a hard-iron offset of hundreds of µT) reads beyond any earth field, and the filter leaves it out.

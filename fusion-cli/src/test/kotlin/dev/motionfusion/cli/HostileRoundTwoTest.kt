@@ -386,6 +386,17 @@ class HostileRoundTwoTest {
         assertFalse(Files.exists(tmp.resolve("X.csv")))
     }
 
+    @Test
+    fun `-o - is standard output for a replay and refused where an output must be a file`() {
+        val table = simulatedTable("stdout/table.csv")
+        val plain = ok("replay", table.toString()).out
+        assertEquals(plain, ok("replay", table.toString(), "-o", "-").out)
+        assertFalse(Files.exists(Path.of("-")), "a file named '-' was written")
+        fails(ExitCode.USAGE, "with several inputs give -o FOLDER/", "replay", table.toString(), table.toString(), "-o", "-")
+        fails(ExitCode.USAGE, "'-' \\(standard output\\) is not an output of this command here", "replay", table.toString(), "--rows", "-")
+        fails(ExitCode.USAGE, "'-' \\(standard output\\) is not an output of this command here", "plot", table.toString(), "-o", "-")
+    }
+
     // --- earlier corpus ---------------------------------------------------------------------------
 
     @Test

@@ -102,6 +102,21 @@ class ReplayCommandsTest {
     }
 
     @Test
+    fun `an offset of a few µT on the magnetometer is estimated, taken off and named`() {
+        val offset = tableText().lines().mapIndexed { i, line ->
+            if (i == 0 || line.isEmpty()) line else line.split(',').let { c ->
+                (c.take(7) + listOf(c[7].toDouble() + 9.0, c[8].toDouble() - 6.0, c[9].toDouble()).map { f(it) }).joinToString(",")
+            }
+        }.joinToString("\n")
+        Files.writeString(dir.resolve("offset.csv"), offset)
+        Files.writeString(dir.resolve("clean.csv"), tableText())
+        val r = fusion("replay", p("offset.csv"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(Regex("the magnetometer's hard-iron offset \\((\\d+\\.\\d), -(\\d+\\.\\d), -?0\\.\\d\\) µT estimated and taken off").containsMatchIn(r.err), r.err)
+        assertFalse(fusion("replay", p("clean.csv")).err.contains("hard-iron offset"))
+    }
+
+    @Test
     fun `a raw magnetometer's hard-iron offset is named, and heading then is the gyroscope's as in IMU mode`() {
         // A raw magnetometer as an iPhone's reads it: the earth's field plus a hard-iron offset of about 630 µT.
         val raw = tableText().lines().mapIndexed { i, line ->

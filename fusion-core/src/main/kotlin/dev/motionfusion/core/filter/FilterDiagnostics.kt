@@ -33,6 +33,8 @@ import dev.motionfusion.core.Vector3
  *   or stronger than any earth field).
  * @property gyroscopeSaturations gyroscope readings with an axis at or beyond gyroSaturation (clipped
  *   at the sensor's range), after which inclination and heading re-converge fast.
+ * @property magnetometerOffset the hard-iron offset taken off each magnetometer reading now (hardIronThreshold;
+ *   HardIronEstimate.kt), µT, device frame; zero while none is, or without the estimate.
  */
 public data class FilterDiagnostics(
     val initialised: Boolean,
@@ -51,4 +53,5 @@ public data class FilterDiagnostics(
     val magneticRejections: Long,
     val gyroscopeSaturations: Long = 0,
     val skippedOutOfRange: Long = 0,
+    val magnetometerOffset: Vector3 = Vector3.ZERO,
 )

@@ -237,6 +237,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accelerometerRejections = accRejection?.rejections ?: 0L,
         magneticRejections = gate.tooStrong + (magDetector?.rejections ?: 0L),
         gyroscopeSaturations = gate.saturations,
+        magnetometerOffset = hardIron?.let { Vector3(it.x, it.y, it.z) } ?: Vector3.ZERO,
     )
 
     /** The complete state, for [restore] (allocates; not for every sample). */
@@ -292,11 +293,6 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         out[0] = if (take) m[0] - h!!.x else m[0]
         out[1] = if (take) m[1] - h!!.y else m[1]
         out[2] = if (take) m[2] - h!!.z else m[2]
-    }
-
-    /** The hard-iron offset taken off the magnetometer's readings now, µT, device frame, into [out] (0 without the estimate). */
-    internal fun hardIronInto(out: DoubleArray) {
-        out[0] = hardIron?.x ?: 0.0; out[1] = hardIron?.y ?: 0.0; out[2] = hardIron?.z ?: 0.0
     }
 
     /** The gyroscope bias estimate ω_b, rad/s, device frame, into [out] (the offline heading smoother's; allocates nothing). */

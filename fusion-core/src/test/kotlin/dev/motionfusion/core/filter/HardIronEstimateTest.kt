@@ -66,7 +66,7 @@ class HardIronEstimateTest {
         return sqrt(sum / n) * 180 / PI
     }
 
-    private fun offsetOf(filter: MadgwickFilter) = DoubleArray(3).also { filter.hardIronInto(it) }
+    private fun offsetOf(filter: MadgwickFilter) = filter.diagnostics().magnetometerOffset.let { doubleArrayOf(it.x, it.y, it.z) }
 
     @Test
     fun `an offset fixed to the phone is learnt and taken off`() {
