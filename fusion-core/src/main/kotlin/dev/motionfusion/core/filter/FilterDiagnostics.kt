@@ -33,8 +33,9 @@ import dev.motionfusion.core.Vector3
  *   or stronger than any earth field).
  * @property gyroscopeSaturations gyroscope readings with an axis at or beyond gyroSaturation (clipped
  *   at the sensor's range), after which inclination and heading re-converge fast.
- * @property magnetometerOffset the hard-iron offset taken off each magnetometer reading now (hardIronThreshold;
- *   HardIronEstimate.kt), µT, device frame; zero while none is, or without the estimate.
+ * @property magnetometerOffset the hard-iron offset taken off the latest magnetometer reading (hardIronThreshold;
+ *   HardIronEstimate.kt), µT, device frame; zero while none is (a reading beyond the earth's field stays as read), or
+ *   without the estimate.
  */
 public data class FilterDiagnostics(
     val initialised: Boolean,

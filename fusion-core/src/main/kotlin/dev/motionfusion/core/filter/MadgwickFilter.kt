@@ -16,6 +16,8 @@
  *   SampleGate            validation, pairing and staleness, the start, gaps, the counts (SampleGate.kt)
  *   saturation            a clipped gyroscope reading: low-pass, inclination and heading start again
  *   GyroBiasEstimate      the bias ω_b at rest (RestDetector), then in motion after the heading step, and ζ
+ *   HardIronEstimate      the magnetometer's offset, learnt from the field's turning against the bias-corrected
+ *                         rate; taken off each reading as it is held (HardIronEstimate.kt)
  *   checks                which readings enter: AccelerometerRejection, MagneticDisturbanceDetector, and
  *                         MagneticTrust, which weighs the heading gain (Check)
  *   InclinationRecovery   a still error arms it; then the step gain β
@@ -88,7 +90,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         val h = hardIron
         if (h == null) return gate.holdMagnetometer(timestampNs, x, y, z)
         h.hold(x, y, z)
-        if (h.takesOff(x, y, z)) gate.holdMagnetometer(timestampNs, x - h.x, y - h.y, z - h.z)
+        if (h.applied) gate.holdMagnetometer(timestampNs, x - h.x, y - h.y, z - h.z)
         else gate.holdMagnetometer(timestampNs, x, y, z)
     }
 
@@ -111,7 +113,16 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         bias.update(dt, x, y, z, s.accOk, s.ax, s.ay, s.az)
         s.wx = x - bias.x; s.wy = y - bias.y; s.wz = z - bias.z
         s.useAcc = s.accOk; s.useMag = s.magOk; s.headingFactor = 1.0; s.biasFactor = 1.0; s.newMagReference = false
-        hardIron?.update(s)
+        val h = hardIron
+        if (h != null) {
+            val jumped = h.update(s)
+            // The held reading with the offset of now; when it jumped, what was learnt of the field starts again.
+            if (h.applied) { s.mx = h.rawX - h.x; s.my = h.rawY - h.y; s.mz = h.rawZ - h.z }
+            if (jumped) {
+                s.newMagReference = true
+                magDetector?.forgetReference()
+            }
+        }
         for (check in checks) check.check(s)
         if (s.newMagReference) heading.newReference()
         if (recovery.stillError(dt, s.wx, s.wy, s.wz, s.accOk, s.ax, s.ay, s.az, s.ux, s.uy, s.uz)) lowPass.restart()
@@ -237,7 +248,7 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
         accelerometerRejections = accRejection?.rejections ?: 0L,
         magneticRejections = gate.tooStrong + (magDetector?.rejections ?: 0L),
         gyroscopeSaturations = gate.saturations,
-        magnetometerOffset = hardIron?.let { Vector3(it.x, it.y, it.z) } ?: Vector3.ZERO,
+        magnetometerOffset = hardIron?.takeIf { it.applied }?.let { Vector3(it.x, it.y, it.z) } ?: Vector3.ZERO,
     )
 
     /** The complete state, for [restore] (allocates; not for every sample). */
@@ -303,7 +314,8 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /**
      * Turns the filter round in time, for a pass over the same samples backward (the offline estimate,
      * filter/offline): the gyroscope readings of such a pass are negated, so the bias estimate and the
-     * rest detector's gyroscope low-pass are negated too; the orientation, the field reference, the
+     * rest detector's gyroscope low-pass are negated too (the hard-iron estimate's open window is dropped; its
+     * equation holds backward as it does forward); the orientation, the field reference, the
      * low-passed accelerometer and the held readings stay. [timestampNs] is the time, on the new pass's
      * clock, of the last step taken: the held readings keep their age then, so one that had gone stale
      * (a stream that ended before the gyroscope's) is not used again by the new pass.

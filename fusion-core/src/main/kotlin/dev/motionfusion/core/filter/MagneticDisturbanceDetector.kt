@@ -87,6 +87,11 @@ internal class MagneticDisturbanceDetector(settings: FilterSettings) : Check<Mag
     var newReference = false
         private set
 
+    /** The next reading becomes the reference (the field as the filter sees it changed at once: HardIronEstimate). */
+    fun forgetReference() {
+        hasReference = false
+    }
+
     /** True when the next reading will become the reference (so its raw dip is needed). */
     val needsReference: Boolean get() =
         (!hasReference && !awaitsFirstField) || (!budgeted && disturbedTime > maxRejectionTime)

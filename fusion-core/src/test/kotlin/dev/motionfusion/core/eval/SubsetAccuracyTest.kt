@@ -202,7 +202,7 @@ class SubsetAccuracyTest {
          */
         val BEHIND = mapOf(
             "causal oxiod-subset hand" to 4.96,
-            "causal advio-subset metro" to 38.45,
+            "causal advio-subset metro" to 38.52,
             "causal advio-subset office" to 13.48,
             "offline advio-subset metro" to 24.71,
             "offline advio-subset office" to 8.81,
@@ -212,10 +212,10 @@ class SubsetAccuracyTest {
         const val INDOOR_OF_BEST = 0.10
 
         /**
-         * The venues where the trust misses [INDOOR_OF_BEST], with its measured figure: the mall, 4.73° against VQF
+         * The venues where the trust misses [INDOOR_OF_BEST], with its measured figure: the mall, 4.74° against VQF
          * 6D's 4.20° (+13 %; 4.59° before the hard-iron estimate, which takes ADVIO with the trust from 5.84° to 5.51°).
          */
-        val TRUST_BEHIND = mapOf("mall" to 4.73)
+        val TRUST_BEHIND = mapOf("mall" to 4.74)
 
         /** How far above its measured figure a [BEHIND] group may be (noise of a rebuild, not a regression). */
         const val BEHIND_MARGIN = 0.02

@@ -87,6 +87,16 @@ class HardIronEstimateTest {
     }
 
     @Test
+    fun `older turns forgotten over a few seconds still give an estimate`() {
+        // The first estimate waits for 10 s of windows counted as they close, not as they are forgotten.
+        val b = doubleArrayOf(9.0, -6.0, 0.0)
+        val filter = MadgwickFilter(FilterSettings(hardIronTime = 5.0))
+        run(filter, 60.0, 0.0, b)
+        val taken = offsetOf(filter)
+        assertTrue(sqrt(taken[0] * taken[0] + taken[1] * taken[1]) > 5.0, "taken off: ${taken.toList()}")
+    }
+
+    @Test
     fun `a calibrated magnetometer gives the filter's estimate unchanged`() {
         val with = mutableListOf<DoubleArray>()
         val without = mutableListOf<DoubleArray>()
@@ -116,9 +126,12 @@ class HardIronEstimateTest {
         val raw = doubleArrayOf(192.8, 180.2, -582.2)
         val with = mutableListOf<DoubleArray>()
         val without = mutableListOf<DoubleArray>()
-        run(MadgwickFilter(FilterSettings()), 60.0, 0.0, raw, quaternions = with)
+        val filter = MadgwickFilter(FilterSettings())
+        run(filter, 60.0, 0.0, raw, quaternions = with)
         run(MadgwickFilter(FilterSettings(hardIronThreshold = null)), 60.0, 0.0, raw, quaternions = without)
         for (i in with.indices) assertArrayEquals(without[i], with[i], "step $i")
+        // Nothing is taken off, and the diagnostics say so (the estimate itself is near the offset).
+        assertTrue(offsetOf(filter).all { it == 0.0 }, "reported taken off: ${offsetOf(filter).toList()}")
     }
 
     /** The simulated phone of FilterBehaviourTest (turning at 1 rad/s, gyroscope biased) with a 36-µT magnet on it during [magnet]. */
