@@ -19,7 +19,7 @@ import kotlin.math.abs
  * [PeerFigures.RMSE_MARGIN] (0: the target is to be ahead) above VQF's on the same trials, VQF's figures being
  * those committed in peers/vqf.csv ([PeerFigures]): the causal replay against VQF's real-time
  * filter, the offline replay (default [OfflineSettings]) against `vqf.offlineVQF`. Where the project is still
- * behind ([BEHIND]: OxIOD in the hand causal, ADVIO causal and offline, docs/ACCURACY.md "Not done yet"), the group's
+ * behind ([BEHIND]: OxIOD in the hand causal, ADVIO's metro and offices causal and offline, docs/ACCURACY.md), the group's
  * measured figure is asserted instead, with [BEHIND_MARGIN], so that a regression fails there too. The committed
  * VQF figures are checked against the READMEs. Groups come from each trial's meta.json ([PeerFigures.group]).
  * Skipped when the data is absent; a trial missing from the data or from the figures fails.
