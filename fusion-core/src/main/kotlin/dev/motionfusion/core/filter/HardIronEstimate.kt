@@ -230,10 +230,6 @@ internal class HardIronEstimate(settings: FilterSettings) : Stage<HardIronEstima
             return ex * ex + ey * ey + ez * ez
         }
 
-        /** dᵀ A d. */
-        fun quadratic(dx: Double, dy: Double, dz: Double): Double =
-            axx * dx * dx + ayy * dy * dy + azz * dz * dz + 2.0 * (axy * dx * dy + axz * dx * dz + ayz * dy * dz)
-
         /** b = (A + λI)⁻¹ r, λ = RIDGE. */
         fun solve() {
             val a = axx + RIDGE
