@@ -32,10 +32,10 @@ internal object FilterOptions {
         |  --max-gap S          longest accepted gap between samples, s (default 0.5)
         |  --report             start from the Madgwick report's own settings instead
         |  --set NAME=VALUE     any FilterSettings property by name, e.g. --set magNormTolerance=0.15
-        |                       (comma-separated for several: --set restMinTime=1,restBiasTime=3); on a walk through
-        |                       buildings, --set magTrustSpread=0.005 holds heading where the field wanders
-        |                       (docs/ACCURACY.md, "Walks through buildings"); NAME=off (or 0) turns off
-        |                       a mechanism marked "or off"; names, units, defaults:
+        |                       (several: --set restMinTime=1,restBiasTime=3, or --set once for each);
+        |                       on a walk through buildings, --set magTrustSpread=0.005 holds heading
+        |                       where the field wanders (docs/ACCURACY.md, "Walks through buildings");
+        |                       NAME=off (or 0) turns off a mechanism marked "or off"; names, units, defaults:
         |${settingsTable()}
         |  --offline            the offline estimate: each orientation from the whole recording, the
         |                       samples after it as well as before (a forward and a backward pass
@@ -131,7 +131,7 @@ internal object FilterOptions {
             if (o.has("--no-rest-bias")) s = s.copy(restBiasEstimation = false)
             if (o.has("--no-mag-rejection")) s = s.copy(magDisturbanceRejection = false)
             if (o.has("--acc-rejection")) s = s.copy(accRejection = true)
-            o.value("--set")?.split(',')?.filter { it.isNotBlank() }?.forEach { a ->
+            o.values("--set").flatMap { it.split(',') }.filter { it.isNotBlank() }.forEach { a ->
                 if ('=' !in a) throw UsageException("--set expects NAME=VALUE, got '$a'")
                 s = applySet(s, a.trim())
             }

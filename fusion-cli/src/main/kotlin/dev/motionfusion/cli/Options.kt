@@ -3,10 +3,12 @@ package dev.motionfusion.cli
 /**
  * A parsed command line: options (`--name value`, `--name=value`, `-o value`, `--flag`) and
  * positional arguments. [valued] and [flags] list what the command accepts; anything else is a
- * [UsageException].
+ * [UsageException]. A valued option given twice is one too, unless it is [repeatable] (its
+ * values then all count, in order: [values]); a later value never silently replaces an earlier one.
  */
-internal class Options(args: List<String>, valued: Set<String>, flags: Set<String>) {
+internal class Options(args: List<String>, valued: Set<String>, flags: Set<String>, repeatable: Set<String> = REPEATABLE) {
     private val values = LinkedHashMap<String, String>()
+    private val repeated = LinkedHashMap<String, MutableList<String>>()
     private val set = HashSet<String>()
     val positional = ArrayList<String>()
 
@@ -25,7 +27,11 @@ internal class Options(args: List<String>, valued: Set<String>, flags: Set<Strin
                 when {
                     name in valued -> {
                         val v = if (eq > 0) a.substring(eq + 1) else args.getOrNull(++i) ?: throw UsageException("$name needs a value")
-                        values[name] = v
+                        val earlier = values.put(name, v)
+                        if (earlier != null && name !in repeatable) {
+                            throw UsageException("$name given twice ('$earlier', then '$v'); give it once")
+                        }
+                        repeated.getOrPut(name) { ArrayList() } += v
                     }
                     name in flags && eq < 0 -> set += name
                     else -> throw UsageException("unknown option '$a'")
@@ -36,11 +42,20 @@ internal class Options(args: List<String>, valued: Set<String>, flags: Set<Strin
     }
 
     fun has(flag: String): Boolean = flag in set
+    /** The value of [name]; for a repeatable option, the last one ([values] has them all). */
     fun value(name: String): String? = values[name]
+
+    /** Every value given to [name], in order. */
+    fun values(name: String): List<String> = repeated[name].orEmpty()
 
     fun double(name: String): Double? = values[name]?.let {
         it.toDoubleOrNull()?.takeIf { d -> d.isFinite() } ?: throw UsageException("$name expects a number, got '$it'")
     }
 
     fun long(name: String): Long? = values[name]?.let { it.toLongOrNull() ?: throw UsageException("$name expects an integer, got '$it'") }
+
+    companion object {
+        /** The options that may be given more than once: each `--set NAME=VALUE` adds to the others. */
+        val REPEATABLE = setOf("--set")
+    }
 }

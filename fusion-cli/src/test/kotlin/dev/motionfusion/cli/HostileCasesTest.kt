@@ -312,6 +312,7 @@ class HostileCasesTest {
         c += Case("--set of a word as a number", listOf("replay", "table.csv", "--set", "beta=abc"), 2, """--set beta: 'abc' is not a number""")
         c += Case("--set of an unknown mode", listOf("replay", "table.csv", "--set", "mode=fast"), 2, """--set mode: 'fast' is not one of IMU, MARG""")
         c += Case("--set of an unknown setting", listOf("replay", "table.csv", "--set", "nope=1"), 2, """--set nope: no such setting""")
+        c += Case("an option given twice", listOf("replay", "table.csv", "--beta", "0.1", "--beta=0.2"), 2, """--beta given twice \('0\.1', then '0\.2'\); give it once""")
         c += Case("--set of a word as a flag", listOf("replay", "table.csv", "--set", "accRejection=yes"), 2, """--set accRejection: 'yes' is not true or false""")
         c += Case("summary of a missing file", listOf("summary", "nope.csv"), 3, """nope\.csv: no such file""")
         c += Case("summary of corrupt gzip data", listOf("summary", "corrupt.csv.gz"), 1, """corrupt\.csv\.gz: corrupt compressed data""")

@@ -74,6 +74,8 @@ class RecordedSettingsTest {
         assertNotEquals(fusion("replay", recorded, "--quiet", "--default-settings").out, r.out)
         assertEquals(r.out, fusion("replay", recorded, "--quiet", "--default-settings", "--set", "headingGain=off,gyroSaturation=OFF").out)
         assertEquals(r.out, fusion("replay", recorded, "--quiet", "--default-settings", "--set", "headingGain=0,gyroSaturation=0").out)
+        // --set once for each setting: both apply (a later --set once silently replaced the earlier).
+        assertEquals(r.out, fusion("replay", recorded, "--quiet", "--default-settings", "--set", "headingGain=off", "--set", "gyroSaturation=off").out)
         // On again by a number; a setting that cannot be off refuses "off" in the tool's words.
         assertEquals(fusion("replay", recorded, "--quiet", "--default-settings").out, fusion("replay", recorded, "--quiet", "--set", "headingGain=${FilterSettings().headingGain},gyroSaturation=${FilterSettings().gyroSaturation}").out)
         val bad = fusion("replay", recorded, "--quiet", "--set", "beta=off")
