@@ -153,7 +153,7 @@ class SettingsActivityTest {
         assertEquals("", a.findViewById<TextView>(R.id.settings_message).text.toString())
         // Turned on again, a setting gets back the value it had.
         a.switch("heading_gain_1_s").isChecked = true
-        assertEquals(0.05f, a.slider("heading_gain_1_s").value, 1e-6f)
+        assertEquals(FilterSettings().headingGain!!.toFloat(), a.slider("heading_gain_1_s").value, 1e-6f)
     }
 
     @Test

@@ -95,11 +95,11 @@ public enum class Initialisation {
  *   estimate turns about the vertical towards magnetic north at this fraction of the heading error
  *   per second (time constant 1/headingGain), and the accelerometer alone corrects inclination with
  *   β. null (off) gives the report's MARG step, where one normalised gradient corrects both. Default
- *   0.05 (20 s).
+ *   0.08 (12.5 s; chosen with motionBiasGain by leaving one data set out, docs/ACCURACY.md).
  * @property motionBiasGain gyroscope bias estimation during motion (needs headingGain on), rad/s
  *   per unit heading error and second: the heading error sin δ, a rate about the estimated vertical,
  *   is integrated into the bias (a PI observer), so a bias is learnt without rest. null: off.
- *   Default 0.003.
+ *   Default 0.0015.
  * @property motionBiasRestTime after the rest estimate has acted, the motion estimate's gain ramps
  *   up from 0 to motionBiasGain over this time, s: a bias measured at rest is better than one
  *   inferred from heading errors until it may have drifted. 0: full gain at once. Default 300 s.
@@ -211,9 +211,9 @@ public data class FilterSettings(
     val recoveryStillTime: Double = 0.2,
     val accLowPassTime: Double? = 5.0,
     val gyroSaturation: Double? = 34.0,
-    val headingGain: Double? = 0.05,
+    val headingGain: Double? = 0.08,
     val headingRecoveryTime: Double? = 10.0,
-    val motionBiasGain: Double? = 0.003,
+    val motionBiasGain: Double? = 0.0015,
     val motionBiasRestTime: Double = 300.0,
     val motionBiasLimit: Double = 2.0 * DEG,
     val outputFrame: WorldFrame = WorldFrame.ENU,

@@ -48,6 +48,7 @@ class PeerRelativeTest {
     private fun check(input: String, metric: String, what: String, ours: Double, samples: Long) {
         val vqf = PeerFigures.of("realdata/$input", metric)
         assertTrue(samples > 0 && vqf.isFinite(), "$input: no $what samples (VQF: $vqf)")
+        println(String.format(Locale.ROOT, "%s: %s tilt %.2f° (median of %d), VQF %.2f°", input, what, ours, samples, vqf))
         assertTrue(
             ours <= vqf + PeerFigures.TILT_MARGIN_DEG,
             String.format(Locale.ROOT, "%s: %s tilt %.2f° (median of %d), VQF %.2f°: behind by %.2f° (allowed %.1f°)", input, what, ours, samples, vqf, ours - vqf, PeerFigures.TILT_MARGIN_DEG),

@@ -43,7 +43,9 @@ class MagneticDisturbanceHoldTest {
         val (during, after) = headingErrors(MagneticDisturbanceKind.FERROUS_PASS, 30.0, 8.0, hold)
         val (offDuring, offAfter) = headingErrors(MagneticDisturbanceKind.FERROUS_PASS, 30.0, 8.0, FilterSettings())
         println("ferrous pass: hold during %.2f° after %.2f°; off during %.2f° after %.2f°".format(during, after, offDuring, offAfter))
-        assertTrue(during < 2.0 && after < 2.0, "with the mechanism: $during°, $after°")
+        // What the object puts in before the detector rejects it grows with the heading gain: 1.7° at 0.05, 2.5° at the default 0.08.
+        assertTrue(during < 2.7 && after < 2.7, "with the mechanism: $during°, $after°")
+        assertTrue(during < 0.25 * offDuring, "with the mechanism $during°, without $offDuring°")
         assertTrue(offDuring > 4.0, "without it the object must pull the heading: $offDuring°")
     }
 

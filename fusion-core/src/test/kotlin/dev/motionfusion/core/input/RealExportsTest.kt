@@ -104,8 +104,9 @@ class RealExportsTest {
                     if (expected != null && expected != LOW_RATE) failures += "$input: replayed, expected an error with '$expected'"
                     if (expected != LOW_RATE && !(o.windows.percentile(0.5) < 10.0)) failures += "$input: tilt disagrees with the accelerometer's 1 s means by ${o.windows.percentile(0.5)}° (median)"
                     if (o.vsPhone != null && !(o.vsPhone.percentile(0.5) < 10.0)) failures += "$input: inclination differs from the phone's orientation by ${o.vsPhone.percentile(0.5)}° (median)"
-                    // The phone's heading (iOS: true north; the filter: magnetic north) within the declination and the filter's own error.
-                    if (nineD?.headingVsPhone != null && !(nineD.headingVsPhone.percentile(0.5) < 20.0)) failures += "$input: heading differs from the phone's orientation by ${nineD.headingVsPhone.percentile(0.5)}° (median, 9D)"
+                    // The phone's heading (iOS: true north; the filter: magnetic north) within the declination and the filter's own error,
+                    // except where the phone's heading follows a field it left an offset in (PHONE_FIELD_OFFSET).
+                    if (nineD?.headingVsPhone != null && input !in PHONE_FIELD_OFFSET && !(nineD.headingVsPhone.percentile(0.5) < 20.0)) failures += "$input: heading differs from the phone's orientation by ${nineD.headingVsPhone.percentile(0.5)}° (median, 9D)"
                     if (o.rows == 0L) failures += "$input: no rows"
                 }
             } catch (e: DataFormatException) {
@@ -158,6 +159,13 @@ class RealExportsTest {
         )
 
         const val LOW_RATE = "(replays, too slowly sampled to check)"
+
+        /**
+         * Exports whose own orientation follows a calibrated field that still holds an offset, so its heading is no
+         * reference: the filter takes 13 µT off sl-ios-siberiawolf's and the field's dip then spreads less
+         * (calib/RealMagnetometerTest); its heading is reported, not checked.
+         */
+        val PHONE_FIELD_OFFSET = setOf("sl-ios-siberiawolf")
     }
 
     private fun f(v: Double) = String.format(Locale.ROOT, "%.1f", v)
