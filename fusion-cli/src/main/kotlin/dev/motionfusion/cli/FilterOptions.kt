@@ -17,7 +17,7 @@ internal object FilterOptions {
     val FLAGS = setOf("--report", "--default-settings", "--no-rest-bias", "--no-mag-rejection", "--acc-rejection", "--offline")
 
     val HELP = """
-        |Filter settings (defaults: FilterSettings(), chosen by cross-validation on BROAD and phone recordings;
+        |Filter settings (defaults: FilterSettings(), chosen leaving one data set out of four (docs/ACCURACY.md);
         |a session whose meta.json records the live filter's settings starts from those instead, so
         |its replay reproduces orientation.csv; a note says so; the options below change them):
         |  --default-settings   start from FilterSettings() even for such a session
@@ -131,8 +131,13 @@ internal object FilterOptions {
             if (o.has("--no-rest-bias")) s = s.copy(restBiasEstimation = false)
             if (o.has("--no-mag-rejection")) s = s.copy(magDisturbanceRejection = false)
             if (o.has("--acc-rejection")) s = s.copy(accRejection = true)
+            // Each setting once: a second value for it, by --set or by its own option, would silently replace the first.
+            val given = HashMap<String, String>()
+            for ((option, name) in OWN_OPTIONS) if (o.has(option) || o.value(option) != null) given[name] = option
             o.values("--set").flatMap { it.split(',') }.filter { it.isNotBlank() }.forEach { a ->
                 if ('=' !in a) throw UsageException("--set expects NAME=VALUE, got '$a'")
+                val name = a.substringBefore('=').trim()
+                given.put(name, "--set $name")?.let { earlier -> throw UsageException("--set $name: $name is already given by $earlier; give it once") }
                 s = applySet(s, a.trim())
             }
         } catch (e: IllegalArgumentException) {
@@ -140,6 +145,12 @@ internal object FilterOptions {
         }
         return s
     }
+
+    /** The options that set one FilterSettings property each, and that property. */
+    private val OWN_OPTIONS = listOf(
+        "--mode" to "mode", "--beta" to "beta", "--zeta" to "zeta", "--max-gap" to "maxGap", "--init" to "initialisation",
+        "--no-rest-bias" to "restBiasEstimation", "--no-mag-rejection" to "magDisturbanceRejection", "--acc-rejection" to "accRejection",
+    )
 
     /** [s] with the number setting [name] (option [option]) set through its descriptor, so its limits apply. */
     private fun number(s: FilterSettings, option: String, name: String, v: Double): FilterSettings = try {

@@ -3,8 +3,9 @@ package dev.motionfusion.cli
 /**
  * A parsed command line: options (`--name value`, `--name=value`, `-o value`, `--flag`) and
  * positional arguments. [valued] and [flags] list what the command accepts; anything else is a
- * [UsageException]. A valued option given twice is one too, unless it is [repeatable] (its
- * values then all count, in order: [values]); a later value never silently replaces an earlier one.
+ * [UsageException]. A valued option given twice, under either of its spellings ([ALIASES]: `-o` and
+ * `--output`), is one too, unless it is [repeatable] (its values then all count, in order: [values]);
+ * a later value never silently replaces an earlier one.
  */
 internal class Options(args: List<String>, valued: Set<String>, flags: Set<String>, repeatable: Set<String> = REPEATABLE) {
     private val values = LinkedHashMap<String, String>()
@@ -23,17 +24,19 @@ internal class Options(args: List<String>, valued: Set<String>, flags: Set<Strin
                 onlyPositional = true
             } else {
                 val eq = a.indexOf('=')
-                val name = if (eq > 0) a.substring(0, eq) else a
+                val given = if (eq > 0) a.substring(0, eq) else a
+                val name = ALIASES[given] ?: given
                 when {
-                    name in valued -> {
-                        val v = if (eq > 0) a.substring(eq + 1) else args.getOrNull(++i) ?: throw UsageException("$name needs a value")
+                    given in valued -> {
+                        val v = if (eq > 0) a.substring(eq + 1) else args.getOrNull(++i) ?: throw UsageException("$given needs a value")
                         val earlier = values.put(name, v)
                         if (earlier != null && name !in repeatable) {
-                            throw UsageException("$name given twice ('$earlier', then '$v'); give it once")
+                            val shown = ALIASES.entries.firstOrNull { it.value == name }?.let { "$name/${it.key}" } ?: name
+                            throw UsageException("$shown given twice ('$earlier', then '$v'); give it once")
                         }
                         repeated.getOrPut(name) { ArrayList() } += v
                     }
-                    name in flags && eq < 0 -> set += name
+                    given in flags && eq < 0 -> set += given
                     else -> throw UsageException("unknown option '$a'")
                 }
             }
@@ -42,20 +45,23 @@ internal class Options(args: List<String>, valued: Set<String>, flags: Set<Strin
     }
 
     fun has(flag: String): Boolean = flag in set
-    /** The value of [name]; for a repeatable option, the last one ([values] has them all). */
-    fun value(name: String): String? = values[name]
+    /** The value of [name] (either spelling); for a repeatable option, the last one ([values] has them all). */
+    fun value(name: String): String? = values[ALIASES[name] ?: name]
 
     /** Every value given to [name], in order. */
-    fun values(name: String): List<String> = repeated[name].orEmpty()
+    fun values(name: String): List<String> = repeated[ALIASES[name] ?: name].orEmpty()
 
-    fun double(name: String): Double? = values[name]?.let {
+    fun double(name: String): Double? = value(name)?.let {
         it.toDoubleOrNull()?.takeIf { d -> d.isFinite() } ?: throw UsageException("$name expects a number, got '$it'")
     }
 
-    fun long(name: String): Long? = values[name]?.let { it.toLongOrNull() ?: throw UsageException("$name expects an integer, got '$it'") }
+    fun long(name: String): Long? = value(name)?.let { it.toLongOrNull() ?: throw UsageException("$name expects an integer, got '$it'") }
 
     companion object {
         /** The options that may be given more than once: each `--set NAME=VALUE` adds to the others. */
         val REPEATABLE = setOf("--set")
+
+        /** Two spellings of one option: given once each, they are the option given twice. */
+        val ALIASES = mapOf("--output" to "-o")
     }
 }

@@ -12,6 +12,7 @@ import org.junit.jupiter.api.Test
 import java.nio.file.Files
 import java.nio.file.Path
 import java.nio.file.Paths
+import kotlin.math.abs
 import kotlin.math.asin
 import kotlin.math.sqrt
 
@@ -83,9 +84,10 @@ class RealMagnetometerTest {
     /**
      * iOS's calibrated field in this export keeps an offset of its own: the filter's hard-iron estimate
      * (HardIronEstimate, from the field's turning against the gyroscope) takes off about 13 µT, and the field's
-     * dip against the accelerometer then spreads less (2.8° → 1.6°; it reads 65° where iOS's field reads 78°).
-     * That is why the filter's heading is 25° from the phone's own orientation here, which follows iOS's field
-     * (RealExportsTest leaves this export's heading out).
+     * dip against the accelerometer then reads 65° where iOS's field reads 78°. The export's Location.csv puts it
+     * at 52.35° N, 4.92° E, where the earth's field dips about 67° (WMM), and the dip spreads less (2.8° → 1.6°).
+     * The filter's heading is 25° from the phone's own orientation here, consistent with that offset
+     * (RealExportsTest checks the phone's heading against the filter's on the field as read).
      */
     @Test
     fun `the hard-iron estimate steadies the dip of a field iOS calibrated`() {
@@ -124,6 +126,8 @@ class RealMagnetometerTest {
         assertTrue(a.size > 3000, "${a.size} steps")
         assertTrue(offset.norm() > 5.0, "offset $offset")
         assertTrue(taken.std < 0.7 * phone.std, "dip spread ${phone.std}° → ${taken.std}°")
+        // The dip is measured against the specific force (up), so it reads negative; the earth's there is 67° down.
+        assertTrue(abs(-taken.mean - EARTH_DIP_DEG) < abs(-phone.mean - EARTH_DIP_DEG) - 5.0, "dip ${phone.mean}° → ${taken.mean}°, the earth's $EARTH_DIP_DEG°")
     }
 
     @Test
@@ -153,5 +157,10 @@ class RealMagnetometerTest {
                 assertTrue(d < 3 * g.biasStdError[k] + 2e-4, "axis $k: ours ${g.bias[k]}, the phone's ${phone[k].mean}")
             }
         }
+    }
+
+    private companion object {
+        /** The earth's field's dip at the export's Location.csv (52.35° N, 4.92° E) in 2023, WMM2020, degrees. */
+        const val EARTH_DIP_DEG = 67.0
     }
 }
