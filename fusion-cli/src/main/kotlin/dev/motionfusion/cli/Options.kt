@@ -4,10 +4,10 @@ package dev.motionfusion.cli
  * A parsed command line: options (`--name value`, `--name=value`, `-o value`, `--flag`) and
  * positional arguments. [valued] and [flags] list what the command accepts; anything else is a
  * [UsageException]. A valued option given twice, under either of its spellings ([ALIASES]: `-o` and
- * `--output`), is one too, unless it is [repeatable] (its values then all count, in order: [values]);
+ * `--output`), is one too, unless it is [REPEATABLE] (its values then all count, in order: [values]);
  * a later value never silently replaces an earlier one.
  */
-internal class Options(args: List<String>, valued: Set<String>, flags: Set<String>, repeatable: Set<String> = REPEATABLE) {
+internal class Options(args: List<String>, valued: Set<String>, flags: Set<String>) {
     private val values = LinkedHashMap<String, String>()
     private val repeated = LinkedHashMap<String, MutableList<String>>()
     private val set = HashSet<String>()
@@ -30,7 +30,7 @@ internal class Options(args: List<String>, valued: Set<String>, flags: Set<Strin
                     given in valued -> {
                         val v = if (eq > 0) a.substring(eq + 1) else args.getOrNull(++i) ?: throw UsageException("$given needs a value")
                         val earlier = values.put(name, v)
-                        if (earlier != null && name !in repeatable) {
+                        if (earlier != null && name !in REPEATABLE) {
                             val shown = ALIASES.entries.firstOrNull { it.value == name }?.let { "$name/${it.key}" } ?: name
                             throw UsageException("$shown given twice ('$earlier', then '$v'); give it once")
                         }
