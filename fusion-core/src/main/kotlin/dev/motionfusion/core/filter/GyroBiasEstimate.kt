@@ -45,9 +45,14 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     /** The rest estimate: one gyroscope step of [dt] s with the reading [gx], [gy], [gz] and, when [accOk], the accelerometer's. */
     fun update(dt: Double, gx: Double, gy: Double, gz: Double, accOk: Boolean, ax: Double, ay: Double, az: Double) {
         if (rest != null && rest.update(dt, gx, gy, gz, accOk, ax, ay, az)) {
-            // Mean of the readings since rest began, then a moving average over restBiasTime.
-            val k = dt / minOf(restBiasTime, rest.restTime - rest.acceptedAfter + dt)
-            x += k * (gx - x); y += k * (gy - y); z += k * (gz - z)
+            // The mean of the readings since rest began (the rest conditions' start, restMinTime or more before the
+            // rest was declared: one step's reading is noise), then a moving average over restBiasTime.
+            if (rest.declared || rest.restTime <= restBiasTime) {
+                x = rest.meanX; y = rest.meanY; z = rest.meanZ
+            } else {
+                val k = dt / restBiasTime
+                x += k * (gx - x); y += k * (gy - y); z += k * (gz - z)
+            }
             sinceRest = 0.0
         } else if (inMotion) {
             sinceRest += dt

@@ -29,15 +29,22 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     var restTime = 0.0
         private set
 
-    /**
-     * The rest time at which the current rest was declared: restMinTime, or restImplausibleTime when the
-     * low-passed gyroscope was beyond restMaxRate then.
-     */
-    var acceptedAfter = minTime
+    /** Whether the last step declared the rest (the first of its steps at rest). */
+    var declared = false
         private set
 
     // Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s.
     private var plausibleTime = 0.0
+
+    // The gyroscope readings since the rest conditions began, each times its step, rad.
+    private var sumX = 0.0
+    private var sumY = 0.0
+    private var sumZ = 0.0
+
+    /** The mean gyroscope reading since the rest conditions began (over [restTime]), rad/s; 0 while they do not hold. */
+    val meanX: Double get() = if (restTime > 0.0) sumX / restTime else 0.0
+    val meanY: Double get() = if (restTime > 0.0) sumY / restTime else 0.0
+    val meanZ: Double get() = if (restTime > 0.0) sumZ / restTime else 0.0
 
     /** True once the rest conditions have held for restMinTime (restImplausibleTime for a mean rate beyond restMaxRate). */
     var atRest = false
@@ -50,7 +57,9 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     fun update(dt: Double, wx: Double, wy: Double, wz: Double, accValid: Boolean, sx: Double, sy: Double, sz: Double): Boolean {
         if (!accValid) {
             restTime = 0.0
+            sumX = 0.0; sumY = 0.0; sumZ = 0.0
             atRest = false
+            declared = false
             return false
         }
         if (!started) {
@@ -71,19 +80,26 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         val still = dgx * dgx + dgy * dgy + dgz * dgz < gyroThreshold2 &&
             gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
             dax * dax + day * day + daz * daz < accThreshold2
-        restTime = if (still) restTime + dt else 0.0
+        if (still) {
+            restTime += dt
+            sumX += wx * dt; sumY += wy * dt; sumZ += wz * dt
+        } else {
+            restTime = 0.0
+            sumX = 0.0; sumY = 0.0; sumZ = 0.0
+        }
         // A mean rate beyond restMaxRate is more likely a slow turn than a bias: the rest conditions must then have
         // held for restImplausibleTime, else restMinTime within restMaxRate.
         plausibleTime = if (still && gx * gx + gy * gy + gz * gz < maxRate2) plausibleTime + dt else 0.0
         val was = atRest
         atRest = still && (plausibleTime >= minTime || restTime >= implausibleTime)
-        if (atRest && !was) acceptedAfter = if (plausibleTime >= minTime) restTime - plausibleTime + minTime else implausibleTime
+        declared = atRest && !was
         return atRest
     }
 
     /** For a run backward in time (gyroscope readings negated): the gyroscope low-pass is negated too. */
     fun reverse() {
         gx = -gx; gy = -gy; gz = -gz
+        sumX = -sumX; sumY = -sumY; sumZ = -sumZ
     }
 
     override fun reset() {
@@ -92,18 +108,19 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         ax = 0.0; ay = 0.0; az = 0.0
         restTime = 0.0
         atRest = false
-        acceptedAfter = minTime
+        declared = false
         plausibleTime = 0.0
+        sumX = 0.0; sumY = 0.0; sumZ = 0.0
     }
 
-    /** The low-passed gyroscope and accelerometer, the time at rest, the verdict and the rest plausibility's times. */
+    /** The low-passed gyroscope and accelerometer, the time at rest, the verdict, the rest plausibility's time and the readings' sums. */
     data class State(
         val started: Boolean, val gx: Double, val gy: Double, val gz: Double,
         val ax: Double, val ay: Double, val az: Double, val restTime: Double, val atRest: Boolean,
-        val acceptedAfter: Double, val plausibleTime: Double,
+        val plausibleTime: Double, val sumX: Double, val sumY: Double, val sumZ: Double,
     )
 
-    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest, acceptedAfter, plausibleTime)
+    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest, plausibleTime, sumX, sumY, sumZ)
 
     override fun restore(state: State) {
         started = state.started
@@ -111,8 +128,9 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         ax = state.ax; ay = state.ay; az = state.az
         restTime = state.restTime
         atRest = state.atRest
-        acceptedAfter = state.acceptedAfter
+        declared = false
         plausibleTime = state.plausibleTime
+        sumX = state.sumX; sumY = state.sumY; sumZ = state.sumZ
     }
 
     companion object {

@@ -98,6 +98,29 @@ class FilterBehaviourTest {
     }
 
     @Test
+    fun `a rest that ends as it is declared takes the mean of its readings, not its last one`() {
+        // A noisy gyroscope (each reading 0.02 rad/s from the bias on every axis, within restGyroThreshold), still
+        // until rest is declared, then moving: a walker who stops for two seconds. The bias it leaves is what the
+        // rest of the recording runs on; one reading as the bias would be 1.1°/s off on each axis.
+        val bias = doubleArrayOf(0.004, -0.003, 0.005)
+        val filter = MadgwickFilter()
+        var t = 0L
+        var k = 0
+        while (!filter.diagnostics().atRest) {
+            assertTrue(k < 1000, "no rest within 10 s")
+            val s = if (k % 2 == 0) 0.02 else -0.02
+            t += 10_000_000L
+            filter.update(t, bias[0] + s, bias[1] - s, bias[2] + s, 0.0, 0.0, 9.81)
+            k++
+        }
+        t += 10_000_000L
+        filter.update(t, 1.0, 0.0, 0.0, 0.0, 0.0, 9.81)
+        assertFalse(filter.diagnostics().atRest)
+        val b = filter.diagnostics().gyroBias
+        for ((axis, v) in listOf(b.x, b.y, b.z).withIndex()) assertEquals(bias[axis], v, 1e-3, "bias axis $axis")
+    }
+
+    @Test
     fun `the gyroscope holds heading through a magnetic disturbance`() {
         val disturbed = MotionSimulator(base.copy(hardIron = Vector3(30.0, -20.0, 10.0), hardIronWindow = TimeWindow(20.0, 40.0))).run()
         val from = index(disturbed, 20.0)
