@@ -24,12 +24,13 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |  euroc    OUT/ as an EuRoC (ASL) folder: mav0/imu0/data.csv and sensor.yaml (gyroscope
         |           rad/s, accelerometer m/s²), mav0/mag0/data.csv (magnetometer µT, each reading at
         |           its own time), mav0/state_groundtruth_estimate0/data.csv: the fused orientation
-        |           of the replay (an estimate, not ground truth; position 0)
+        |           of the replay (an estimate, not ground truth; EuRoC's 17 columns, position,
+        |           velocity and biases 0)
         |  kalibr   OUT/ holding imu0.csv (timestamp,omega_x,…,alpha_z) and imu.yaml, as
         |           kalibr_bagcreater and kalibr read them
         |  gcsv     OUT as a Gyroflow gcsv 1.3 log (gyroscope, accelerometer, magnetometer)
-        |  ros2     OUT as a ROS 2 MCAP file (CDR): sensor_msgs/msg/Imu on imu/data_raw (no
-        |           orientation) and imu/data (the replay's orientation), MagneticField on imu/mag
+        |  ros2     OUT as a ROS 2 MCAP file (CDR): sensor_msgs/msg/Imu on /imu/data_raw (no
+        |           orientation) and /imu/data (the replay's orientation), MagneticField on /imu/mag
         |           (tesla), frame_id imu_link; covariances as REP-145 says: angular velocity and linear
         |           acceleration from --noise (N²·f on the diagonal), else unknown (0)
         |Rows: one per gyroscope sample from the first accelerometer reading on (for gcsv with a
@@ -99,6 +100,9 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
                         (if (withMore && SessionStream.MAGNETOMETER in rec.streams) ", ${result.magnetometerRows} magnetometer rows" else "") +
                         " (${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer samples read)",
                 )
+            }
+            if (result.clockShiftNs != 0L) {
+                err.println("fusion export: note: ${rec.name} starts before t = 0; every time written is ${result.clockShiftNs / 1_000_000_000L} s later than the recording's (the formats' times are never negative; the files say so)")
             }
         }
         return ExitCode.OK

@@ -58,6 +58,16 @@ class ExportReadersTest {
         val r = fusion("export", session.toString(), "--format", "euroc", "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
         assertEquals("#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]", Files.readAllLines(out.resolve("mav0/imu0/data.csv"))[0])
+        // EuRoC's ground truth has 17 columns, and readers that take all of them (Kimera-VIO's) read 17 fields a row
+        // whatever the file holds: position, velocity and the biases are not estimated, so 0.
+        val truth = Files.readAllLines(out.resolve("mav0/state_groundtruth_estimate0/data.csv"))
+        assertEquals(17, truth[0].split(',').size, truth[0])
+        assertEquals(times.size, truth.size - 1, "ground-truth rows")
+        for (line in truth.drop(1)) {
+            val f = line.split(',')
+            assertEquals(17, f.size, line)
+            for (c in (1..3) + (8..16)) assertEquals(0.0, f[c].toDouble(), "column $c of $line")
+        }
         val read = python("euroc", out.resolve("mav0"), "evo")
         // Orientation: evo's trajectory (seconds as ns / 1e9, quaternion w x y z, position).
         val pose = read.getValue("pose_row")
@@ -141,14 +151,14 @@ class ExportReadersTest {
         assertEquals(ExitCode.OK, r.code, r.err)
         val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel, yaml")
         for (reader in listOf("mcap", "rosbags")) {
-            for (topic in listOf("imu/data_raw", "imu/data")) {
+            for (topic in listOf("/imu/data_raw", "/imu/data")) {
                 val messages = read.getValue("$reader:$topic")
                 assertEquals(times.size, messages.size, "$reader $topic messages")
                 for ((k, m) in messages.withIndex()) {
                     stamp(times[k], m, "$reader $topic $k")
                     assertEquals("imu_link", m[3])
                     val v = m.drop(4).map { it.toDouble() }
-                    if (topic == "imu/data") {
+                    if (topic == "/imu/data") {
                         // The replay's CSV has the quaternion to 9 decimals; the message its full double.
                         for (c in 0 until 4) assertEquals(quaternions[k][c].toDouble(), v[c], 5e-10, "$reader $topic $k q$c")
                     } else {
@@ -156,13 +166,13 @@ class ExportReadersTest {
                     }
                     // Gyroscope and accelerometer: the recorded float, exactly.
                     for (c in 0 until 6) assertEquals(rows[k][c].toFloat().toDouble(), v[4 + c], "$reader $topic $k value $c")
-                    assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0] (REP-145: -1 = not provided)")
+                    assertEquals(if (topic == "/imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0] (REP-145: -1 = not provided)")
                     // No noise model: the covariances unknown, zeros.
                     assertEquals(0.0, v[11]); assertEquals(0.0, v[12]); assertEquals(0.0, v[13])
                     for (c in 14 until 20) assertEquals(0.0, v[c], "$reader $topic $k covariance diagonal")
                 }
             }
-            val mag = read.getValue("$reader:imu/mag")
+            val mag = read.getValue("$reader:/imu/mag")
             assertEquals(magnetometer.size, mag.size, "$reader magnetometer messages")
             for ((k, m) in mag.withIndex()) {
                 stamp(magnetometer[k][0].toLong(), m, "$reader mag $k")
@@ -170,8 +180,8 @@ class ExportReadersTest {
                 for (c in 0 until 3) assertEquals(magnetometer[k][1 + c].toFloat().toDouble() * 1e-6, m[4 + c].toDouble(), "$reader mag $k axis $c")
             }
         }
-        val chunks = indexed(read, mapOf("imu/data_raw" to times, "imu/data" to times, "imu/mag" to magnetometer.map { it[0].toLong() }))
-        println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} imu/data_raw, ${times.size} imu/data, ${magnetometer.size} imu/mag messages each; " +
+        val chunks = indexed(read, mapOf("/imu/data_raw" to times, "/imu/data" to times, "/imu/mag" to magnetometer.map { it[0].toLong() }))
+        println("ros2 via mcap+mcap-ros2-support and rosbags: ${times.size} /imu/data_raw, ${times.size} /imu/data, ${magnetometer.size} /imu/mag messages each; " +
             "first/last ${times.first()}/${times.last()} ns; every value equal (quaternion within the replay CSV's 9 decimals); " +
             "$chunks chunk(s) with message indexes, statistics and summary as written, CRCs valid; offered_qos_profiles: sensor data (keep last 5, best effort, volatile)")
     }
@@ -189,21 +199,21 @@ class ExportReadersTest {
         val acc = 0.0012 * 0.0012 * f
         assertTrue(gyro > 0 && acc > 0)
         for (reader in listOf("mcap", "rosbags")) {
-            for (topic in listOf("imu/data_raw", "imu/data")) {
+            for (topic in listOf("/imu/data_raw", "/imu/data")) {
                 val messages = read.getValue("$reader:$topic")
                 assertEquals(times.size, messages.size, "$reader $topic messages")
                 for ((k, m) in messages.withIndex()) {
                     val v = m.drop(4).map { it.toDouble() }
-                    assertEquals(if (topic == "imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0]")
+                    assertEquals(if (topic == "/imu/data_raw") -1.0 else 0.0, v[10], "orientation_covariance[0]")
                     assertEquals(0.0, v[13], "$reader $topic $k off the diagonals")
                     for (c in 14 until 17) assertEquals(gyro, v[c], "$reader $topic $k angular_velocity_covariance diagonal")
                     for (c in 17 until 20) assertEquals(acc, v[c], "$reader $topic $k linear_acceleration_covariance diagonal")
                 }
             }
             // The magnetometer has no noise model: unknown.
-            for (m in read.getValue("$reader:imu/mag")) for (c in 3 until 8) assertEquals(0.0, m[4 + c].toDouble())
+            for (m in read.getValue("$reader:/imu/mag")) for (c in 3 until 8) assertEquals(0.0, m[4 + c].toDouble())
         }
-        indexed(read, mapOf("imu/data_raw" to times, "imu/data" to times, "imu/mag" to magnetometer.map { it[0].toLong() }))
+        indexed(read, mapOf("/imu/data_raw" to times, "/imu/data" to times, "/imu/mag" to magnetometer.map { it[0].toLong() }))
         println("ros2 covariances via mcap and rosbags: angular velocity $gyro rad²/s², linear acceleration $acc m²/s⁴ at f = $f Hz on every message")
     }
 
@@ -218,10 +228,10 @@ class ExportReadersTest {
         val r = fusion("export", long.toString(), "--format", "ros2", "-o", out.toString())
         assertEquals(ExitCode.OK, r.code, r.err)
         val read = python("ros2", out, "mcap_ros2.decoder, rosbags.highlevel, yaml")
-        // imu/data starts at the filter's first orientation: the last of the gyroscope's times.
-        val oriented = read.getValue("mcap:imu/data").size
-        assertTrue(oriented > gyroscope.size - 100, "imu/data messages: $oriented of ${gyroscope.size}")
-        val expected = mapOf("imu/data_raw" to gyroscope, "imu/data" to gyroscope.takeLast(oriented), "imu/mag" to field)
+        // /imu/data starts at the filter's first orientation: the last of the gyroscope's times.
+        val oriented = read.getValue("mcap:/imu/data").size
+        assertTrue(oriented > gyroscope.size - 100, "/imu/data messages: $oriented of ${gyroscope.size}")
+        val expected = mapOf("/imu/data_raw" to gyroscope, "/imu/data" to gyroscope.takeLast(oriented), "/imu/mag" to field)
         val chunks = indexed(read, expected)
         assertTrue(chunks >= 3, "chunks: $chunks")
         // Both readers: every message of each topic once, at its time, in order across the chunks' boundaries.
@@ -232,7 +242,7 @@ class ExportReadersTest {
         val sizes = read.getValue("chunk").map { it[2].toLong() }
         assertTrue(sizes.dropLast(1).all { it in (1L shl 20) until (1L shl 20) + 4096 }, "chunk record sizes $sizes: closed at 1 MiB")
         println("ros2 over ${chunks} chunks (record bytes $sizes): ${expected.values.sumOf { it.size }} messages " +
-            "(${gyroscope.size} imu/data_raw, $oriented imu/data, ${field.size} imu/mag), each once and in log-time order by mcap's index and by rosbags")
+            "(${gyroscope.size} /imu/data_raw, $oriented /imu/data, ${field.size} /imu/mag), each once and in log-time order by mcap's index and by rosbags")
     }
 
     /**
@@ -547,6 +557,41 @@ class ExportReadersTest {
         assertEquals(ExitCode.OK, fusion("export", table.toString(), "--format", "euroc", "-o", euroc.toString(), "--quiet").code)
         val sensor = Files.readAllLines(euroc.resolve("mav0/imu0/sensor.yaml")).single { it.startsWith("rate_hz:") }
         assertTrue(sensor.startsWith("rate_hz: 100.000"), sensor)
+    }
+
+    @Test
+    fun `a clock that starts before 0 is moved a whole second later in every format, and says so`() {
+        // As a phyphox export whose first samples come before its t = 0: 100 Hz from t = -0.0758 s.
+        val table = dir.resolve("early.csv")
+        val lines = mutableListOf("t_s,gx,gy,gz,ax,ay,az,mx,my,mz")
+        for (k in 0 until 300) lines += String.format(java.util.Locale.ROOT, "%.4f,0.01,0,0,0,0,9.81,20,0,-40", -0.0758 + k * 0.01)
+        Files.write(table, lines)
+        fun expected(k: Int) = Math.round((-0.0758 + k * 0.01) * 1e9) + 1_000_000_000L
+        val kalibr = dir.resolve("early-kalibr")
+        val r = fusion("export", table.toString(), "--format", "kalibr", "-o", kalibr.toString())
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue("early.csv starts before t = 0; every time written is 1 s later" in r.err, r.err)
+        val stamps = Files.readAllLines(kalibr.resolve("imu0.csv")).drop(1).map { it.substringBefore(',') }
+        assertEquals(300, stamps.size)
+        for ((k, s) in stamps.withIndex()) {
+            assertTrue(s.length >= 10 && s.all { it.isDigit() }, "row $k: '$s'")
+            assertEquals(expected(k), s.toLong(), "row $k")
+        }
+        assertTrue("the recording's own clock + 1 s (it starts before 0)" in Files.readString(kalibr.resolve("imu.yaml")))
+        val euroc = dir.resolve("early-euroc")
+        assertEquals(ExitCode.OK, fusion("export", table.toString(), "--format", "euroc", "-o", euroc.toString(), "--quiet").code)
+        for (file in listOf("imu0", "mag0")) {
+            val times = Files.readAllLines(euroc.resolve("mav0/$file/data.csv")).drop(1).map { it.substringBefore(',').toLong() }
+            assertEquals(expected(0), times.first(), file)
+            assertEquals(expected(299), times.last(), file)
+        }
+        assertTrue("+ 1 s" in Files.readString(euroc.resolve("mav0/mag0/sensor.yaml")))
+        // A time before 0 wraps round in MCAP's unsigned log time: none may be written.
+        val mcap = dir.resolve("early.mcap")
+        assertEquals(ExitCode.OK, fusion("export", table.toString(), "--format", "ros2", "-o", mcap.toString(), "--quiet").code)
+        val read = python("ros2", mcap, "mcap_ros2.decoder, rosbags.highlevel, yaml")
+        assertEquals(expected(0), read.getValue("mcap:/imu/data_raw").first()[0].toLong())
+        assertEquals(expected(0), read.getValue("mcap:/imu/mag").first()[0].toLong())
     }
 
     @Test

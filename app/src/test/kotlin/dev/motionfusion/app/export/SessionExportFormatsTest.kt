@@ -129,9 +129,9 @@ class SessionExportFormatsTest {
         assertEquals(gyro, lines.drop(header + 1).map { it.substringBefore(',').toLong() })
 
         val mcap = McapRead(export(dir, ExportChoice(ExportKind.ROS2)))
-        assertEquals(gyro, mcap.logTimes.getValue("imu/data_raw"))
-        assertEquals(pose.map { it[0].toLong() }, mcap.logTimes.getValue("imu/data"))
-        assertEquals(mag, mcap.logTimes.getValue("imu/mag"))
+        assertEquals(gyro, mcap.logTimes.getValue("/imu/data_raw"))
+        assertEquals(pose.map { it[0].toLong() }, mcap.logTimes.getValue("/imu/data"))
+        assertEquals(mag, mcap.logTimes.getValue("/imu/mag"))
         println("app exports of a 6-s session: euroc ${gyro.size} IMU / ${pose.size} pose / ${mag.size} mag rows, kalibr ${gyro.size}, gcsv ${gyro.size}, " +
             "ros2 ${gyro.size} + ${pose.size} + ${mag.size} messages; first/last ${gyro.first()}/${gyro.last()} ns in each")
     }

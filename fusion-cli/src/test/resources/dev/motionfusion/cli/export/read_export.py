@@ -160,8 +160,8 @@ def mcap_layout(data, summary):
 def ros2_row(reader, topic, log_time, m):
     """One message: log time, stamp, frame_id, the values, the covariances' first entry, the largest magnitude
     off their diagonals, then the diagonals of the angular velocity and linear acceleration covariances
-    (of the magnetic field's on imu/mag)."""
-    if topic == "imu/mag":
+    (of the magnetic field's on /imu/mag)."""
+    if topic == "/imu/mag":
         values = [m.magnetic_field.x, m.magnetic_field.y, m.magnetic_field.z]
         covariances = [list(m.magnetic_field_covariance)]
         diagonals = [list(m.magnetic_field_covariance)]

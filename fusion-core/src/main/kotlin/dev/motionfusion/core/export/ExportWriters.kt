@@ -22,10 +22,15 @@ import java.nio.file.Path
 import java.util.Locale
 
 /** What every export says about where it came from and its frames. */
-internal class About(rec: Recording, generator: String, mode: String, offline: Boolean, calibrated: Boolean, val world: String = WORLD) {
+internal class About(
+    rec: Recording, generator: String, mode: String, offline: Boolean, calibrated: Boolean, val world: String = WORLD, shiftNs: Long = 0L,
+) {
     val source = "$generator from ${rec.format.description} ${rec.name}"
     val device = rec.metadata?.device?.let { "${it.manufacturer} ${it.model}".trim() }?.takeIf { it.isNotEmpty() }
     val filter = "Madgwick ${if (mode == "IMU") "6D" else "9D"}${if (offline) " offline" else ""}${if (calibrated) ", calibrated readings" else ""}"
+
+    /** The clock of the times written: the recording's own, or that moved later by [shiftNs] (Exports.clockShift). */
+    val time = if (shiftNs == 0L) TIME else "the recording's own clock + ${shiftNs / 1_000_000_000L} s (it starts before 0), ns"
 
     companion object {
         const val AXES = "Android device axes: x right, y up (top edge), z out of the screen; right-handed"
@@ -91,6 +96,9 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     fun floats(v: DoubleArray, n: Int = 3): CsvFile { for (k in 0 until n) { sep(); p = AsciiNumbers.float(buf, p, v[k].toFloat()) }; return this }
     fun fixed(v: Double, decimals: Int = 9): CsvFile { sep(); p = AsciiNumbers.fixed(buf, p, v, decimals); return this }
 
+    /** [n] columns of 0: what a format requires and nothing estimated. */
+    fun zeros(n: Int): CsvFile { repeat(n) { sep(); buf[p++] = '0'.code.toByte() }; return this }
+
     fun end() {
         buf[p++] = '\n'.code.toByte()
         out.write(buf, 0, p)
@@ -102,11 +110,11 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     override fun close() = out.close()
 }
 
-/** The events of a replay, each magnetometer reading also handed to [writer] at its own time. */
-internal class MagnetometerTee(private val events: SensorEvents, private val writer: ExportWriter) : SensorEvents by events {
+/** The events of a replay, each magnetometer reading also handed to [writer] at its own time (moved by [shiftNs]). */
+internal class MagnetometerTee(private val events: SensorEvents, private val writer: ExportWriter, private val shiftNs: Long) : SensorEvents by events {
     override fun next(): Boolean {
         val more = events.next()
-        if (more && events.stream == SessionStream.MAGNETOMETER) writer.magnetometer(events.timestampNs, events.values)
+        if (more && events.stream == SessionStream.MAGNETOMETER) writer.magnetometer(events.timestampNs + shiftNs, events.values)
         return more
     }
 }
@@ -133,9 +141,10 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
         imu.long(step.timestampNs).floats(step.angularVelocity).floats(step.specificForce).end()
         if (step.initialised) {
             orientationRows++
-            pose.long(step.timestampNs).fixed(0.0).fixed(0.0).fixed(0.0)
+            // Position, then after the orientation velocity and the two biases: not estimated, 0.
+            pose.long(step.timestampNs).zeros(3)
             for (k in 0 until 4) pose.fixed(step.orientation[k])
-            pose.end()
+            pose.zeros(9).end()
         }
     }
 
@@ -148,7 +157,7 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
     override fun finish() {
         write("imu0/sensor.yaml", buildString {
             appendLine("# ${about.source}${about.device?.let { " ($it)" } ?: ""}")
-            appendLine("# Readings in $AXES_COMMENT; times: ${About.TIME}.")
+            appendLine("# Readings in $AXES_COMMENT; times: ${about.time}.")
             appendLine("sensor_type: imu")
             appendLine("comment: ${yamlString("phone IMU" + (about.device?.let { " of $it" } ?: "") + ": gyroscope (rad/s) and accelerometer (specific force, m/s^2) in Android device axes; one row per gyroscope sample, the accelerometer held")}")
             appendLine()
@@ -171,17 +180,18 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
         write("state_groundtruth_estimate0/sensor.yaml", buildString {
             appendLine("# ${about.source}")
             appendLine("# NOT ground truth: the orientation estimated by the ${about.filter} filter of fusion replay")
-            appendLine("# (the same options give the same rows). Position: not estimated, written as 0.")
+            appendLine("# (the same options give the same rows). Position, velocity and the gyroscope and")
+            appendLine("# accelerometer biases: not estimated, written as 0 (EuRoC's 17 columns, so its readers parse it).")
             appendLine("# q_RS: ${About.QUATERNION}; R is ${about.world}; S the device ($AXES_COMMENT).")
-            appendLine("# Rows from the filter's first orientation on; times: ${About.TIME}.")
+            appendLine("# Rows from the filter's first orientation on; times: ${about.time}.")
             appendLine("sensor_type: orientation_estimate")
-            appendLine("comment: ${yamlString("fused orientation (${about.filter}), an estimate; position 0")}")
+            appendLine("comment: ${yamlString("fused orientation (${about.filter}), an estimate; position, velocity and biases 0")}")
             appendIdentity()
         })
         if (hasMagnetometer) {
             write("mag0/sensor.yaml", buildString {
                 appendLine("# ${about.source}")
-                appendLine("# Each magnetometer reading at its own time (${About.TIME}), µT, in $AXES_COMMENT.")
+                appendLine("# Each magnetometer reading at its own time (${about.time}), µT, in $AXES_COMMENT.")
                 appendLine("sensor_type: magnetometer")
                 appendLine("comment: ${yamlString("phone magnetometer (calibrated field as the phone reports it, uT)")}")
                 appendIdentity()
@@ -207,7 +217,9 @@ internal class EurocWriter(root: Path, private val hasMagnetometer: Boolean, pri
 
     companion object {
         const val IMU_HEADER = "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]"
-        const val POSE_HEADER = "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z []"
+        const val POSE_HEADER = "#timestamp, p_RS_R_x [m], p_RS_R_y [m], p_RS_R_z [m], q_RS_w [], q_RS_x [], q_RS_y [], q_RS_z [], " +
+            "v_RS_R_x [m s^-1], v_RS_R_y [m s^-1], v_RS_R_z [m s^-1], b_w_RS_S_x [rad s^-1], b_w_RS_S_y [rad s^-1], b_w_RS_S_z [rad s^-1], " +
+            "b_a_RS_S_x [m s^-2], b_a_RS_S_y [m s^-2], b_a_RS_S_z [m s^-2]"
         const val MAG_HEADER = "#timestamp [ns],m_S_x [uT],m_S_y [uT],m_S_z [uT]"
         private const val AXES_COMMENT = About.AXES
 
@@ -223,9 +235,9 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
     override fun step(step: ReplayStep) {
         if (step.specificForce[0].isNaN()) return
         counted(step.timestampNs)
-        // At least ten digits: kalibr_bagcreater splits the string into seconds (all but the last nine) and ns.
-        val t = step.timestampNs
-        (if (t >= 0) imu.padded(t, 10) else imu.long(t)).floats(step.angularVelocity).floats(step.specificForce).end()
+        // At least ten digits: kalibr_bagcreater splits the string into seconds (all but the last nine) and ns (the
+        // times are never negative: Exports.clockShift).
+        imu.padded(step.timestampNs, 10).floats(step.angularVelocity).floats(step.specificForce).end()
     }
 
     override fun finish() {
@@ -234,7 +246,7 @@ internal class KalibrWriter(private val root: Path, private val noise: NoiseMode
         val frames = buildString {
             appendLine("# ${about.source}")
             appendLine("# imu0.csv: omega (gyroscope, rad/s) and alpha (accelerometer, specific force, m/s^2) in the")
-            appendLine("# ${About.AXES}; timestamp: ${About.TIME}.")
+            appendLine("# ${About.AXES}; timestamp: ${about.time}.")
         }
         // kalibr turns the densities into per-sample noise at update_rate: the rate of these rows, not the still recording's.
         val rateLine = "update_rate: ${rate()}  # Hz, rate of imu0.csv, gaps left out"
@@ -273,7 +285,7 @@ internal class GcsvWriter(stream: OutputStream, private val hasMagnetometer: Boo
         out.line("id,${field(about.device ?: "phone")}")
         // The phone's own axes, as Gyroflow takes a phone's (no axis swapped or negated).
         out.line("orientation,XYZ")
-        out.line("note,${field("${about.source}; axes: ${About.AXES}; t: ${About.TIME}")}")
+        out.line("note,${field("${about.source}; axes: ${About.AXES}; t: ${about.time}")}")
         out.line("vendor,motion_fusion")
         out.line("tscale,0.000000001")
         out.line("gscale,1")

@@ -66,7 +66,8 @@ public class ExportOptions @JvmOverloads constructor(
 /**
  * What an export wrote: IMU rows (one per gyroscope sample with an accelerometer reading before it),
  * orientation rows (EuRoC, ROS 2), magnetometer rows (EuRoC, ROS 2), the replay's [counts], the heading
- * tare applied (radians; null without one) and the world frame the outputs name.
+ * tare applied (radians; null without one), the world frame the outputs name, and how far the times written
+ * were moved from the recording's own clock ([clockShiftNs], whole seconds in ns; 0 unless it starts before 0).
  */
 public class ExportResult internal constructor(
     public val imuRows: Long,
@@ -75,6 +76,7 @@ public class ExportResult internal constructor(
     public val counts: ReplayCounts,
     public val headingOffsetRad: Double?,
     public val world: String,
+    public val clockShiftNs: Long,
 )
 
 /** Writes recordings in the export formats (docs/EXPORT.md). */
@@ -145,31 +147,54 @@ public object Exports {
             settings.mode == FilterMode.IMU -> About.WORLD_6D
             else -> About.WORLD
         }
-        val about = About(rec, options.generator, settings.mode.name, options.offline != null, options.calibration != null, world)
+        val shift = clockShift(rec)
+        val about = About(rec, options.generator, settings.mode.name, options.offline != null, options.calibration != null, world, shift)
         // The ROS 2 covariances need the rate before the first message: the gyroscope's, from a first pass.
         val rate = if (format == ExportFormat.ROS2 && options.noise != null) gyroscopeRate(rec) else Double.NaN
         val w = writer(about, options.noise, rate)
         val counts = w.use {
             val plain = object : ReplayListener {
-                override fun step(step: ReplayStep) = w.step(step)
+                override fun step(step: ReplayStep) {
+                    val t = step.timestampNs
+                    step.timestampNs = t + shift
+                    w.step(step)
+                    step.timestampNs = t
+                }
             }
             val listener = tareRad?.let { HeadingTare.offset(plain, it) } ?: plain
-            replay(rec, options, listener, progress, w).also { w.finish() }
+            replay(rec, options, listener, progress, w, shift).also { w.finish() }
         }
         fun nothing(reason: String): Nothing = throw dev.motionfusion.core.io.DataFormatException(rec.name, 0, 0, reason)
         if (counts.gyroscope == 0L) nothing("no gyroscope samples: nothing to export")
         if (w.imuRows == 0L) {
             nothing("no gyroscope sample after the first accelerometer${if (format == ExportFormat.GCSV && SessionStream.MAGNETOMETER in rec.streams) " and magnetometer" else ""} reading: nothing to export")
         }
-        return ExportResult(w.imuRows, w.orientationRows, w.magnetometerRows, counts, tareRad, world)
+        return ExportResult(w.imuRows, w.orientationRows, w.magnetometerRows, counts, tareRad, world, shift)
     }
 
-    /** One replay of [rec] into [listener], each magnetometer reading also handed to [tee] at its own time. */
-    private fun replay(rec: Recording, options: ExportOptions, listener: ReplayListener, progress: ((Long) -> Unit)?, tee: ExportWriter?): ReplayCounts {
+    /**
+     * How far [rec]'s times are moved for the export: 0, or for a recording whose clock starts before 0 (a
+     * phyphox export's first samples can come before its t = 0) the whole seconds that bring its first event to 0
+     * or after, since ROS 2's times and Kalibr's are unsigned and EuRoC's are never negative.
+     */
+    private fun clockShift(rec: Recording): Long {
+        val first = rec.events().use { e -> if (e.next()) e.timestampNs else 0L }
+        if (first >= 0L) return 0L
+        val seconds = (first / -NS_PER_S) + (if (first % NS_PER_S != 0L) 1 else 0)
+        if (seconds > Long.MAX_VALUE / NS_PER_S / 2) {
+            throw dev.motionfusion.core.io.DataFormatException(rec.name, 0, 0, "times start ${-first / NS_PER_S} s before 0: too far to move onto the export's unsigned clock")
+        }
+        return seconds * NS_PER_S
+    }
+
+    private const val NS_PER_S = 1_000_000_000L
+
+    /** One replay of [rec] into [listener], each magnetometer reading also handed to [tee] at its own time (moved by [shiftNs]). */
+    private fun replay(rec: Recording, options: ExportOptions, listener: ReplayListener, progress: ((Long) -> Unit)?, tee: ExportWriter?, shiftNs: Long = 0L): ReplayCounts {
         val replayer = Replayer(options.settings)
         val raw = rec.events()
         val calibrated: SensorEvents = options.calibration?.let { CalibratedEvents(raw, it, rec.streams) } ?: raw
-        return (if (tee == null) calibrated else MagnetometerTee(calibrated, tee)).use { e ->
+        return (if (tee == null) calibrated else MagnetometerTee(calibrated, tee, shiftNs)).use { e ->
             if (options.offline == null) replayer.run(e, rec.originNs, listener, progress, rec.name)
             else replayer.runOffline(e, rec.originNs, listener, progress, rec.name, options.offline)
         }

@@ -12,15 +12,16 @@ import java.util.zip.CRC32
  * A ROS 2 recording as one MCAP file, chunked and indexed as rosbag2's own MCAP files are, so that
  * `ros2 bag play` (which reads in receive-time order through the index) and viewers
  * that refuse unindexed files open it, messages CDR-encoded (little-endian, XCDR1):
- *  - `imu/data_raw` sensor_msgs/msg/Imu: gyroscope and accelerometer, orientation not provided
+ *  - `/imu/data_raw` sensor_msgs/msg/Imu: gyroscope and accelerometer, orientation not provided
  *    (orientation_covariance[0] = −1), as REP-145 says; the angular velocity and linear
  *    acceleration covariances from the [noise] model when one is known: the variance of one
  *    sample's white noise, σ² = N²·f (noise density N, the gyroscope's rate [rateHz] f, gaps left out), on the
  *    diagonal; unknown (zeros) without one;
- *  - `imu/data` sensor_msgs/msg/Imu: the same with the replay's orientation (sensor → ENU, as
+ *  - `/imu/data` sensor_msgs/msg/Imu: the same with the replay's orientation (sensor → ENU, as
  *    REP-103's world), its covariance unknown (zeros); from the filter's first orientation on;
- *  - `imu/mag` sensor_msgs/msg/MagneticField: each magnetometer reading at its own time, tesla.
- * frame_id [FRAME_ID] for all; header stamps and log times in the recording's own clock.
+ *  - `/imu/mag` sensor_msgs/msg/MagneticField: each magnetometer reading at its own time, tesla.
+ * Topic names are fully qualified, as rosbag2 records them (`ros2 bag play --topics` matches them
+ * exactly). frame_id [FRAME_ID] for all; header stamps and log times in the recording's own clock.
  *
  * Layout: magic, Header (profile `ros2`), the Schema and Channel records, then the messages in
  * uncompressed Chunks of about [CHUNK_BYTES] of records each, every Chunk followed by one Message
@@ -72,18 +73,18 @@ internal class Ros2Writer(stream: OutputStream, private val hasMagnetometer: Boo
         val metadata = mapOf(
             "offered_qos_profiles" to OFFERED_QOS_PROFILES,
             "source" to about.source,
-            "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (world: ${about.world}); stamps: ${About.TIME}",
+            "frame" to "frame_id $FRAME_ID: ${About.AXES}; orientation ${About.QUATERNION} (world: ${about.world}); stamps: ${about.time}",
             "covariance" to if (gyroscopeVariance > 0.0 || accelerometerVariance > 0.0) {
                 "angular_velocity and linear_acceleration covariances: one sample's white-noise variance N^2 * f on the diagonal " +
                     "(gyroscope N = ${yamlNumber(noise!!.gyroscopeNoiseDensity)} rad/s/sqrt(Hz), accelerometer N = ${yamlNumber(noise.accelerometerNoiseDensity)} m/s^2/sqrt(Hz), " +
                     "f = ${yamlNumber(rateHz)} Hz, the gyroscope's rate, gaps left out); orientation and magnetic field covariances unknown (0)"
             } else {
-                "unknown (0), no noise model given; orientation_covariance[0] = -1 on imu/data_raw (not provided)"
+                "unknown (0), no noise model given; orientation_covariance[0] = -1 on /imu/data_raw (not provided)"
             },
         )
-        channels += channel(IMU_RAW, 1, "imu/data_raw", metadata)
-        channels += channel(IMU, 1, "imu/data", metadata)
-        if (hasMagnetometer) channels += channel(MAG, 2, "imu/mag", metadata)
+        channels += channel(IMU_RAW, 1, "/imu/data_raw", metadata)
+        channels += channel(IMU, 1, "/imu/data", metadata)
+        if (hasMagnetometer) channels += channel(MAG, 2, "/imu/mag", metadata)
         for (r in schemas) out.write(r)
         for (r in channels) out.write(r)
     }
