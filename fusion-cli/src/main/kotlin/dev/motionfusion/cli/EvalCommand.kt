@@ -49,7 +49,9 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |
         |First form: runs the filter on each trial folder (input.csv[.gz] + truth.csv[.gz], the
         |layout of the BROAD subset and of the public dataset converted to CSV), on each trial
-        |folder inside DATASET_DIR, and on sessions with a truth.csv stream (fusion simulate).
+        |folder and session inside DATASET_DIR, and on sessions with a truth.csv stream (fusion
+        |simulate). A folder inside DATASET_DIR with only one of input.csv and truth.csv fails
+        |in the summary, so that the mean is not silently over fewer trials.
         |The public BROAD dataset's HDF5/MAT files are not read directly: convert them to this
         |layout first.
         |
@@ -176,12 +178,24 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         val isTrialSet = Files.isDirectory(path) &&
             (!Files.exists(path.resolve("meta.json")) || Trial.isTrial(path.toFile()))
         if (!isTrialSet) return listOf(Unit(p, null))
-        val dirs = try {
-            Evaluation.findTrials(listOf(path.toFile()))
-        } catch (e: IllegalArgumentException) {
-            throw DataFormatException(p, 0, 0, "no trial folders (input.csv[.gz] + truth.csv[.gz]) and not a session")
+        val top = path.toFile()
+        if (Trial.isTrial(top)) return listOf(Unit(p, top))
+        // A dataset folder: its trial folders, its sessions, and (failed, so that the mean is not silently over fewer)
+        // the folders that hold half a trial. Other folders are not recordings and stay out.
+        val units = (top.listFiles() ?: emptyArray()).filter { it.isDirectory }.sortedBy { it.name }.mapNotNull { d ->
+            val halves = listOf("input", "truth").filter { File(d, "$it.csv.gz").isFile || File(d, "$it.csv").isFile }
+            when {
+                halves.size == 2 -> Unit(d.path, d)
+                File(d, "meta.json").isFile -> Unit(d.path, null)
+                halves.size == 1 -> {
+                    val missing = if (halves[0] == "input") "truth" else "input"
+                    Unit(d.path, null, DataFormatException(d.path, 0, 0, "${halves[0]}.csv[.gz] without $missing.csv[.gz]: half a trial, not scored"))
+                }
+                else -> null
+            }
         }
-        return dirs.map { d -> Unit(if (dirs.size == 1 && d == path.toFile()) p else d.path, d) }
+        if (units.isEmpty()) throw DataFormatException(p, 0, 0, "no trial folders (input.csv[.gz] + truth.csv[.gz]), no sessions, and not a session")
+        return units
     }
 
     /** Scores [d], and the phone's rotation vector when the trial has one. */

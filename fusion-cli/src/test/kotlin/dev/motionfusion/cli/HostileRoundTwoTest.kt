@@ -98,6 +98,22 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `eval of a data set names its half trials and scores its sessions, so the mean is over what the user sees`() {
+        val table = simulatedTable("eval-table.csv")
+        trial("halves/a", table, null)
+        trial("halves/b", table, null)
+        Files.delete(tmp.resolve("halves/b/truth.csv"))
+        Files.createDirectories(tmp.resolve("halves/notes"))
+        ok("simulate", "-o", p("halves/s"), "--duration", "5", "--rate", "50")
+        val r = run("eval", p("halves"))
+        assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
+        assertTrue(Regex("halves/b: failed .*input\\.csv\\[\\.gz\\] without truth\\.csv\\[\\.gz\\]: half a trial, not scored").containsMatchIn(r.err), r.err)
+        val names = r.out.lines().filter { it.startsWith("| ") }.map { it.split('|')[1].trim() }
+        assertEquals(listOf("trial", "a", "s", "**mean**"), names, r.out)
+        assertFalse("notes" in r.err + r.out, "a folder that is no recording stays out: ${r.err}")
+    }
+
+    @Test
     fun `eval of a trial without a scored sample is an error, not a NaN table`() {
         trial("unscored/t01", simulatedTable("eval-table.csv"), null, movement = 0)
         val r = fails(ExitCode.DATA_ERROR, "unscored/t01.*no scored sample", "eval", p("unscored/t01"))

@@ -194,6 +194,8 @@ public class Recording private constructor(
             }
             // ... then, in the other folders, the headers of the CSVs.
             val named = found.keys.toSet()
+            // Plain IMU tables by folder: each is a recording of its own, so two in one folder are two.
+            val tables = LinkedHashMap<String, MutableList<String>>()
             for (p in files.paths) {
                 val dir = dirOf(p)
                 if (dir in named || !isText(p) || euroc.any { p.startsWith(it) }) continue
@@ -205,10 +207,17 @@ public class Recording private constructor(
                     SensorLoggerImport.recognises(header) -> found[dir] = RecordingFormat.SENSOR_LOGGER
                     known == RecordingFormat.SENSOR_LOGGER -> Unit
                     PhyphoxImport.recognises(header, p) -> found[dir] = RecordingFormat.PHYPHOX
-                    known == null && ImuTableReader.recognises(header) -> found[dir] = RecordingFormat.IMU_TABLE
+                    (known == null || known == RecordingFormat.IMU_TABLE) && ImuTableReader.recognises(header) -> {
+                        found[dir] = RecordingFormat.IMU_TABLE
+                        tables.getOrPut(dir) { ArrayList() } += p
+                    }
                 }
             }
-            val candidates = found.keys.map { it.ifEmpty { "." } } + zips
+            val candidates = found.entries.flatMap { (dir, kind) ->
+                val own = tables[dir]
+                // Named by their files where the folder cannot tell them apart (several, or the top folder itself).
+                if (kind == RecordingFormat.IMU_TABLE && own != null && (own.size > 1 || dir.isEmpty())) own else listOf(dir.ifEmpty { "." })
+            } + zips
             if (candidates.size > 1) {
                 val shown = candidates.take(12).joinToString(", ") { it.removeSuffix("/") } + if (candidates.size > 12) ", …" else ""
                 throw DataFormatException(files.name, 0, 0, "holds ${candidates.size} recordings ($shown): name the one to read")

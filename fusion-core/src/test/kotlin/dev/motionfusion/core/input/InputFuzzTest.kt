@@ -270,6 +270,18 @@ class InputFuzzTest {
             for (n in listOf("a", "b")) Files.write(Files.createDirectories(dir.resolve(n)).resolve("t.csv"), table)
             drain(dir)
         }
+        // Two tables side by side in one folder, or beside a session: each named, none read in the other's place.
+        rejects("holds 2 recordings (a.csv, b.csv)") {
+            val dir = Files.createDirectories(tmp.resolve("side"))
+            for (n in listOf("a", "b")) Files.write(dir.resolve("$n.csv"), table)
+            drain(dir)
+        }
+        rejects("holds 2 recordings (table.csv, s)") {
+            val dir = Files.createDirectories(tmp.resolve("beside"))
+            Files.write(Files.createDirectories(dir.resolve("s")).resolve("t.csv"), table)
+            Files.write(dir.resolve("table.csv"), table)
+            drain(dir)
+        }
         // Archives that lie: two entries of one name, a damaged second gzip member, trailing garbage.
         rejects("two entries of this name") {
             val twin = zip(mapOf("Gyroscope.csv" to logger("z,y,x"), "Gyroscopf.csv" to logger("z,y,x").copyOf(60), "TotalAcceleration.csv" to logger("z,y,x")))
