@@ -177,7 +177,10 @@ internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean 
                 0 -> { phase = 1; stream = SessionStream.ACCELEROMETER; values[0] = r[3]; values[1] = r[4]; values[2] = r[5]; return true }
                 1 -> {
                     phase = 2
-                    if (hasMagnetometer) { stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true }
+                    // Three empty fields: no reading at this instant (a slower magnetometer).
+                    if (hasMagnetometer && !(r[6].isNaN() && r[7].isNaN() && r[8].isNaN())) {
+                        stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true
+                    }
                 }
                 2 -> { phase = 3; stream = SessionStream.GYROSCOPE; values[0] = r[0]; values[1] = r[1]; values[2] = r[2]; return true }
                 else -> {

@@ -187,9 +187,9 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         val f = filter
         val r = events.row
         val mag = events.hasMagnetometer
-        val perRow = if (mag) 3L else 2L
         var origin = originNs
         var rows = 0L
+        var magnetometer = 0L
         var first = 0L
         var last = 0L
         while (events.nextRow()) {
@@ -198,17 +198,19 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             if (rows == 0L) first = t
             last = t
             rows++
-            if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * perRow)
+            if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * 2 + magnetometer)
             f.updateAccelerometer(t, r[3], r[4], r[5])
             accelerometerHeld(step, t, r[3], r[4], r[5])
-            if (mag) {
+            // A row whose three magnetometer fields are empty has no reading (a slower magnetometer).
+            if (mag && !(r[6].isNaN() && r[7].isNaN() && r[8].isNaN())) {
+                magnetometer++
                 f.updateMagnetometer(t, r[6], r[7], r[8])
                 magnetometerHeld(step, t, r[6], r[7], r[8])
             }
             f.updateGyroscope(t, r[0], r[1], r[2])
             gyroscopeStep(step, t, r[0], r[1], r[2], origin, listener)
         }
-        return ReplayCounts(rows * perRow, rows, rows, if (mag) rows else 0L, first, last)
+        return ReplayCounts(rows * 2 + magnetometer, rows, rows, magnetometer, first, last)
     }
 
     /** The accelerometer reading the filter was just given, held in [step] if the filter takes it ([reading]). */

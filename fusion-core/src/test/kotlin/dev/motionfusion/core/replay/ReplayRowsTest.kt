@@ -60,4 +60,28 @@ class ReplayRowsTest {
             }
         }
     }
+
+    @Test
+    fun `empty magnetometer fields are no reading, on both paths`() {
+        // A magnetometer at a third of the table's rate: its fields empty on two rows of three.
+        val samples = MotionSimulator(SimulationSettings(durationS = 10.0, rateHz = 150.0)).run()
+        val file = dir.resolve("sparse.csv")
+        Files.newBufferedWriter(file).use { w ->
+            w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
+            for ((i, s) in samples.withIndex()) {
+                val v = listOf(s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z).joinToString("") { "," + it.toFloat() }
+                val m = if (i % 3 == 0) listOf(s.mag.x, s.mag.y, s.mag.z).joinToString("") { "," + it.toFloat() } else ",,,"
+                w.write(String.format(Locale.ROOT, "%.6f", s.timestampNs * 1e-9) + v + m + "\n")
+            }
+        }
+        Recording.open(file).use { rec ->
+            val (rowSteps, rowCounts) = steps(rec.events(), rec.originNs)
+            val (eventSteps, eventCounts) = steps(EventByEvent(rec.events()), rec.originNs)
+            assertEquals((samples.size + 2L) / 3, rowCounts.magnetometer, "one reading in three rows")
+            assertEquals(samples.size * 2L + rowCounts.magnetometer, rowCounts.events)
+            assertEquals(eventCounts, rowCounts)
+            assertEquals(eventSteps, rowSteps)
+            assertTrue(rowSteps.last().split(' ')[2] == "true", "the filter has an orientation")
+        }
+    }
 }
