@@ -449,6 +449,17 @@ class HostileRoundTwoTest {
         for (n in listOf("gyroscope.csv", "magnetometer.csv")) Files.createSymbolicLink(bare.resolve(n), outside.resolve(n))
         fails(ExitCode.DATA_ERROR, "are links out of the folder, not followed", "replay", bare.toString(), "-o", p("links/out3.csv"))
         assertTrue(Files.exists(table))
+        // A link to a session folder, given as the input, is that folder (as for a link to a file).
+        val whole = tmp.resolve("links/whole")
+        ok("simulate", "-o", whole.toString(), "--duration", "5", "--rate", "50")
+        val alias = Files.createSymbolicLink(tmp.resolve("links/alias"), whole)
+        ok("replay", whole.toString(), "-o", p("links/direct.csv"))
+        ok("replay", alias.toString(), "-o", p("links/via-link.csv"))
+        assertEquals(Files.readAllLines(tmp.resolve("links/direct.csv")), Files.readAllLines(tmp.resolve("links/via-link.csv")))
+        // A link inside a folder to a session elsewhere is named, not skipped in silence.
+        val holder = Files.createDirectories(tmp.resolve("links/holder"))
+        Files.createSymbolicLink(holder.resolve("sess"), whole)
+        fails(ExitCode.DATA_ERROR, "sess is a link out of the folder, not followed", "replay", holder.toString(), "-o", p("links/out4.csv"))
     }
 
     @Test

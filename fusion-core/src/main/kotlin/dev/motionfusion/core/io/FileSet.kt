@@ -81,12 +81,17 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         override val paths: List<String> = list()
 
         private fun list(): List<String> {
+            // From the folder's real path: the folder given may itself be a link to one (walked, its links not followed).
             val root = dir.toRealPath()
             val found = ArrayList<String>()
-            Files.walk(dir, MAX_DEPTH).use { s ->
+            Files.walk(root, MAX_DEPTH).use { s ->
                 for (p in s) {
-                    if (!Files.isRegularFile(p)) continue
-                    val rel = dir.relativize(p).toString().replace('\\', '/')
+                    if (!Files.isRegularFile(p)) {
+                        // A link to a folder elsewhere is named, as a link to a file is: what it holds is not read.
+                        if (Files.isSymbolicLink(p) && Files.isDirectory(p) && !p.toRealPath().startsWith(root)) linksOut += root.relativize(p).toString().replace('\\', '/')
+                        continue
+                    }
+                    val rel = root.relativize(p).toString().replace('\\', '/')
                     if (rel.split('/').any { it.startsWith(".") || it == "__MACOSX" }) continue
                     // A link pointing out of the folder is not part of the recording.
                     if (!p.toRealPath().startsWith(root)) {
