@@ -32,14 +32,15 @@ import java.util.zip.GZIPOutputStream
 /** `fusion simulate -o OUT`: a session (or IMU table) from the project's MotionSimulator. */
 internal class SimulateCommand(private val outputs: Outputs) : Command {
     override val name = "simulate"
-    override val summary = "write a simulated recording with known truth (session or IMU table)"
+    override val summary = "write a simulated recording (a session, with its truth; or an IMU table)"
     override val help = """
         |Usage: fusion simulate -o OUT [--duration S] [--rate HZ] [--seed N] [--motion calibration]
         |                       [sensor errors]
         |
         |Runs the project's MotionSimulator (seeded: the same options give the same data) and
         |writes what a phone would have recorded, values rounded to float like SensorEvent:
-        |  OUT ending in .csv or .csv.gz: a plain IMU table t_s,gx,gy,gz,ax,ay,az,mx,my,mz
+        |  OUT ending in .csv or .csv.gz: a plain IMU table t_s,gx,gy,gz,ax,ay,az,mx,my,mz (the
+        |    sensors only: a table has no place for the truth; a session has)
         |  OUT ending in .zip: a session zip; otherwise a session folder, with
         |    accelerometer, gyroscope, magnetometer (same instants), truth.csv (the true
         |    orientation) and rotation_vector.csv at a quarter of the rate: a stand-in for the

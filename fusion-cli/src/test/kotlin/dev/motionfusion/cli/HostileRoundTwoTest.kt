@@ -111,6 +111,9 @@ class HostileRoundTwoTest {
         val names = r.out.lines().filter { it.startsWith("| ") }.map { it.split('|')[1].trim() }
         assertEquals(listOf("trial", "a", "s", "**mean**"), names, r.out)
         assertFalse("notes" in r.err + r.out, "a folder that is no recording stays out: ${r.err}")
+        // A session's truth.csv is on the phone's clock: --truth says to score the session itself.
+        ok("replay", p("halves/s"), "-o", p("halves-s.csv"))
+        fails(ExitCode.DATA_ERROR, "a session's stream \\(timestamp_ns, the phone's clock\\).*fusion eval SESSION", "eval", "--truth", p("halves/s/truth.csv"), p("halves-s.csv"))
     }
 
     @Test

@@ -124,6 +124,14 @@ class ListenCommandTest {
     }
 
     @Test
+    fun `nothing listening on the address is said in words, not as an exception's name`() {
+        val port = java.net.ServerSocket(0).use { it.localPort }
+        val r = fusion("listen", "ws://127.0.0.1:$port", "--code", "000000")
+        assertEquals(ExitCode.IO_ERROR, r.code)
+        assertTrue("no answer on that address" in r.err && "Exception" !in r.err, r.err)
+    }
+
+    @Test
     fun `a phone that asks its user, listen says it waits, exit code 5 when denied, the stream when allowed`() {
         val asked = java.util.concurrent.LinkedBlockingQueue<dev.motionfusion.stream.StreamClientInfo>()
         val s = serve(listOf(SessionStream.ORIENTATION), onConfirmation = { asked += it })

@@ -133,7 +133,7 @@ public class StreamClient @JvmOverloads constructor(
         }
 
         override fun onError(ex: Exception) {
-            fail("${ex.javaClass.simpleName}: ${ex.message ?: "connection failed"}")
+            fail(describe(ex))
         }
     }.apply {
         isTcpNoDelay = true
@@ -216,4 +216,13 @@ public class StreamClient @JvmOverloads constructor(
         /** How long a refused [connect] waits for the phone's close, which says how it ended. */
         private const val REFUSAL_CLOSE_MS = 2_000L
     }
+}
+
+/** A connection failure in words: what a user can act on, not the exception's class name. */
+internal fun describe(ex: Exception): String = when (ex) {
+    is java.net.ConnectException -> "no answer on that address (${ex.message ?: "connection refused"}): is the phone's stream on, and the address and port the ones it shows?"
+    is java.net.UnknownHostException -> "unknown host ${ex.message ?: ""}: check the address the phone shows"
+    is java.net.SocketTimeoutException -> "no answer in time (${ex.message ?: "timed out"}): is the phone on the same network?"
+    is java.net.NoRouteToHostException -> "no route to the phone (${ex.message ?: ""}): is it on the same network?"
+    else -> ex.message ?: ex.javaClass.simpleName
 }
