@@ -54,7 +54,7 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
                 } else {
                     "the phone's game rotation vector (${refStream.fileName} in a session; other apps' exports have none)"
                 }
-                throw DataFormatException(input, 0, 0, "this ${rec.format.description} holds not $where: nothing to compare with")
+                throw DataFormatException(input, 0, 0, "$where is not in this ${rec.format.description}: nothing to compare with")
             }
             if (live && SessionStream.ORIENTATION !in rec.streams) throw DataFormatException(input, 0, 0, "no orientation.csv (live orientation) in this recording")
             var origin = rec.originNs
