@@ -65,6 +65,16 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             else -> ExportFormat.of(f) ?: throw UsageException("--format expects euroc, kalibr, gcsv or ros2, got '$f'")
         }
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("export needs -o OUT")
+        // Options with nothing to act on in this format are refused, not ignored: kalibr and gcsv hold no orientation.
+        if (format == ExportFormat.KALIBR || format == ExportFormat.GCSV) {
+            val given = (FilterOptions.VALUED + HeadingOptions.VALUED).filter { o.value(it) != null || o.values(it).isNotEmpty() } + FilterOptions.FLAGS.filter { o.has(it) }
+            if (given.isNotEmpty()) {
+                throw UsageException("${given.joinToString(", ")}: a ${format.key} export holds no orientation, so filter and heading options have nothing to act on")
+            }
+        }
+        if (format == ExportFormat.GCSV && o.value("--noise") != null) {
+            throw UsageException("--noise: a gcsv export has no place for a noise model (euroc, kalibr and ros2 have)")
+        }
         FilterOptions.settings(o) // usage errors before the input is opened
         val offline = FilterOptions.offline(o)
         val heading = HeadingOptions.spec(o)

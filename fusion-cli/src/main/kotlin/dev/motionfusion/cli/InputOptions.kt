@@ -49,6 +49,9 @@ internal object InputOptions {
         }
         val rec = Recording.open(path, options(o))
         for (n in rec.notes) err.println("fusion $command: note: ${rec.name}: $n")
+        if (o.value("--platform") != null && rec.format != dev.motionfusion.core.input.RecordingFormat.SENSOR_LOGGER) {
+            err.println("fusion $command: note: ${rec.name}: --platform is for Sensor Logger exports; a ${rec.format.description} says its own axes, so it is not used")
+        }
         return rec
     }
 

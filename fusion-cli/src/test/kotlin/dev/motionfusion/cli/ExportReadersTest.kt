@@ -521,6 +521,16 @@ class ExportReadersTest {
         val f = fusion("export", session.toString(), "--format", "ros9", "-o", out.toString())
         assertEquals(ExitCode.USAGE, f.code)
         assertTrue("--format expects euroc, kalibr, gcsv or ros2, got 'ros9'" in f.err, f.err)
+        // Options with nothing to act on are refused, not ignored: kalibr and gcsv hold no orientation, gcsv no noise.
+        for ((args, message) in listOf(
+            listOf("--format", "kalibr", "--offline", "--beta", "0.5") to "--beta, --offline: a kalibr export holds no orientation",
+            listOf("--format", "gcsv", "--heading-offset", "45") to "--heading-offset: a gcsv export holds no orientation",
+            listOf("--format", "gcsv", "--noise", dir.resolve("any.yaml").toString()) to "--noise: a gcsv export has no place for a noise model",
+        )) {
+            val u = fusion("export", session.toString(), *args.toTypedArray(), "-o", out.toString())
+            assertEquals(ExitCode.USAGE, u.code, u.err)
+            assertTrue(message in u.err, u.err)
+        }
         val bad = dir.resolve("bad-noise.yaml")
         Files.writeString(bad, "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: lots\n")
         val n = fusion("export", session.toString(), "--format", "kalibr", "--noise", bad.toString(), "-o", out.toString())

@@ -117,6 +117,14 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `--platform with an input that is no Sensor Logger export is said not to be used`() {
+        val table = simulatedTable("platform-table.csv")
+        val r = ok("replay", table.toString(), "--platform", "ios", "-o", p("platform-out.csv"))
+        assertTrue("--platform is for Sensor Logger exports; a plain IMU table says its own axes, so it is not used" in r.err, r.err)
+        assertFalse("--platform" in ok("replay", table.toString(), "-o", p("platform-out2.csv")).err)
+    }
+
+    @Test
     fun `eval of a trial without a scored sample is an error, not a NaN table`() {
         trial("unscored/t01", simulatedTable("eval-table.csv"), null, movement = 0)
         val r = fails(ExitCode.DATA_ERROR, "unscored/t01.*no scored sample", "eval", p("unscored/t01"))
