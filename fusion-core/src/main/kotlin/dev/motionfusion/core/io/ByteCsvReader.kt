@@ -19,6 +19,8 @@ internal class ByteCsvReader(
     /** Numbers may use ',' as decimal mark (only with a separator other than ','). */
     private val decimalComma: Boolean = false,
     private val maxLineBytes: Int = MAX_LINE_BYTES,
+    /** The bytes come out of a decompressor (gzip, a zip entry): an error in them may be damage that its check, at the end, would name. */
+    private val compressed: Boolean = input is Decompressed,
 ) : Closeable {
     init {
         require(!(decimalComma && separator == COMMA)) { "a decimal comma needs another separator" }
@@ -122,7 +124,7 @@ internal class ByteCsvReader(
             System.arraycopy(buf, pos, buf, 0, unread)
         } else if (unread == buf.size) {
             if (buf.size >= maxLineBytes) {
-                throw DataFormatException(sourceName, lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
+                throw located(lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
             }
             buf = buf.copyOf(minOf(buf.size * 2, maxLineBytes))
             words = littleEndian(buf)
@@ -325,8 +327,26 @@ internal class ByteCsvReader(
     fun excerpt(i: Int): String = escapedExcerpt(String(buf, starts[i], minOf(ends[i] - starts[i], 4 * EXCERPT_CHARS), Charsets.UTF_8))
 
     /** A [DataFormatException] at field [i] of the current line. */
-    fun error(i: Int, reason: String): DataFormatException =
-        DataFormatException(sourceName, lineNumber, if (i < count) column(i) else endColumn(), reason)
+    fun error(i: Int, reason: String): DataFormatException = located(lineNumber, if (i < count) column(i) else endColumn(), reason)
+
+    /**
+     * The error at [line], [column] of the data, or, in compressed data, the damage that caused it: a flipped bit
+     * in deflated data reads as garbage long before the CRC-32 at the end is checked, so the rest is read to the
+     * check first (bounded by the input's limits), and the CSV error is named as what the damage caused.
+     */
+    private fun located(line: Long, column: Int, reason: String): DataFormatException {
+        val e = DataFormatException(sourceName, line, column, reason)
+        if (!compressed) return e
+        return try {
+            val scratch = ByteArray(1 shl 16)
+            while (input.read(scratch) >= 0) Unit
+            e
+        } catch (damage: DataFormatException) {
+            DataFormatException(damage.source, damage.line, damage.column, "${damage.reason} (damaged compressed data: it read as line $line, column $column: $reason)", damage)
+        } catch (_: java.io.IOException) {
+            e
+        }
+    }
 
     /**
      * Checks that the current line has [expected] fields (the header's count). A comma-separated

@@ -46,7 +46,7 @@ internal class CompressionGuard(val limits: InputLimits) {
     /** [decompressing] (a GZIPInputStream or zip entry stream) counted and with its failures mapped to DataFormatException naming [name]. */
     fun wrap(decompressing: () -> InputStream, name: String): InputStream = GuardedStream(mapped(name) { decompressing() }, name)
 
-    private inner class GuardedStream(inner: InputStream, private val name: String) : FilterInputStream(inner) {
+    private inner class GuardedStream(inner: InputStream, private val name: String) : FilterInputStream(inner), Decompressed {
         private var count = 0L
 
         override fun read(): Int {
@@ -90,3 +90,6 @@ internal class CompressionGuard(val limits: InputLimits) {
         throw e
     }
 }
+
+/** A stream of decompressed data: its integrity check (CRC-32) comes at its end, after any data it damaged. */
+internal interface Decompressed

@@ -38,7 +38,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
 
     /** A CSV reader of [path]. */
     fun csv(path: String, separator: Byte = COMMA, decimalComma: Boolean = false, maxLineBytes: Int = ByteCsvReader.MAX_LINE_BYTES): ByteCsvReader =
-        ByteCsvReader(open(path), displayName(path), separator, decimalComma, maxLineBytes)
+        open(path).let { s -> ByteCsvReader(s, displayName(path), separator, decimalComma, maxLineBytes, compressed = this is Zip || s is Decompressed) }
 
     /** The file named [baseName] (case-insensitive) directly in [dir] ("" for the root, else ending in '/'), or null. */
     fun find(dir: String, baseName: String): String? =

@@ -178,6 +178,31 @@ class InputFuzzTest {
      * orientations only, with every impossible reading counted as skipped.
      */
     @Test
+    fun `a bit flipped in compressed data is named as damage, not as the CSV error it causes`() {
+        // A bigger table, so that most flips land in deflated data that still decodes (to garbage).
+        val big = ("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n" + (0 until 2000).joinToString("") { t -> "${0.01 * t},0.01,-0.02,0.03,0.1,0.2,9.8,20,0,-40\n" }).toByteArray()
+        val packed = gzip(big)
+        var csvErrors = 0
+        for (k in 0 until 40) {
+            val at = 20 + (k * 7919) % (packed.size - 40)
+            val bad = packed.copyOf().also { it[at] = (it[at].toInt() xor (1 shl (k % 8))).toByte() }
+            val p = tmp.resolve("flip$k.csv.gz")
+            Files.write(p, bad)
+            val e = try {
+                drain(p)
+                null
+            } catch (e: DataFormatException) {
+                e
+            } ?: continue // a flip in a digit that still parses: the CRC-32 at the end catches it (below)
+            val m = e.message!!
+            if ("damaged compressed data" in m) csvErrors++
+            assertTrue("CRC-32" in m || "damaged compressed data" in m || "invalid" in m.lowercase() || "corrupt" in m.lowercase() || "gzip" in m.lowercase(),
+                "flip at byte $at: $m")
+        }
+        assertTrue(csvErrors > 0, "no flip read as a CSV error first: the case is not exercised")
+    }
+
+    @Test
     fun `implausible values are an error or skipped, never a silent NaN`() {
         val base = (0 until 400).map { i -> doubleArrayOf(i * 0.01, 0.01, -0.02, 0.3, 0.1, 0.2, 9.8, 20.0, 0.0, -40.0) }
         val scales = listOf(1e-3, 1e-2, 1e-1, 1.0 / 9.80665, 180 / Math.PI, 100.0, 1000.0, 1e6, 1e9)
