@@ -124,7 +124,8 @@ internal class ByteCsvReader(
             System.arraycopy(buf, pos, buf, 0, unread)
         } else if (unread == buf.size) {
             if (buf.size >= maxLineBytes) {
-                throw located(lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
+                // Not checked against the data's damage: sniffing a format meets this on every long first line.
+                throw DataFormatException(sourceName, lineNumber + 1, 0, "line longer than $maxLineBytes bytes: not a CSV text file?")
             }
             buf = buf.copyOf(minOf(buf.size * 2, maxLineBytes))
             words = littleEndian(buf)

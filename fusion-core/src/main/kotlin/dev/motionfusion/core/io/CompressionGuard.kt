@@ -71,10 +71,10 @@ internal class CompressionGuard(val limits: InputLimits) {
             count += n.toLong()
             total += n.toLong()
             if (count > limits.maxEntryBytes) {
-                throw DataFormatException(name, 0, 0, "decompresses to more than ${limits.maxEntryBytes} bytes, the limit for one file (a zip bomb? raise it with --max-uncompressed)")
+                throw DataFormatException(name, 0, 0, "decompresses to more than ${limits.maxEntryBytes} bytes, the limit for one file (a zip bomb? raise it with --max-uncompressed)", OverLimit())
             }
             if (total > limits.maxTotalBytes) {
-                throw DataFormatException(name, 0, 0, "the recording decompresses to more than ${limits.maxTotalBytes} bytes in total (a zip bomb? raise it with --max-uncompressed)")
+                throw DataFormatException(name, 0, 0, "the recording decompresses to more than ${limits.maxTotalBytes} bytes in total (a zip bomb? raise it with --max-uncompressed)", OverLimit())
             }
         }
     }
@@ -93,3 +93,6 @@ internal class CompressionGuard(val limits: InputLimits) {
 
 /** A stream of decompressed data: its integrity check (CRC-32) comes at its end, after any data it damaged. */
 internal interface Decompressed
+
+/** The cause of a limit's DataFormatException: sniffing a format must pass it on, not take it for "not this kind". */
+internal class OverLimit : RuntimeException(null, null, false, false)

@@ -56,8 +56,8 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         csv(path, maxLineBytes = maxBytes).use { if (it.nextLine()) it.lineText() else null }
     } catch (e: DataFormatException) {
         // A line that does not fit the sniffing bound is "not this kind"; data that cannot be
-        // decompressed at all is the answer the user needs, not "not a recognised input".
-        if (e.cause is java.util.zip.ZipException || e.cause is java.io.EOFException) throw e
+        // decompressed at all, or only beyond the limits, is the answer the user needs, not "not a recognised input".
+        if (e.cause is java.util.zip.ZipException || e.cause is java.io.EOFException || e.cause is OverLimit) throw e
         null
     }
 

@@ -272,6 +272,8 @@ class InputFuzzTest {
         val big = ByteArrayOutputStream().also { o -> o.write(header); repeat(100_000) { i -> o.write("${0.01 * i},0,0,0,0,0,9.8\n".toByteArray()) } }.toByteArray()
         val small = ImportOptions(dev.motionfusion.core.io.InputLimits.perFile(1 shl 20))
         rejects("limit for one file") { Recording.open(write("big.csv.gz", gzip(big)), small).use { r -> r.events().use { e -> while (e.next()) Unit } } }
+        // A limit smaller than what sniffing the format reads: the limit is named, not "not a recognised input".
+        rejects("limit for one file") { Recording.open(write("tiny-limit.csv.gz", gzip(big)), ImportOptions(dev.motionfusion.core.io.InputLimits.perFile(64))).use { } }
         rejects("in total") {
             Recording.open(write("big.zip", zip(mapOf("Gyroscope.csv" to logger("z,y,x"), "TotalAcceleration.csv" to logger("z,y,x")))),
                 ImportOptions(dev.motionfusion.core.io.InputLimits(maxEntryBytes = 2000, maxTotalBytes = 3000))).use { r -> r.events().use { e -> while (e.next()) Unit } }
