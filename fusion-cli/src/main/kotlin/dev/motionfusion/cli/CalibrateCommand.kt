@@ -40,15 +40,16 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
         |  --mag-model M        full (hard and soft iron, default) or sphere (hard iron only)
         |  --gravity G          local gravity for the accelerometer, 9.7–9.9 m/s² (default 9.80665)
         |  --quiet              no report on standard error
+        |${InputOptions.HELP}
         |Exit codes: 0 at least one sensor calibrated, 1 malformed input or nothing could be
         |calibrated (the reasons are printed), 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--min-coverage", "--mag-model", "--gravity"), setOf("--quiet"))
+        val o = Options(args, setOf("-o", "--output", "--min-coverage", "--mag-model", "--gravity") + InputOptions.VALUED, setOf("--quiet"))
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "calibrate needs an INPUT" else "calibrate takes one INPUT")
         val output = o.value("-o") ?: o.value("--output")
-        output?.let { outputs.check(it, listOf(input)) }
+        output?.let { outputs.requirePlainFile(it, "the calibration JSON"); outputs.check(it, listOf(input)) }
         val model = when (o.value("--mag-model")?.lowercase() ?: "full") {
             "full" -> EllipsoidModel.FULL
             "sphere" -> EllipsoidModel.SPHERE
@@ -63,7 +64,7 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
             val option = OPTION_OF_SETTING.entries.firstOrNull { m.startsWith(it.key) }
             throw UsageException(if (option == null) m else option.value + m.removePrefix(option.key))
         }
-        val calibration = Recording.open(Path.of(input)).use { rec ->
+        val calibration = InputOptions.open(input, o, err, name).use { rec ->
             val progress = Progress(err, "calibrate", rec.metadata?.streams?.values?.sumOf { it.samples })
             rec.events().use { e ->
                 Calibrator.calibrate(e, rec.streams, settings, "fusion calibrate ${Cli.VERSION}", rec.name, progress::update)
@@ -172,15 +173,18 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         |                       gyr_w: per sample at the rate), orbslam3_imu.yaml (ORB-SLAM3
         |                       IMU.NoiseGyro ...: continuous, with IMU.Frequency)
         |  --quiet              no table on standard error
+        |${InputOptions.HELP}
         |Exit codes: 0 ok, 1 malformed input or no gyroscope/accelerometer, 2 usage, 3 file not found/unwritable.
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--plot", "--configs"), setOf("--quiet"))
+        val o = Options(args, setOf("-o", "--output", "--plot", "--configs") + InputOptions.VALUED, setOf("--quiet"))
         val input = o.positional.singleOrNull() ?: throw UsageException(if (o.positional.isEmpty()) "allan needs an INPUT" else "allan takes one INPUT")
         val output = o.value("-o") ?: o.value("--output")
         val plot = o.value("--plot")
         val configs = o.value("--configs")
+        output?.let { outputs.requirePlainFile(it, "the noise model's YAML") }
+        plot?.let { outputs.requirePlainFile(it, "the plot's SVG") }
         configs?.let { outputs.check(it, listOf(input)) }
         val outputTarget = output?.let { outputs.check(it, listOf(input)) }
         val plotTarget = plot?.let { outputs.check(it, listOf(input)) }
@@ -190,7 +194,7 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         ) {
             throw UsageException("-o $output and --plot $plot name the same file")
         }
-        val (result, name) = Recording.open(Path.of(input)).use { rec ->
+        val (result, name) = InputOptions.open(input, o, err, this.name).use { rec ->
             val meta = rec.metadata
             if (meta != null && !meta.stillRecording && !o.has("--quiet")) {
                 err.println("fusion allan: note: ${rec.name} is not marked as a still recording (the app's still-recording mode): the figures hold only if the phone lay untouched throughout")
@@ -204,8 +208,7 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
         NoiseModel.checkUsable(result, input)
         if (!o.has("--quiet")) err.print(AllanPlot.table(result))
         val yaml = result.kalibrYaml(source)
-        if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
-        if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
+        // The files first, standard output last: a file that cannot be written leaves nothing half done on the terminal.
         if (configs != null) {
             val model = NoiseModel.parse(yaml, "the noise model of $input")
             val rate = model.rateHz ?: throw DataFormatException(input, 0, 0, "no sample rate for the noise configurations")
@@ -214,6 +217,8 @@ internal class AllanCommand(private val err: PrintStream, private val outputs: O
                 Files.write(folder.resolve(file), text.toByteArray(StandardCharsets.UTF_8))
             }
         }
+        if (plot != null) outputs.file(plot, listOf(input)).use { it.write(AllanPlot.svg(result, "Allan deviation of $name").toByteArray(StandardCharsets.UTF_8)) }
+        if (output == null) out.print(yaml) else outputs.file(output, listOf(input)).use { it.write(yaml.toByteArray(StandardCharsets.UTF_8)) }
         return ExitCode.OK
     }
 

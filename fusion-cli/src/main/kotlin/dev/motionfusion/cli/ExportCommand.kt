@@ -65,6 +65,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
             else -> ExportFormat.of(f) ?: throw UsageException("--format expects euroc, kalibr, gcsv or ros2, got '$f'")
         }
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("export needs -o OUT")
+        if (!format.folder) outputs.requirePlainFile(output, "a ${format.key} export")
         // Options with nothing to act on in this format are refused, not ignored: kalibr and gcsv hold no orientation.
         if (format == ExportFormat.KALIBR || format == ExportFormat.GCSV) {
             val given = (FilterOptions.VALUED + HeadingOptions.VALUED).filter { o.value(it) != null || o.values(it).isNotEmpty() } + FilterOptions.FLAGS.filter { o.has(it) }

@@ -133,6 +133,15 @@ internal class Outputs(
     }
 
     /**
+     * [output] as the name of one plain file of [what]: a name ending in '/' (a folder) or ".gz" (which
+     * fusion replay compresses) would say otherwise, so it is a usage error rather than a surprise.
+     */
+    fun requirePlainFile(output: String, what: String) {
+        if (output.endsWith("/") || output.endsWith(java.io.File.separator)) throw UsageException("$output ends in '/', but $what is one file: name the file")
+        if (output.endsWith(".gz", ignoreCase = true)) throw UsageException("$output ends in .gz, but $what is written plain (as its readers take it): name it without .gz")
+    }
+
+    /**
      * The real destination of [output] (links followed, also a dangling one) after checking
      * it against [inputs].
      */

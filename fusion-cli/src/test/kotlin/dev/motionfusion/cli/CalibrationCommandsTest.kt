@@ -162,6 +162,14 @@ class CalibrationCommandsTest {
         assertEquals(ExitCode.USAGE, fusion("calibrate", s.toString(), "--min-coverage", "2").code)
         assertEquals(ExitCode.USAGE, fusion("calibrate", s.toString(), "-o", s.toString()).code)
         assertEquals(ExitCode.IO_ERROR, fusion("calibrate", dir.resolve("missing").toString()).code)
+        // Outputs named as compressed are refused (written plain); the input options of every reading command apply.
+        val gz = fusion("calibrate", s.toString(), "-o", dir.resolve("c.json.gz").toString())
+        assertEquals(ExitCode.USAGE, gz.code)
+        assertTrue("ends in .gz, but the calibration JSON is written plain" in gz.err, gz.err)
+        assertEquals(ExitCode.USAGE, fusion("allan", s.toString(), "--plot", dir.resolve("p.svg.gz").toString()).code)
+        val limited = fusion("calibrate", s.toString(), "--max-uncompressed", "40G", "--platform", "android", "--quiet")
+        assertTrue(limited.code != ExitCode.USAGE, limited.err)
+        assertTrue("--platform is for Sensor Logger exports" in limited.err, limited.err)
     }
 
     @Test

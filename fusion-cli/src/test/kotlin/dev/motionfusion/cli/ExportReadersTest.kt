@@ -531,6 +531,15 @@ class ExportReadersTest {
             assertEquals(ExitCode.USAGE, u.code, u.err)
             assertTrue(message in u.err, u.err)
         }
+        // A file format's OUT that names a folder or a compressed file.
+        for ((format, name, message) in listOf(
+            Triple("gcsv", "x.gcsv.gz", "ends in .gz, but a gcsv export is written plain"),
+            Triple("ros2", "rosdir/", "ends in '/', but a ros2 export is one file"),
+        )) {
+            val u = fusion("export", session.toString(), "--format", format, "-o", dir.resolve("plain").toString() + "/" + name)
+            assertEquals(ExitCode.USAGE, u.code, u.err)
+            assertTrue(message in u.err, u.err)
+        }
         val bad = dir.resolve("bad-noise.yaml")
         Files.writeString(bad, "gyroscope_noise_density: 1e-4\ngyroscope_random_walk: lots\n")
         val n = fusion("export", session.toString(), "--format", "kalibr", "--noise", bad.toString(), "-o", out.toString())
