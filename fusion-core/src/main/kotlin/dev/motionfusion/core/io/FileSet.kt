@@ -201,6 +201,8 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
         const val MAX_FILES = 10_000
         const val SNIFF_BYTES = 1 shl 16
 
+        private const val EMPTY = "empty: nothing was read from it (an empty input holds no recording)"
+
         /**
          * A folder, a zip, or any other file as a set of one. Standard input ("-"), a pipe, a
          * FIFO or a device is read once into a temporary file (deleted on close; at most the
@@ -222,6 +224,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
             }
             return when {
                 kind.isDirectory -> Folder(path, guard)
+                kind.isRegularFile && kind.size() == 0L -> throw DataFormatException(shown, 0, 0, EMPTY)
                 kind.isRegularFile -> if (isZip(path)) Zip(path, guard, shown, null) else Single(path, guard, shown, null)
                 else -> AtomicFiles.named(path) { Files.newInputStream(path) }.use { spooled(it, shown, guard) }
             }
@@ -254,7 +257,7 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
                     }
                     total
                 }
-                if (size == 0L) throw DataFormatException(shown, 0, 0, "empty: nothing was read from it (an empty input holds no recording)")
+                if (size == 0L) throw DataFormatException(shown, 0, 0, EMPTY)
                 return if (isZip(spool)) Zip(spool, guard, shown, spool) else Single(spool, guard, shown, spool)
             } catch (e: Throwable) {
                 Files.deleteIfExists(spool)
