@@ -109,8 +109,9 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         fun fail(reason: String): Nothing = throw DataFormatException(source, 0, 0, reason)
         if (largestStepBackNs > SensorRanges.MAX_STEP_BACK_S * 1e9) {
             fun s(ns: Long) = "%.3f".format(java.util.Locale.ROOT, secondsBetween(counts.firstTimestampNs, ns))
-            fail("gyroscope timestamps step back by ${"%.3f".format(java.util.Locale.ROOT, largestStepBackNs * 1e-9)} s (from t = ${s(stepBackFromNs)} s to ${s(stepBackFromNs - largestStepBackNs)} s, " +
-                "times from the first sample): the recording is out of order (pieces joined?); sort it by time")
+            fail("gyroscope timestamps step back by ${"%.3f".format(java.util.Locale.ROOT, largestStepBackNs * 1e-9)} s at gyroscope sample $stepBackSample " +
+                "(from t = ${s(stepBackFromNs)} s to ${s(stepBackFromNs - largestStepBackNs)} s, times from the first sample; in a plain table, its data row $stepBackSample): " +
+                "the recording is out of order (pieces joined?); sort it by time")
         }
         if (counts.gyroscope > 0 && d.skippedTimestamp * 2 > counts.gyroscope) {
             fail("${d.skippedTimestamp} of ${counts.gyroscope} gyroscope timestamps do not advance: fewer than half the samples are usable; sort the rows by time")
@@ -127,6 +128,9 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
     /** The largest step back of the gyroscope's timestamps, ns, and where it was. */
     private var largestStepBackNs = 0L
     private var stepBackFromNs = 0L
+    // Gyroscope samples seen, and the 1-based number of the one that stepped back furthest.
+    private var gyroscopeSamples = 0L
+    private var stepBackSample = 0L
     private var lastGyroNs = Long.MIN_VALUE
 
     /**
@@ -138,9 +142,10 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         x.isFinite() && y.isFinite() && z.isFinite() && abs(x) <= limit && abs(y) <= limit && abs(z) <= limit
 
     private fun gyroscopeTime(t: Long) {
+        gyroscopeSamples++
         if (lastGyroNs != Long.MIN_VALUE && t < lastGyroNs) {
             val back = secondsBetween(t, lastGyroNs) * 1e9
-            if (back > largestStepBackNs) { largestStepBackNs = back.toLong(); stepBackFromNs = lastGyroNs }
+            if (back > largestStepBackNs) { largestStepBackNs = back.toLong(); stepBackFromNs = lastGyroNs; stepBackSample = gyroscopeSamples }
         }
         lastGyroNs = t
     }

@@ -86,7 +86,7 @@ class PlausibilityTest {
         refused("all times zero", """timestamp steps are all the same \(0 s\)""", { r -> r.onEach { it.t = 0.0 } }),
         refused("a 1 Hz table", """the timestamps imply 1 Hz""", { r -> r.onEach { it.t *= 100 } }),
         refused("t_s in microseconds", """the times look like µs, not s""", { r -> r.onEach { it.t *= 1e6 } }),
-        refused("times going back midway", """gyroscope timestamps step back by 9\.990 s \(from t = 9\.990 s to 0\.000 s, times from the first sample\): the recording is out of order""", { r -> r.onEachIndexed { i, it -> if (i >= 1000) it.t -= 10.0 } }),
+        refused("times going back midway", """gyroscope timestamps step back by 9\.990 s at gyroscope sample 1001 \(from t = 9\.990 s to 0\.000 s, times from the first sample; in a plain table, its data row 1001\): the recording is out of order""", { r -> r.onEachIndexed { i, it -> if (i >= 1000) it.t -= 10.0 } }),
         refused("times stalled after a few rows", """of \d+ gyroscope timestamps do not advance|timestamp steps do not advance""", { r -> r.onEachIndexed { i, it -> if (i >= 10) it.t = 0.1 } }),
     )
 
