@@ -20,10 +20,11 @@ internal class SummaryCommand : Command {
         |""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
+        // Options first: summary has none, so "summary FILE --quiet" is an unknown option, not a second FILE.
+        args.firstOrNull { it.startsWith("-") && it != "-" }?.let { throw UsageException("unknown option '$it'") }
         val file = args.singleOrNull() ?: throw UsageException(
             if (args.isEmpty()) "summary needs a FILE" else "summary takes one FILE, got ${args.size} arguments",
         )
-        if (file.startsWith("-") && file != "-") throw UsageException("unknown option '$file'")
         val stats = ImuTableReader.open(InputOptions.path(file)).use { reader ->
             TableStats(reader.hasMagnetometer).also { s -> while (reader.next()) s.add(reader.timeS, reader.row) }
         }

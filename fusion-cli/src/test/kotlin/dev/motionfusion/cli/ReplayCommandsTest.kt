@@ -71,6 +71,10 @@ class ReplayCommandsTest {
             assertEquals(ExitCode.OK, r.code, c)
             assertTrue(r.out.startsWith("Usage: fusion $c"), r.out)
         }
+        // An option summary does not have is named as one, wherever it stands.
+        val q = fusion("summary", dir.resolve("t.csv").toString(), "--quiet")
+        assertEquals(ExitCode.USAGE, q.code)
+        assertTrue("unknown option '--quiet'" in q.err, q.err)
     }
 
     @Test
