@@ -32,8 +32,12 @@ public object Evaluation {
             val r = rows.imu
             while (rows.next()) {
                 val t = (rows.timeS * 1e9).roundToLong()
-                if (rows.hasMag) {
+                if (rows.hasMag && ImuTableReader.hasMagnetometerReading(r)) {
                     filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8])
+                } else if (rows.hasMag) {
+                    // No reading at this instant: the last one is held, as the replay holds it.
+                    filter.updateAccelerometer(t, r[3], r[4], r[5])
+                    filter.updateGyroscope(t, r[0], r[1], r[2])
                 } else {
                     filter.update(t, r[0], r[1], r[2], r[3], r[4], r[5])
                 }

@@ -58,8 +58,9 @@ public enum class Initialisation {
  * @property restAccThreshold rest when the accelerometer deviates from its low-passed value by less
  *   than this, m/s². Default 0.5 m/s².
  * @property restMinTime time the rest conditions must hold before rest is declared, s. Default 1.5 s.
- * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began, for up to
- *   this long, then a moving average with this time constant, s. Default 2 s.
+ * @property restBiasTime at rest, the bias is the mean gyroscope reading since rest began (the stretch within
+ *   restMaxRate that declared it; a rest declared after restImplausibleTime starts from the rate low-passed over
+ *   0.5 s), for up to this long, then a moving average with this time constant, s. Default 2 s.
  * @property restMaxRate a rest's plausibility: rest is declared after restMinTime only if the low-passed
  *   gyroscope (what the rest estimate takes as the bias) has stayed within this of zero for that long, rad/s;
  *   a larger mean rate needs the rest conditions held for restImplausibleTime. A slow turn below

@@ -45,9 +45,9 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     /** The rest estimate: one gyroscope step of [dt] s with the reading [gx], [gy], [gz] and, when [accOk], the accelerometer's. */
     fun update(dt: Double, gx: Double, gy: Double, gz: Double, accOk: Boolean, ax: Double, ay: Double, az: Double) {
         if (rest != null && rest.update(dt, gx, gy, gz, accOk, ax, ay, az)) {
-            // The mean of the readings since rest began (the rest conditions' start, restMinTime or more before the
-            // rest was declared: one step's reading is noise), then a moving average over restBiasTime.
-            if (rest.declared || rest.restTime <= restBiasTime) {
+            // The mean of the readings since the rest began (restMinTime or more before it was declared: one step's
+            // reading is noise; RestDetector.meanTime), then a moving average over restBiasTime.
+            if (rest.declared || (rest.plausible && rest.meanTime <= restBiasTime)) {
                 x = rest.meanX; y = rest.meanY; z = rest.meanZ
             } else {
                 val k = dt / restBiasTime

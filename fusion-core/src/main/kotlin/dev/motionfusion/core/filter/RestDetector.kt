@@ -36,15 +36,26 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     // Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s.
     private var plausibleTime = 0.0
 
-    // The gyroscope readings since the rest conditions began, each times its step, rad.
-    private var sumX = 0.0
-    private var sumY = 0.0
-    private var sumZ = 0.0
+    // The gyroscope readings, each times its step (rad), since the rest conditions have held within restMaxRate
+    // ([plausibleTime]).
+    private var plausibleX = 0.0
+    private var plausibleY = 0.0
+    private var plausibleZ = 0.0
 
-    /** The mean gyroscope reading since the rest conditions began (over [restTime]), rad/s; 0 while they do not hold. */
-    val meanX: Double get() = if (restTime > 0.0) sumX / restTime else 0.0
-    val meanY: Double get() = if (restTime > 0.0) sumY / restTime else 0.0
-    val meanZ: Double get() = if (restTime > 0.0) sumZ / restTime else 0.0
+    /**
+     * How long the rest's mean reading ([meanX]…) is taken over, s: the time within restMaxRate, for a rest declared
+     * by it (a slow turn before that stretch is no part of the bias); for one declared after restImplausibleTime, the
+     * low-pass's [LOW_PASS_TIME] (what the rate was at the end: a turn that stopped within that time is no part of it).
+     */
+    val meanTime: Double get() = if (plausible) plausibleTime else LOW_PASS_TIME
+
+    /** Whether the rest conditions have held within restMaxRate for restMinTime (the rest is declared by them). */
+    val plausible: Boolean get() = plausibleTime >= minTime
+
+    /** The rest's mean gyroscope reading over [meanTime], rad/s. */
+    val meanX: Double get() = if (plausible) plausibleX / plausibleTime else gx
+    val meanY: Double get() = if (plausible) plausibleY / plausibleTime else gy
+    val meanZ: Double get() = if (plausible) plausibleZ / plausibleTime else gz
 
     /** True once the rest conditions have held for restMinTime (restImplausibleTime for a mean rate beyond restMaxRate). */
     var atRest = false
@@ -57,7 +68,8 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     fun update(dt: Double, wx: Double, wy: Double, wz: Double, accValid: Boolean, sx: Double, sy: Double, sz: Double): Boolean {
         if (!accValid) {
             restTime = 0.0
-            sumX = 0.0; sumY = 0.0; sumZ = 0.0
+            plausibleTime = 0.0
+            plausibleX = 0.0; plausibleY = 0.0; plausibleZ = 0.0
             atRest = false
             declared = false
             return false
@@ -80,16 +92,16 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         val still = dgx * dgx + dgy * dgy + dgz * dgz < gyroThreshold2 &&
             gx * gx + gy * gy + gz * gz < gyroThreshold2 &&
             dax * dax + day * day + daz * daz < accThreshold2
-        if (still) {
-            restTime += dt
-            sumX += wx * dt; sumY += wy * dt; sumZ += wz * dt
-        } else {
-            restTime = 0.0
-            sumX = 0.0; sumY = 0.0; sumZ = 0.0
-        }
+        restTime = if (still) restTime + dt else 0.0
         // A mean rate beyond restMaxRate is more likely a slow turn than a bias: the rest conditions must then have
         // held for restImplausibleTime, else restMinTime within restMaxRate.
-        plausibleTime = if (still && gx * gx + gy * gy + gz * gz < maxRate2) plausibleTime + dt else 0.0
+        if (still && gx * gx + gy * gy + gz * gz < maxRate2) {
+            plausibleTime += dt
+            plausibleX += wx * dt; plausibleY += wy * dt; plausibleZ += wz * dt
+        } else {
+            plausibleTime = 0.0
+            plausibleX = 0.0; plausibleY = 0.0; plausibleZ = 0.0
+        }
         val was = atRest
         atRest = still && (plausibleTime >= minTime || restTime >= implausibleTime)
         declared = atRest && !was
@@ -99,7 +111,7 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     /** For a run backward in time (gyroscope readings negated): the gyroscope low-pass is negated too. */
     fun reverse() {
         gx = -gx; gy = -gy; gz = -gz
-        sumX = -sumX; sumY = -sumY; sumZ = -sumZ
+        plausibleX = -plausibleX; plausibleY = -plausibleY; plausibleZ = -plausibleZ
     }
 
     override fun reset() {
@@ -110,17 +122,17 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         atRest = false
         declared = false
         plausibleTime = 0.0
-        sumX = 0.0; sumY = 0.0; sumZ = 0.0
+        plausibleX = 0.0; plausibleY = 0.0; plausibleZ = 0.0
     }
 
-    /** The low-passed gyroscope and accelerometer, the time at rest, the verdict, the rest plausibility's time and the readings' sums. */
+    /** The low-passed gyroscope and accelerometer, the time at rest, the verdict, the rest plausibility's time and the sum of its readings. */
     data class State(
         val started: Boolean, val gx: Double, val gy: Double, val gz: Double,
         val ax: Double, val ay: Double, val az: Double, val restTime: Double, val atRest: Boolean,
-        val plausibleTime: Double, val sumX: Double, val sumY: Double, val sumZ: Double,
+        val plausibleTime: Double, val plausibleX: Double, val plausibleY: Double, val plausibleZ: Double,
     )
 
-    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest, plausibleTime, sumX, sumY, sumZ)
+    override fun state() = State(started, gx, gy, gz, ax, ay, az, restTime, atRest, plausibleTime, plausibleX, plausibleY, plausibleZ)
 
     override fun restore(state: State) {
         started = state.started
@@ -130,7 +142,7 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
         atRest = state.atRest
         declared = false
         plausibleTime = state.plausibleTime
-        sumX = state.sumX; sumY = state.sumY; sumZ = state.sumZ
+        plausibleX = state.plausibleX; plausibleY = state.plausibleY; plausibleZ = state.plausibleZ
     }
 
     companion object {

@@ -79,8 +79,24 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
         }
     }
 
+    // Rows read, and those with a magnetometer reading (a table whose magnetometer never reads is refused at its end).
+    private var rows = 0L
+    private var magnetometerRows = 0L
+
     /** Advances to the next row; false at the end. */
     public fun next(): Boolean {
+        if (!advance()) {
+            if (hasMagnetometer && rows > 0 && magnetometerRows == 0L) {
+                throw DataFormatException(csv.sourceName, 0, 0, "mx,my,mz are empty in every row: the magnetometer never reads; leave the columns out (a 6D recording)")
+            }
+            return false
+        }
+        rows++
+        if (hasMagnetometer && hasMagnetometerReading(row)) magnetometerRows++
+        return true
+    }
+
+    private fun advance(): Boolean {
         when (csv.nextRow(fieldCount, slot, parsed)) {
             ByteCsvReader.END -> return false
             ByteCsvReader.ROW -> {
@@ -117,6 +133,13 @@ public class ImuTableReader internal constructor(private val csv: ByteCsvReader)
         internal val COLUMNS: List<String> = listOf("t_s", "gx", "gy", "gz", "ax", "ay", "az", "mx", "my", "mz")
         private const val REQUIRED = 7
 
+
+        /**
+         * Whether [row] (gx … mz, as [row]) holds a magnetometer reading: its three fields empty (NaN) mean none at that
+         * instant, a magnetometer slower than the table's rows (docs/IMPORT.md); one or two empty is a reading that
+         * is not finite, which the filter skips and counts.
+         */
+        internal fun hasMagnetometerReading(row: DoubleArray): Boolean = !(row[6].isNaN() && row[7].isNaN() && row[8].isNaN())
 
         /** True when [header] (a first line) names the required columns of an IMU table. */
         internal fun recognises(header: String): Boolean {
@@ -177,8 +200,7 @@ internal class ImuTableEvents(private val table: ImuTableReader, ahead: Boolean 
                 0 -> { phase = 1; stream = SessionStream.ACCELEROMETER; values[0] = r[3]; values[1] = r[4]; values[2] = r[5]; return true }
                 1 -> {
                     phase = 2
-                    // Three empty fields: no reading at this instant (a slower magnetometer).
-                    if (hasMagnetometer && !(r[6].isNaN() && r[7].isNaN() && r[8].isNaN())) {
+                    if (hasMagnetometer && ImuTableReader.hasMagnetometerReading(r)) {
                         stream = SessionStream.MAGNETOMETER; values[0] = r[6]; values[1] = r[7]; values[2] = r[8]; return true
                     }
                 }

@@ -15,6 +15,7 @@ import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.io.DataFormatException
 import dev.motionfusion.core.WorldFrame
 import dev.motionfusion.core.event.RowEvents
+import dev.motionfusion.core.input.ImuTableReader
 import dev.motionfusion.core.event.SensorEvents
 import dev.motionfusion.core.event.SessionStream
 import kotlin.math.abs
@@ -206,8 +207,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
             if (progress != null && (rows and 0x3FFF) == 0L) progress(rows * 2 + magnetometer)
             f.updateAccelerometer(t, r[3], r[4], r[5])
             accelerometerHeld(step, t, r[3], r[4], r[5])
-            // A row whose three magnetometer fields are empty has no reading (a slower magnetometer).
-            if (mag && !(r[6].isNaN() && r[7].isNaN() && r[8].isNaN())) {
+            if (mag && ImuTableReader.hasMagnetometerReading(r)) {
                 magnetometer++
                 f.updateMagnetometer(t, r[6], r[7], r[8])
                 magnetometerHeld(step, t, r[6], r[7], r[8])

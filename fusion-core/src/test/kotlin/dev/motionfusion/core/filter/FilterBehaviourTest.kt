@@ -121,6 +121,26 @@ class FilterBehaviourTest {
     }
 
     @Test
+    fun `a slow turn that stops before a rest is no part of the rest's bias`() {
+        // Flat, turning at 2.3°/s (within restGyroThreshold, beyond restMaxRate) for 2.5 s, then still with a bias of
+        // 0.001 rad/s: the rest is declared once the low-passed rate has been within restMaxRate for restMinTime, and
+        // its bias is the mean of that stretch, not of the turn before it (which would be 0.023 rad/s).
+        val filter = MadgwickFilter()
+        var t = 0L
+        fun step(rate: Double) {
+            t += 10_000_000L
+            filter.update(t, 0.0, 0.0, rate, 0.0, 0.0, 9.81)
+        }
+        repeat(250) { step(0.04) }
+        var k = 0
+        while (!filter.diagnostics().atRest) {
+            assertTrue(k++ < 400, "no rest within 4 s of the stop")
+            step(0.001)
+        }
+        assertEquals(0.001, filter.diagnostics().gyroBias.z, 2e-4)
+    }
+
+    @Test
     fun `the gyroscope holds heading through a magnetic disturbance`() {
         val disturbed = MotionSimulator(base.copy(hardIron = Vector3(30.0, -20.0, 10.0), hardIronWindow = TimeWindow(20.0, 40.0))).run()
         val from = index(disturbed, 20.0)

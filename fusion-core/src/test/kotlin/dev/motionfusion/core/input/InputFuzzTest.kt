@@ -279,6 +279,7 @@ class InputFuzzTest {
                 ImportOptions(dev.motionfusion.core.io.InputLimits(maxEntryBytes = 2000, maxTotalBytes = 3000))).use { r -> r.events().use { e -> while (e.next()) Unit } }
         }
         rejects("empty: nothing was read from it") { drain(write("empty.csv", ByteArray(0))) }
+        rejects("mx,my,mz are empty in every row") { drain(write("nomag.csv", "t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n0,0,0,0,0,0,9.8,,,\n0.01,0,0,0,0,0,9.8,,,\n".toByteArray())) }
         rejects("3 fields") { drain(write("short.csv", "t_s,gx,gy,gz,ax,ay,az\n1,2,3\n".toByteArray())) }
         rejects("has 7") { drain(write("extra2.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9.8,1\n".toByteArray())) }
         rejects("decimal comma") { drain(write("comma.csv", "t_s,gx,gy,gz,ax,ay,az\n0,0,0,0,0,0,9,8\n".toByteArray())) }
