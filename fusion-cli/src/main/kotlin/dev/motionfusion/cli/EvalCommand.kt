@@ -180,11 +180,13 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         if (!isTrialSet) return listOf(Unit(p, null))
         val top = path.toFile()
         if (Trial.isTrial(top)) return listOf(Unit(p, top))
-        // A dataset folder: its trial folders, its sessions, and (failed, so that the mean is not silently over fewer)
+        // A dataset folder: its trial folders, its sessions (folders and zips), and (failed, so that the mean is not silently over fewer)
         // the folders that hold half a trial. Other folders are not recordings and stay out.
-        val units = (top.listFiles() ?: emptyArray()).filter { it.isDirectory }.sortedBy { it.name }.mapNotNull { d ->
+        val units = (top.listFiles() ?: emptyArray()).filter { it.isDirectory || it.name.endsWith(".zip", ignoreCase = true) }.sortedBy { it.name }.mapNotNull { d ->
             val halves = listOf("input", "truth").filter { File(d, "$it.csv.gz").isFile || File(d, "$it.csv").isFile }
             when {
+                // A zip in a data set is a session (the app's, fusion simulate's); one that is not fails, named.
+                d.isFile -> Unit(d.path, null)
                 halves.size == 2 -> Unit(d.path, d)
                 File(d, "meta.json").isFile -> Unit(d.path, null)
                 halves.size == 1 -> {

@@ -35,8 +35,10 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |           acceleration from --noise (N²·f on the diagonal), else unknown (0)
         |Rows: one per gyroscope sample from the first accelerometer reading on (for gcsv with a
         |magnetometer: from the first of both), the other sensors held at its instant. Times: the
-        |recording's own clock, ns (gcsv: tscale 1e-9). Frame: Android device axes (x right, y up,
-        |z out of the screen); orientation [w, x, y, z] sensor → ENU, Hamilton.
+        |recording's own clock, ns (gcsv: tscale 1e-9), moved later by whole seconds when it starts
+        |before 0 (a note says so). Frame: Android device axes (x right, y up, z out of the
+        |screen); orientation [w, x, y, z] sensor → ENU, Hamilton. Filter and heading options with
+        |kalibr or gcsv (no orientation in either), and --noise with gcsv, are usage errors.
         |
         |Options:
         |  --format F           euroc, kalibr, gcsv or ros2 (required)

@@ -614,6 +614,23 @@ class ExportReadersTest {
     }
 
     @Test
+    fun `a step back to before the first event is refused by the export, not written negative`() {
+        // From t = 0.3 s to 0.59 s, then back to -0.05 s (a step back under a second, which the replay passes over).
+        val table = dir.resolve("back.csv")
+        val lines = mutableListOf("t_s,gx,gy,gz,ax,ay,az,mx,my,mz")
+        for (k in 0 until 30) lines += String.format(java.util.Locale.ROOT, "%.4f,0.01,0,0,0,0,9.81,20,0,-40", 0.3 + k * 0.01)
+        for (k in 0 until 100) lines += String.format(java.util.Locale.ROOT, "%.4f,0.01,0,0,0,0,9.81,20,0,-40", -0.05 + k * 0.01)
+        Files.write(table, lines)
+        for (format in listOf("kalibr", "ros2")) {
+            val out = dir.resolve("back-$format" + if (format == "ros2") ".mcap" else "")
+            val r = fusion("export", table.toString(), "--format", format, "-o", out.toString())
+            assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
+            assertTrue("before the recording's first event (a step back in time)" in r.err, r.err)
+            assertTrue(!Files.exists(out), "nothing left at $out")
+        }
+    }
+
+    @Test
     fun `a recording without a magnetometer is replayed and exported in 6D, and says so`() {
         val table = dir.resolve("no-mag.csv")
         val lines = mutableListOf("t_s,gx,gy,gz,ax,ay,az")

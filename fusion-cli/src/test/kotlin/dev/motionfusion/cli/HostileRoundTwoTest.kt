@@ -105,11 +105,12 @@ class HostileRoundTwoTest {
         Files.delete(tmp.resolve("halves/b/truth.csv"))
         Files.createDirectories(tmp.resolve("halves/notes"))
         ok("simulate", "-o", p("halves/s"), "--duration", "5", "--rate", "50")
+        ok("simulate", "-o", p("halves/z.zip"), "--duration", "5", "--rate", "50")
         val r = run("eval", p("halves"))
         assertEquals(ExitCode.DATA_ERROR, r.code, r.err)
         assertTrue(Regex("halves/b: failed .*input\\.csv\\[\\.gz\\] without truth\\.csv\\[\\.gz\\]: half a trial, not scored").containsMatchIn(r.err), r.err)
         val names = r.out.lines().filter { it.startsWith("| ") }.map { it.split('|')[1].trim() }
-        assertEquals(listOf("trial", "a", "s", "**mean**"), names, r.out)
+        assertEquals(listOf("trial", "a", "s", "z", "**mean**"), names, r.out)
         assertFalse("notes" in r.err + r.out, "a folder that is no recording stays out: ${r.err}")
         // A session's truth.csv is on the phone's clock: --truth says to score the session itself.
         ok("replay", p("halves/s"), "-o", p("halves-s.csv"))

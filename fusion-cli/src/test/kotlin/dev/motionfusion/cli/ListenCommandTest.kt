@@ -128,7 +128,7 @@ class ListenCommandTest {
         val port = java.net.ServerSocket(0).use { it.localPort }
         val r = fusion("listen", "ws://127.0.0.1:$port", "--code", "000000")
         assertEquals(ExitCode.IO_ERROR, r.code)
-        assertTrue("no answer on that address" in r.err && "Exception" !in r.err, r.err)
+        assertTrue("nothing listening at that address and port" in r.err && "Exception" !in r.err, r.err)
     }
 
     @Test

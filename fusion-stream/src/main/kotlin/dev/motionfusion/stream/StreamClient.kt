@@ -220,7 +220,7 @@ public class StreamClient @JvmOverloads constructor(
 
 /** A connection failure in words: what a user can act on, not the exception's class name. */
 internal fun describe(ex: Exception): String = when (ex) {
-    is java.net.ConnectException -> "no answer on that address (${ex.message ?: "connection refused"}): is the phone's stream on, and the address and port the ones it shows?"
+    is java.net.ConnectException -> "nothing listening at that address and port (${ex.message ?: "connection refused"}): is the phone's stream on, and are they the ones it shows?"
     is java.net.UnknownHostException -> "unknown host ${ex.message ?: ""}: check the address the phone shows"
     is java.net.SocketTimeoutException -> "no answer in time (${ex.message ?: "timed out"}): is the phone on the same network?"
     is java.net.NoRouteToHostException -> "no route to the phone (${ex.message ?: ""}): is it on the same network?"

@@ -85,6 +85,7 @@ internal class CsvFile(stream: OutputStream) : Closeable {
 
     /** [v] ≥ 0 with leading zeros to at least [digits] digits. */
     fun padded(v: Long, digits: Int): CsvFile {
+        require(v >= 0) { "padded: $v < 0" }
         sep()
         var n = 1
         var x = v
@@ -110,11 +111,11 @@ internal class CsvFile(stream: OutputStream) : Closeable {
     override fun close() = out.close()
 }
 
-/** The events of a replay, each magnetometer reading also handed to [writer] at its own time (moved by [shiftNs]). */
-internal class MagnetometerTee(private val events: SensorEvents, private val writer: ExportWriter, private val shiftNs: Long) : SensorEvents by events {
+/** The events of a replay, each magnetometer reading also handed to [writer] at its own time as [time] writes it. */
+internal class MagnetometerTee(private val events: SensorEvents, private val writer: ExportWriter, private val time: (Long) -> Long) : SensorEvents by events {
     override fun next(): Boolean {
         val more = events.next()
-        if (more && events.stream == SessionStream.MAGNETOMETER) writer.magnetometer(events.timestampNs + shiftNs, events.values)
+        if (more && events.stream == SessionStream.MAGNETOMETER) writer.magnetometer(time(events.timestampNs), events.values)
         return more
     }
 }

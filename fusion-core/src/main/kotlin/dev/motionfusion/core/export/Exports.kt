@@ -156,7 +156,7 @@ public object Exports {
             val plain = object : ReplayListener {
                 override fun step(step: ReplayStep) {
                     val t = step.timestampNs
-                    step.timestampNs = t + shift
+                    step.timestampNs = shifted(rec, t, shift)
                     w.step(step)
                     step.timestampNs = t
                 }
@@ -189,12 +189,29 @@ public object Exports {
 
     private const val NS_PER_S = 1_000_000_000L
 
+    /**
+     * [t] moved by [shift] as written: never negative (a step back to before the first event, which the replay
+     * lets pass under a second, would be one) and never wrapped round.
+     */
+    internal fun shifted(rec: Recording, t: Long, shift: Long): Long {
+        val s = try {
+            Math.addExact(t, shift)
+        } catch (_: ArithmeticException) {
+            throw dev.motionfusion.core.io.DataFormatException(rec.name, 0, 0, "a time of ${t / NS_PER_S} s is beyond what the export's clock holds")
+        }
+        if (s < 0) {
+            throw dev.motionfusion.core.io.DataFormatException(rec.name, 0, 0,
+                "a time ${(-s).toDouble() / NS_PER_S} s before the recording's first event (a step back in time): the export's times cannot be negative; sort the recording by time")
+        }
+        return s
+    }
+
     /** One replay of [rec] into [listener], each magnetometer reading also handed to [tee] at its own time (moved by [shiftNs]). */
     private fun replay(rec: Recording, options: ExportOptions, listener: ReplayListener, progress: ((Long) -> Unit)?, tee: ExportWriter?, shiftNs: Long = 0L): ReplayCounts {
         val replayer = Replayer(options.settings)
         val raw = rec.events()
         val calibrated: SensorEvents = options.calibration?.let { CalibratedEvents(raw, it, rec.streams) } ?: raw
-        return (if (tee == null) calibrated else MagnetometerTee(calibrated, tee, shiftNs)).use { e ->
+        return (if (tee == null) calibrated else MagnetometerTee(calibrated, tee) { t -> shifted(rec, t, shiftNs) }).use { e ->
             if (options.offline == null) replayer.run(e, rec.originNs, listener, progress, rec.name)
             else replayer.runOffline(e, rec.originNs, listener, progress, rec.name, options.offline)
         }

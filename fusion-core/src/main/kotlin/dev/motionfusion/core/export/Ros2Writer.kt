@@ -21,7 +21,7 @@ import java.util.zip.CRC32
  *    REP-103's world), its covariance unknown (zeros); from the filter's first orientation on;
  *  - `/imu/mag` sensor_msgs/msg/MagneticField: each magnetometer reading at its own time, tesla.
  * Topic names are fully qualified, as rosbag2 records them (`ros2 bag play --topics` matches them
- * exactly). frame_id [FRAME_ID] for all; header stamps and log times in the recording's own clock.
+ * exactly). frame_id [FRAME_ID] for all; header stamps and log times in the recording's own clock (as Exports writes it: never negative).
  *
  * Layout: magic, Header (profile `ros2`), the Schema and Channel records, then the messages in
  * uncompressed Chunks of about [CHUNK_BYTES] of records each, every Chunk followed by one Message

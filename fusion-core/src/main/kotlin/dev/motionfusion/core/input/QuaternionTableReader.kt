@@ -45,7 +45,7 @@ public class QuaternionTableReader private constructor(private val csv: ByteCsvR
             names = header.names
             // A session's own stream (its times in ns of the phone's clock) needs the session's start to be put on t_s.
             if ("t_s" !in names && "timestamp_ns" in names) {
-                throw DataFormatException(csv.sourceName, 1, 1, "a session's stream (timestamp_ns, the phone's clock), not a table on t_s: score the session itself, fusion eval SESSION")
+                throw DataFormatException(csv.sourceName, 1, 1, "a session's stream (timestamp_ns, the phone's clock), not a table on t_s: give the session itself (fusion eval SESSION, fusion plot SESSION)")
             }
             cols = IntArray(5) { header.require(COLUMNS[it]) }
             movement = names.indexOf("movement")

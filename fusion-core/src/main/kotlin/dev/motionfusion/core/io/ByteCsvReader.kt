@@ -332,18 +332,26 @@ internal class ByteCsvReader(
 
     /**
      * The error at [line], [column] of the data, or, in compressed data, the damage that caused it: a flipped bit
-     * in deflated data reads as garbage long before the CRC-32 at the end is checked, so the rest is read to the
-     * check first (bounded by the input's limits), and the CSV error is named as what the damage caused.
+     * in deflated data reads as garbage long before the CRC-32 at the end is checked, so up to [DAMAGE_CHECK_BYTES]
+     * more are read first, and damage found there is the error, with the CSV error named as what it caused.
      */
     private fun located(line: Long, column: Int, reason: String): DataFormatException {
         val e = DataFormatException(sourceName, line, column, reason)
         if (!compressed) return e
         return try {
+            // At most DAMAGE_CHECK_BYTES more (about a second): a damaged stream usually fails well before its end.
             val scratch = ByteArray(1 shl 16)
-            while (input.read(scratch) >= 0) Unit
+            var read = 0L
+            while (read < DAMAGE_CHECK_BYTES) {
+                val n = input.read(scratch)
+                if (n < 0) break
+                read += n
+            }
             e
         } catch (damage: DataFormatException) {
-            DataFormatException(damage.source, damage.line, damage.column, "${damage.reason} (damaged compressed data: it read as line $line, column $column: $reason)", damage)
+            // The limits' own error is no damage: the CSV error stands.
+            if (damage.cause is OverLimit) e
+            else DataFormatException(damage.source, damage.line, damage.column, "${damage.reason} (damaged compressed data: it read as line $line, column $column: $reason)", damage)
         } catch (_: java.io.IOException) {
             e
         }
@@ -503,6 +511,8 @@ internal class ByteCsvReader(
     override fun close(): Unit = input.close()
 
     companion object {
+        /** How far past a CSV error in compressed data the reader looks for the damage that caused it, bytes. */
+        const val DAMAGE_CHECK_BYTES: Long = 256L shl 20
         const val MAX_LINE_BYTES = 1 shl 20
 
         /** Times beyond this (s) do not fit a nanosecond Long. */

@@ -88,11 +88,12 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
                 for (p in s) {
                     if (!Files.isRegularFile(p)) {
                         // A link to a folder elsewhere is named, as a link to a file is: what it holds is not read.
-                        if (Files.isSymbolicLink(p) && Files.isDirectory(p) && !p.toRealPath().startsWith(root)) linksOut += root.relativize(p).toString().replace('\\', '/')
+                        val rel = root.relativize(p).toString().replace('\\', '/')
+                        if (Files.isSymbolicLink(p) && Files.isDirectory(p) && !p.toRealPath().startsWith(root) && !hidden(rel)) linksOut += rel
                         continue
                     }
                     val rel = root.relativize(p).toString().replace('\\', '/')
-                    if (rel.split('/').any { it.startsWith(".") || it == "__MACOSX" }) continue
+                    if (hidden(rel)) continue
                     // A link pointing out of the folder is not part of the recording.
                     if (!p.toRealPath().startsWith(root)) {
                         linksOut += rel
@@ -104,6 +105,8 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
             }
             return found.sortedWith(compareBy<String>({ it.count { c -> c == '/' } }, { it }))
         }
+
+        private fun hidden(rel: String) = rel.split('/').any { it.startsWith(".") || it == "__MACOSX" }
 
         override fun openRaw(path: String): InputStream = Files.newInputStream(dir.resolve(path))
         override fun displayName(path: String) = dir.resolve(path).toString()
