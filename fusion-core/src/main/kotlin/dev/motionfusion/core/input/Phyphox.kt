@@ -34,6 +34,21 @@ internal object PhyphoxImport {
         else -> null
     }
 
+    /** A copy's mark after a file's name: "_2", " 2", "-2", "_v3", " (1)". */
+    private val COPY = Regex("""(?:[ _-]?v?\d+|\s*\(\d+\))$""", RegexOption.IGNORE_CASE)
+
+    private fun baseName(path: String) = path.substringAfterLast('/').substringBeforeLast('.').replace(Regex("""(?i)^raw data_?"""), "")
+
+    /** The quantity a file is named after ("Accelerometer.csv", "Raw Data_Gyroscope.csv", a copy "Gyroscope_2.csv"), or null. */
+    private fun fileQuantity(path: String): Quantity? = baseName(path).let { quantity(it) ?: quantity(it.replace(COPY, "")) }
+
+    /** How well [path]'s name says [q]: 2 named after it, 1 a copy's name ("Gyroscope_2"), 0 not. */
+    private fun naming(path: String, q: Quantity): Int = when {
+        quantity(baseName(path)) == q -> 2
+        fileQuantity(path) == q -> 1
+        else -> 0
+    }
+
     private val TIME = Regex("""^time(?: \(s\))?$""", RegexOption.IGNORE_CASE)
 
     /** "<quantity> x (<unit>)", "x (<unit>)", "<quantity> x", "<quantity>_x (<unit>)". */
@@ -50,7 +65,7 @@ internal object PhyphoxImport {
         val names = ByteCsvReader.headerNames(header, dialect.separator)
         val times = names.indices.filter { TIME.matches(names[it]) }
         if (times.size != 1) return null
-        val fromFile = quantity(fileName.substringAfterLast('/').substringBeforeLast('.').replace(Regex("""(?i)^raw data_?"""), ""))
+        val fromFile = fileQuantity(fileName)
         val found = LinkedHashMap<Quantity, Array<MutableList<Pair<Int, String>>>>()
         for ((i, n) in names.withIndex()) {
             val m = AXIS.matchEntire(n) ?: continue
@@ -122,9 +137,8 @@ internal object PhyphoxImport {
                 if (previous == null) {
                     chosen[set.quantity] = path to map
                 } else {
-                    // Two data sets of one sensor: prefer the file named after it, say which was left out.
-                    val named = quantity(path.substringAfterLast('/').substringBeforeLast('.')) == set.quantity
-                    val (kept, dropped) = if (named && quantity(previous.first.substringAfterLast('/').substringBeforeLast('.')) != set.quantity) {
+                    // Two data sets of one sensor: prefer the file named after it (then a copy's name), say which was left out.
+                    val (kept, dropped) = if (naming(path, set.quantity) > naming(previous.first, set.quantity)) {
                         chosen[set.quantity] = path to map
                         path to previous.first
                     } else {

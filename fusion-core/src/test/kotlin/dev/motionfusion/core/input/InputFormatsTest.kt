@@ -143,9 +143,12 @@ class InputFormatsTest {
                                 else -> "$q $a ($unit)"
                             }
                         }
-                        write(dir, if (custom) "Acceleration.csv" else "Accelerometer.csv", phyphox(h("Acceleration", "m/s^2"), data.acc, sep, comma))
-                        write(dir, "Gyroscope.csv", phyphox(h("Gyroscope", "rad/s"), data.gyro, sep, comma))
-                        write(dir, "Magnetometer.csv", phyphox(h("Magnetic field", "µT"), data.mag, sep, comma))
+                        // "copies": files renamed as a second export of the same experiment names them (iOS headers name no
+                        // sensor, so the file's name must still tell it).
+                        val copies = format.contains("copies")
+                        write(dir, if (custom) "Acceleration.csv" else if (copies) "Accelerometer_2.csv" else "Accelerometer.csv", phyphox(h("Acceleration", "m/s^2"), data.acc, sep, comma))
+                        write(dir, if (copies) "Gyroscope (1).csv" else "Gyroscope.csv", phyphox(h("Gyroscope", "rad/s"), data.gyro, sep, comma))
+                        write(dir, if (copies) "Magnetometer 2.csv" else "Magnetometer.csv", phyphox(h("Magnetic field", "µT"), data.mag, sep, comma))
                         write(dir.resolve("meta"), "device.csv", "\"property\",\"value\"\n")
                     }
                     format.startsWith("sensor logger android") -> {
@@ -198,7 +201,7 @@ class InputFormatsTest {
         fun formats(): List<String> = listOf(
             "session folder", "session zip", "table", "table gz", "trial",
             "phyphox android comma", "phyphox android semicolon", "phyphox android semicolon comma", "phyphox android tab", "phyphox android comma zip",
-            "phyphox ios comma", "phyphox ios semicolon", "phyphox ios semicolon comma", "phyphox ios tab", "phyphox ios semicolon comma zip",
+            "phyphox ios comma", "phyphox ios semicolon", "phyphox ios semicolon comma", "phyphox ios tab", "phyphox ios semicolon comma zip", "phyphox ios comma copies",
             "phyphox custom comma", "phyphox custom semicolon comma", "phyphox custom tab",
             "sensor logger android with metadata", "sensor logger android without metadata", "sensor logger android with metadata zip",
             "sensor logger ios with metadata", "sensor logger ios without metadata", "sensor logger ios standardised", "sensor logger ios with metadata zip",
