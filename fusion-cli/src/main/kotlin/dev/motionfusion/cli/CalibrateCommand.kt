@@ -134,9 +134,14 @@ internal class CalibrateCommand(private val err: PrintStream, private val output
             }
         }
 
-        /** The events of [rec], with [calibration] applied when given (check it first with [requireApplies]). */
-        fun calibrated(rec: Recording, calibration: Calibration?): dev.motionfusion.core.event.SensorEvents =
-            if (calibration == null) rec.events() else dev.motionfusion.core.calib.CalibratedEvents(rec.events(), calibration, rec.streams)
+        /**
+         * The events of [rec] a filter with [settings] steps on (in 6D, the magnetometer's are left out, and not
+         * probed), with [calibration] applied when given (check it first with [requireApplies]).
+         */
+        fun calibrated(rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings): dev.motionfusion.core.event.SensorEvents {
+            val streams = if (settings.mode == dev.motionfusion.core.filter.FilterMode.IMU) rec.streams - dev.motionfusion.core.event.SessionStream.MAGNETOMETER else rec.streams
+            return if (calibration == null) rec.events(streams) else dev.motionfusion.core.calib.CalibratedEvents(rec.events(streams), calibration, rec.streams)
+        }
     }
 }
 

@@ -245,7 +245,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                         lastTruthT = timestampNs
                     }
                 }
-                rec.events().use {
+                CalibrateCommand.calibrated(rec, null, settings).use {
                     if (offline == null) Replayer(settings).run(it, rec.originNs, listener, null, rec.name)
                     else Replayer(settings).runOffline(it, rec.originNs, listener, null, rec.name, offline)
                 }

@@ -106,7 +106,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             }
             val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
             truthTable.use {
-                rec.events().use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) }
+                CalibrateCommand.calibrated(rec, null, settings).use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) }
                 if (truthTable != null) while (truthPending) { truthRows++; truthPending = truthTable.next() }
             }
             progress.finish()

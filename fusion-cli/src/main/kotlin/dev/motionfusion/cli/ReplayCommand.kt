@@ -202,7 +202,7 @@ internal class ReplayCommand(
             rec: Recording, calibration: Calibration?, settings: dev.motionfusion.core.filter.FilterSettings, offline: dev.motionfusion.core.filter.offline.OfflineSettings?,
             listener: ReplayListener, progress: ((Long) -> Unit)?, replayer: Replayer = Replayer(settings),
         ): dev.motionfusion.core.replay.ReplayCounts =
-            CalibrateCommand.calibrated(rec, calibration).use { e ->
+            CalibrateCommand.calibrated(rec, calibration, settings).use { e ->
                 if (offline == null) replayer.run(e, rec.originNs, listener, progress, rec.name)
                 else replayer.runOffline(e, rec.originNs, listener, progress, rec.name, offline)
             }

@@ -332,7 +332,7 @@ class HostileCasesTest {
         c += Case("replay of a gyroscope reading of 1e30", listOf("replay", "gyro-1e30.csv", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
         c += Case("replay of a magnetometer reading of 1e308", listOf("replay", "mag-1e308.csv", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
         c += Case("replay of a session with an accelerometer reading of 3e38", listOf("replay", "s-3e38", "-o", "prev.csv"), 0, """1 beyond any phone's range""", setOf("prev.csv"))
-        c += Case("replay of an all-zero magnetometer", listOf("replay", "mag-zero.csv", "-o", "prev.csv"), 1, """magnetometer: is zero throughout: no field was recorded; replay as IMU \(--mode IMU\)""")
+        c += Case("replay of an all-zero magnetometer", listOf("replay", "mag-zero.csv", "-o", "prev.csv"), 1, """magnetometer: is zero throughout: no field was recorded; replay in 6D \(--mode 6d\)""")
         c += Case("replay of an accelerometer in g", listOf("replay", "acc-g.csv", "-o", "prev.csv"), 1, """accelerometer: looks like g, not m/s²""")
         c += Case("--beta 1e308", listOf("replay", "table.csv", "--beta", "1e308"), 2, """--beta: beta must be within 0–50 rad/s: 1\.0E308""")
         c += Case("--max-gap 1e9", listOf("replay", "table.csv", "--max-gap", "1e9"), 2, """--max-gap: maxGap must be within 0–200 s""")

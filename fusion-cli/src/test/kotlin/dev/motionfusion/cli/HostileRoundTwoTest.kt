@@ -126,6 +126,17 @@ class HostileRoundTwoTest {
     }
 
     @Test
+    fun `a magnetometer that read nothing refuses 9D, and 6D replays without it as the message says`() {
+        val rows = Files.readAllLines(simulatedTable("magzero-src.csv")).mapIndexed { i, l ->
+            if (i == 0) l else l.split(',').let { f -> (f.take(7) + listOf("0", "0", "0")).joinToString(",") }
+        }
+        val table = tmp.resolve("magzero.csv").also { Files.write(it, rows) }
+        fails(ExitCode.DATA_ERROR, "is zero throughout: no field was recorded; replay in 6D \\(--mode 6d\\)", "replay", table.toString(), "-o", p("magzero-9d.csv"))
+        ok("replay", table.toString(), "--mode", "6d", "-o", p("magzero-6d.csv"))
+        assertTrue(Files.readAllLines(tmp.resolve("magzero-6d.csv")).size > 200)
+    }
+
+    @Test
     fun `eval of a trial without a scored sample is an error, not a NaN table`() {
         trial("unscored/t01", simulatedTable("eval-table.csv"), null, movement = 0)
         val r = fails(ExitCode.DATA_ERROR, "unscored/t01.*no scored sample", "eval", p("unscored/t01"))

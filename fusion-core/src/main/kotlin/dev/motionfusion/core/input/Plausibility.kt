@@ -47,7 +47,7 @@ internal object Plausibility {
                 if (i + 1 == PROBE_SAMPLES && wanted.all { counts[it.ordinal] >= PROBE_SAMPLES }) break
             }
         }
-        for (s in PROBED) {
+        for (s in wanted) {
             val n = counts[s.ordinal]
             if (n < 2) continue
             checkTimes(source, format, s, times.getValue(s), n)
@@ -92,11 +92,11 @@ internal object Plausibility {
             SessionStream.GYROSCOPE ->
                 if (m > SensorRanges.MAX_MEDIAN_GYROSCOPE_RAD_S) "median |ω| ${fmt(m)} rad/s: looks like °/s, not rad/s; multiply the gyroscope by π/180" else null
             SessionStream.MAGNETOMETER -> when {
-                m == 0.0 -> "is zero throughout: no field was recorded; replay as IMU (--mode IMU) or leave the magnetometer out"
+                m == 0.0 -> "is zero throughout: no field was recorded; replay in 6D (--mode 6d) or leave the magnetometer out"
                 m >= 0.1 && m <= 1.0 -> "looks like gauss, not µT (median |B| ${fmt(m)}; the earth's field is 25–65 µT): multiply the magnetometer by 100"
-                m < SensorRanges.MIN_MEDIAN_MAGNETOMETER_UT -> "median |B| ${fmt(m)} µT is below any place's field (25–65 µT): a column of another unit, or replay as IMU (--mode IMU)"
+                m < SensorRanges.MIN_MEDIAN_MAGNETOMETER_UT -> "median |B| ${fmt(m)} µT is below any place's field (25–65 µT): a column of another unit, or replay in 6D (--mode 6d)"
                 m >= 10_000.0 && m <= 100_000.0 -> "looks like nT, not µT (median |B| ${fmt(m)}; the earth's field is 25–65 µT): divide the magnetometer by 1000"
-                m > SensorRanges.MAX_MEDIAN_MAGNETOMETER_UT -> "median |B| ${fmt(m)} µT is far above the earth's field (25–65 µT): a column of another unit, or replay as IMU (--mode IMU)"
+                m > SensorRanges.MAX_MEDIAN_MAGNETOMETER_UT -> "median |B| ${fmt(m)} µT is far above the earth's field (25–65 µT): a column of another unit, or replay in 6D (--mode 6d)"
                 else -> null
             }
             else -> null

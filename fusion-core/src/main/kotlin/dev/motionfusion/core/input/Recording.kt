@@ -60,8 +60,8 @@ public class Recording private constructor(
     private val readMarkers: () -> List<Marker> = { emptyList() },
     private val readClock: () -> List<dev.motionfusion.core.sync.ClockExchange> = { emptyList() },
 ) : Closeable {
-    /** The plausibility probe has passed (it runs once, before the first events). */
-    private var probed = false
+    /** The streams whose plausibility probe has passed (it runs once per stream, before its first events). */
+    private val probed = HashSet<SessionStream>()
 
     /** The markers set while recording (a session's markers.csv); empty for other formats. */
     public fun markers(): List<Marker> = readMarkers()
@@ -69,12 +69,16 @@ public class Recording private constructor(
     /** The clock exchanges with a laptop (a session's clock.csv, on the laptop clock its meta.json names); empty otherwise. */
     public fun clockExchanges(): List<dev.motionfusion.core.sync.ClockExchange> = readClock()
 
-    /** The events of [which] streams (default all), merged by timestamp. */
+    /**
+     * The events of [which] streams (default all), merged by timestamp. Only those streams are probed for
+     * plausibility: a replay without the magnetometer (6D) is not refused for a magnetometer that read nothing.
+     */
     public fun events(which: Set<SessionStream> = streams): SensorEvents {
-        if (!probed) {
+        val need = streams.filterTo(HashSet()) { it in which && it !in probed }
+        if (need.isNotEmpty()) {
             files.guard.reset()
-            Plausibility.check(name, format, streams, open())
-            probed = true
+            Plausibility.check(name, format, need, open())
+            probed += need
         }
         files.guard.reset()
         val all = open()

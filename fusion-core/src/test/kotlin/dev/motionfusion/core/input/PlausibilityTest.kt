@@ -110,7 +110,7 @@ class PlausibilityTest {
         refused("accelerometer in g", """accelerometer: looks like g, not m/s² \(median \|a\| 1; .*multiply the accelerometer by 9\.80665""", { r -> r.onEach { for (k in 0..2) it.a[k] /= 9.8 * 1.0004 } }),
         refused("accelerometer in mg", """accelerometer: median \|a\| 1000 m/s² is over 3 g""", { r -> r.onEach { for (k in 0..2) it.a[k] *= 1000 / 9.805 } }),
         refused("gyroscope in degrees per second", """gyroscope: median \|ω\| 11\.5 rad/s: looks like °/s, not rad/s""", { r -> r.onEach { it.g[2] = Math.toDegrees(it.g[2]) } }),
-        refused("magnetometer all zero", """magnetometer: is zero throughout: no field was recorded; replay as IMU""", { r -> r.onEach { it.m.fill(0.0) } }),
+        refused("magnetometer all zero", """magnetometer: is zero throughout: no field was recorded; replay in 6D""", { r -> r.onEach { it.m.fill(0.0) } }),
         refused("magnetometer in gauss", """magnetometer: looks like gauss, not µT""", { r -> r.onEach { for (k in 0..2) it.m[k] /= 100 } }),
         refused("magnetometer in nT", """magnetometer: looks like nT, not µT""", { r -> r.onEach { for (k in 0..2) it.m[k] *= 1000 } }),
     )
