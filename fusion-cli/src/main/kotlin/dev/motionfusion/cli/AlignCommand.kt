@@ -6,7 +6,7 @@ import java.util.Locale
 /** `fusion align`: several recordings of one motion on the first one's clock (docs/SYNC.md). */
 internal class AlignCommand(private val err: PrintStream, private val outputs: Outputs) : Command {
     override val name = "align"
-    override val summary = "puts recordings of several phones on one clock: by their wall clocks, refined by a shared shake"
+    override val summary = "puts recordings of several phones on one clock: by a clock link, their wall clocks or a shared shake"
     override val help = """
         |Usage: fusion align INPUT INPUT... [-o OFFSETS.csv] [--max-lag S] [--method auto|link|gyro|utc]
         |

@@ -50,7 +50,7 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
             val settings = FilterOptions.settings(o, rec, err, name)
             if (refStream !in rec.streams) {
                 val where = if (refStream == SessionStream.ROTATION_VECTOR) {
-                    "the phone's own orientation (${refStream.fileName} in a session, Orientation.csv in a Sensor Logger export; phyphox exports have none)"
+                    "the phone's own orientation (${refStream.fileName} in a session, Orientation.csv in a Sensor Logger export; a phyphox export's is not read)"
                 } else {
                     "the phone's game rotation vector (${refStream.fileName} in a session; other apps' exports have none)"
                 }

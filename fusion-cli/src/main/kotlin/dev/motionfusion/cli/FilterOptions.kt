@@ -24,10 +24,11 @@ internal object FilterOptions {
         |  --mode 6d|9d         6d: gyroscope + accelerometer; 9d: + magnetometer (default 9d;
         |                       6d for a recording without a magnetometer, with a note)
         |  --beta B             gradient step gain β, rad/s (default ${FilterSettings().beta})
-        |  --zeta Z             gyroscope bias drift gain ζ, rad/s (default off; 0 is off)
+        |  --zeta Z             gyroscope bias drift gain ζ, rad/s² (default off; 0 is off)
         |  --init identity|first-sample   start at the identity or from the first readings
         |  --no-rest-bias       do not estimate the gyroscope bias at rest
-        |  --no-mag-rejection   use the magnetometer even when it looks disturbed
+        |  --no-mag-rejection   no magnetic disturbance rejection (off by default; on in --report and
+        |                       in some recorded settings: --set magDisturbanceRejection=true turns it on)
         |  --acc-rejection      skip the accelerometer during strong linear acceleration
         |  --max-gap S          longest accepted gap between samples, s (default 0.5)
         |  --report             start from the Madgwick report's own settings instead

@@ -75,7 +75,8 @@ internal object Plausibility {
         val guess = listOf("ms" to 1e-3, "µs" to 1e-6, "ns" to 1e-9, "s" to 1.0, "min" to 60.0).map { (name, seconds) -> name to rate * unitSeconds(unit) / seconds }
             .firstOrNull { (name, r) -> name != unit && r >= 20.0 && r <= SensorRanges.MAX_RATE_HZ / 2 }
         val hint = if (guess != null) ": the times look like ${guess.first}, not $unit (that would be ${fmt(guess.second)} Hz); convert the time column to $unit" else
-            ": an IMU samples at ${fmt(SensorRanges.MIN_RATE_HZ)}–${fmt(SensorRanges.MAX_RATE_HZ)} Hz; check the time column's unit ($unit)"
+            ": an IMU samples at ${fmt(SensorRanges.MIN_RATE_HZ)}–${fmt(SensorRanges.MAX_RATE_HZ)} Hz; check the time column's unit ($unit), " +
+                "or whether the recording was made that slowly (Sensor Logger's sampleRateMs in Metadata.csv)"
         fail(source, "${s.key}: the timestamps imply ${fmt(rate)} Hz$hint")
     }
 

@@ -154,7 +154,7 @@ internal object SensorLoggerImport {
                 "Sensor Logger export without accelerometer data (TotalAcceleration.csv, Accelerometer.csv with Gravity.csv, or AccelerometerUncalibrated.csv): nothing to replay")
         }
         val gyro = map("Gyroscope.csv", SessionStream.GYROSCOPE, 1.0, xyz)
-            ?: map("GyroscopeUncalibrated.csv", SessionStream.GYROSCOPE, 1.0, xyz)?.also { notes += "no Gyroscope.csv: GyroscopeUncalibrated.csv used (drift is left to the filter's bias estimation)" }
+            ?: map("GyroscopeUncalibrated.csv", SessionStream.GYROSCOPE, 1.0, xyz)?.also { notes += "${if (files.find(dir, "Gyroscope.csv") != null) "Gyroscope.csv holds no reading" else "no Gyroscope.csv"}: GyroscopeUncalibrated.csv used (drift is left to the filter's bias estimation)" }
             ?: throw DataFormatException(files.name, 0, 0, "Sensor Logger export without Gyroscope.csv or GyroscopeUncalibrated.csv: nothing to replay")
         sources += StreamSource(SessionStream.GYROSCOPE) { gyro.open(it) }
         val mag = map("Magnetometer.csv", SessionStream.MAGNETOMETER, 1.0, xyz)
