@@ -90,7 +90,7 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
                 }
             }
             val progress = Progress(err, "compare", rec.metadata?.streams?.values?.sumOf { it.samples })
-            diff.use { CalibrateCommand.calibrated(rec, null, settings).use { e -> Replayer(settings).run(e, rec.originNs, listener, progress::update, rec.name) } }
+            diff.use { ReplayCommand.replay(rec, null, settings, null, listener, progress::update) }
             progress.finish()
             if (comparison.total.count == 0L) throw DataFormatException(input, 0, 0, "no ${refStream.fileName} sample falls between two filter steps")
             val what = if (live) "live orientation" else if (sixD) "Madgwick (replayed, 6D: heading from a common start)" else "Madgwick (replayed)"

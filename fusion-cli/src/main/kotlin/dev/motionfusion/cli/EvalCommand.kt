@@ -15,7 +15,6 @@ import dev.motionfusion.core.input.QuaternionTableReader
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
-import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.event.SessionStream
 import java.io.File
@@ -245,10 +244,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                         lastTruthT = timestampNs
                     }
                 }
-                CalibrateCommand.calibrated(rec, null, settings).use {
-                    if (offline == null) Replayer(settings).run(it, rec.originNs, listener, null, rec.name)
-                    else Replayer(settings).runOffline(it, rec.originNs, listener, null, rec.name, offline)
-                }
+                ReplayCommand.replay(rec, null, settings, offline, listener, null)
             }
             if (steps == 0L) throw DataFormatException(input, 0, 0, "no gyroscope sample has a truth sample at the same timestamp")
             if (e.samples == 0) throw DataFormatException(input, 0, 0, "no scored sample: no gyroscope step has both a known truth and a filter orientation; nothing to score")

@@ -106,7 +106,7 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
             }
             val progress = Progress(err, "plot", rec.metadata?.streams?.values?.sumOf { it.samples })
             truthTable.use {
-                CalibrateCommand.calibrated(rec, null, settings).use { Replayer(settings).run(it, rec.originNs, listener, progress::update, rec.name) }
+                ReplayCommand.replay(rec, null, settings, null, listener, progress::update)
                 if (truthTable != null) while (truthPending) { truthRows++; truthPending = truthTable.next() }
             }
             progress.finish()

@@ -193,7 +193,7 @@ public object Exports {
      * [t] moved by [shift] as written: never negative (a step back to before the first event, which the replay
      * lets pass under a second, would be one) and never wrapped round.
      */
-    internal fun shifted(rec: Recording, t: Long, shift: Long): Long {
+    private fun shifted(rec: Recording, t: Long, shift: Long): Long {
         val s = try {
             Math.addExact(t, shift)
         } catch (_: ArithmeticException) {

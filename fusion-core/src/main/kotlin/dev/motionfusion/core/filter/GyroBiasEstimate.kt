@@ -46,8 +46,8 @@ internal class GyroBiasEstimate(settings: FilterSettings) : Stage<GyroBiasEstima
     fun update(dt: Double, gx: Double, gy: Double, gz: Double, accOk: Boolean, ax: Double, ay: Double, az: Double) {
         if (rest != null && rest.update(dt, gx, gy, gz, accOk, ax, ay, az)) {
             // The mean of the readings since the rest began (restMinTime or more before it was declared: one step's
-            // reading is noise; RestDetector.meanTime), then a moving average over restBiasTime.
-            if (rest.declared || (rest.plausible && rest.meanTime <= restBiasTime)) {
+            // reading is noise; RestDetector.meanX), then a moving average over restBiasTime.
+            if (rest.declared || (rest.plausible && rest.plausibleTime <= restBiasTime)) {
                 x = rest.meanX; y = rest.meanY; z = rest.meanZ
             } else {
                 val k = dt / restBiasTime

@@ -33,8 +33,9 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     var declared = false
         private set
 
-    // Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s.
-    private var plausibleTime = 0.0
+    /** Time the rest conditions have held with the low-passed gyroscope within restMaxRate, s. */
+    var plausibleTime = 0.0
+        private set
 
     // The gyroscope readings, each times its step (rad), since the rest conditions have held within restMaxRate
     // ([plausibleTime]).
@@ -42,17 +43,14 @@ internal class RestDetector(settings: FilterSettings) : Stage<RestDetector.State
     private var plausibleY = 0.0
     private var plausibleZ = 0.0
 
-    /**
-     * How long the rest's mean reading ([meanX]…) is taken over, s: the time within restMaxRate, for a rest declared
-     * by it (a slow turn before that stretch is no part of the bias); for one declared after restImplausibleTime, the
-     * low-pass's [LOW_PASS_TIME] (what the rate was at the end: a turn that stopped within that time is no part of it).
-     */
-    val meanTime: Double get() = if (plausible) plausibleTime else LOW_PASS_TIME
-
     /** Whether the rest conditions have held within restMaxRate for restMinTime (the rest is declared by them). */
     val plausible: Boolean get() = plausibleTime >= minTime
 
-    /** The rest's mean gyroscope reading over [meanTime], rad/s. */
+    /**
+     * The rest's mean gyroscope reading, rad/s: over [plausibleTime] for a rest declared by it (a slow turn before
+     * that stretch is no part of the bias); for one declared after restImplausibleTime, the low-passed rate (what it
+     * was over the last [LOW_PASS_TIME]: a turn that stopped before then is no part of it).
+     */
     val meanX: Double get() = if (plausible) plausibleX / plausibleTime else gx
     val meanY: Double get() = if (plausible) plausibleY / plausibleTime else gy
     val meanZ: Double get() = if (plausible) plausibleZ / plausibleTime else gz

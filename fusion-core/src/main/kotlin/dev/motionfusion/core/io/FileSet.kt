@@ -86,14 +86,13 @@ internal abstract class FileSet(val guard: CompressionGuard) : Closeable {
             val found = ArrayList<String>()
             Files.walk(root, MAX_DEPTH).use { s ->
                 for (p in s) {
-                    if (!Files.isRegularFile(p)) {
-                        // A link to a folder elsewhere is named, as a link to a file is: what it holds is not read.
-                        val rel = root.relativize(p).toString().replace('\\', '/')
-                        if (Files.isSymbolicLink(p) && Files.isDirectory(p) && !p.toRealPath().startsWith(root) && !hidden(rel)) linksOut += rel
-                        continue
-                    }
                     val rel = root.relativize(p).toString().replace('\\', '/')
                     if (hidden(rel)) continue
+                    if (!Files.isRegularFile(p)) {
+                        // A link to a folder elsewhere is named, as a link to a file is: what it holds is not read.
+                        if (Files.isSymbolicLink(p) && Files.isDirectory(p) && !p.toRealPath().startsWith(root)) linksOut += rel
+                        continue
+                    }
                     // A link pointing out of the folder is not part of the recording.
                     if (!p.toRealPath().startsWith(root)) {
                         linksOut += rel
