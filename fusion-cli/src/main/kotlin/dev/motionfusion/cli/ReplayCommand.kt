@@ -6,6 +6,7 @@ import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.replay.Retimed
 import java.io.BufferedOutputStream
@@ -162,6 +163,20 @@ internal class ReplayCommand(
                         d.magnetometerOffset.takeIf { it.norm() > 0.0 }?.let { m ->
                             String.format(Locale.ROOT, "; the magnetometer's hard-iron offset (%.1f, %.1f, %.1f) µT estimated and taken off", m.x, m.y, m.z)
                         }.orEmpty(),
+                )
+            }
+            // A field whose heading errors persist along the recording, as a building's do: the magnetic trust is for that.
+            val stray = replayer.fieldPersistenceDeg
+            if (!o.has("--quiet") && settings.magTrustSpread == null && stray > Replayer.BUILDING_FIELD_PERSISTENCE_DEG) {
+                err.println(
+                    String.format(
+                        Locale.ROOT,
+                        "fusion replay: note: %s: the field's heading strays from the gyroscope's for tens of seconds at a time (median %.1f°; " +
+                            "under 7° in the rooms measured, up to 16° on walks through buildings): a field that misleads, or a gyroscope that does " +
+                            "(violent motion); on a walk through buildings --set magTrustSpread=%s keeps such a field out of the heading " +
+                            "(docs/ACCURACY.md, \"Walks through buildings\")",
+                        rec.name, stray, FilterSettings.BUILDINGS_TRUST_SPREAD,
+                    ),
                 )
             }
             // A raw magnetometer (a hard-iron offset of hundreds of µT) reads beyond any earth field, and the filter leaves it out.

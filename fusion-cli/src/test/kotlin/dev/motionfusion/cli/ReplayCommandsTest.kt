@@ -1,5 +1,6 @@
 package dev.motionfusion.cli
 
+import dev.motionfusion.core.Vector3
 import dev.motionfusion.core.sim.MotionSimulator
 import dev.motionfusion.core.sim.SimulatedSample
 import dev.motionfusion.core.sim.SimulationSettings
@@ -15,7 +16,9 @@ import java.util.Locale
 import java.util.zip.GZIPOutputStream
 import java.util.zip.ZipEntry
 import java.util.zip.ZipOutputStream
+import kotlin.math.PI
 import kotlin.math.abs
+import kotlin.math.sin
 import kotlin.math.sqrt
 
 /** The replay, eval, compare, plot, simulate and recover commands on files written in every input format. */
@@ -118,6 +121,32 @@ class ReplayCommandsTest {
         assertEquals(ExitCode.OK, r.code, r.err)
         assertTrue(Regex("the magnetometer's hard-iron offset \\((\\d+\\.\\d), -(\\d+\\.\\d), -?0\\.\\d\\) µT estimated and taken off").containsMatchIn(r.err), r.err)
         assertFalse(fusion("replay", p("clean.csv")).err.contains("hard-iron offset"))
+    }
+
+    @Test
+    fun `a field whose heading errors persist, as a building's, brings a note on the magnetic trust`() {
+        // Two minutes turning about; the field as read, and the field with what a building's steel adds along a walk
+        // (up to 12 µT, changing over 17–31 s).
+        val long = MotionSimulator(SimulationSettings(seed = 5, rateHz = 50.0, durationS = 120.0, angularRate = 0.8)).run()
+        fun table(name: String, building: Boolean) = Files.newBufferedWriter(dir.resolve(name)).use { w ->
+            w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
+            for (s in long) {
+                val t = s.timestampNs * 1e-9
+                val added = if (building) Vector3(12.0 * sin(2 * PI * t / 23.0), 12.0 * sin(2 * PI * t / 31.0), 8.0 * sin(2 * PI * t / 17.0)) else Vector3.ZERO
+                val m = s.truth.inverseRotate(s.truth.rotate(s.mag) + added)
+                w.write(String.format(Locale.ROOT, "%.6f", t) + listOf(s.gyro, s.acc, m).joinToString("") { v -> ",${f(v.x)},${f(v.y)},${f(v.z)}" } + "\n")
+            }
+        }
+        table("building.csv", true)
+        table("field.csv", false)
+        val r = fusion("replay", p("building.csv"), "-o", p("o.csv"))
+        assertEquals(ExitCode.OK, r.code, r.err)
+        assertTrue(Regex("note: building.csv: the field's heading strays from the gyroscope's for tens of seconds at a time \\(median \\d+\\.\\d°").containsMatchIn(r.err), r.err)
+        assertTrue(r.err.contains("--set magTrustSpread=0.005"), r.err)
+        assertFalse(fusion("replay", p("field.csv"), "-o", p("o.csv")).err.contains("strays"))
+        // Not once the trust is on, nor under --quiet.
+        assertFalse(fusion("replay", p("building.csv"), "-o", p("o.csv"), "--set", "magTrustSpread=0.005").err.contains("strays"))
+        assertEquals("", fusion("replay", p("building.csv"), "-o", p("o.csv"), "--quiet").err)
     }
 
     @Test

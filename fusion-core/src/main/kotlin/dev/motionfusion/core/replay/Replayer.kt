@@ -6,9 +6,11 @@
  */
 package dev.motionfusion.core.replay
 
+import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.filter.MadgwickFilter
 import dev.motionfusion.core.filter.SensorRanges
+import dev.motionfusion.core.filter.offline.FieldPersistence
 import dev.motionfusion.core.filter.offline.OfflineOutput
 import dev.motionfusion.core.filter.offline.OfflinePasses
 import dev.motionfusion.core.filter.offline.OfflineSettings
@@ -70,6 +72,21 @@ public data class ReplayCounts(val events: Long, val gyroscope: Long, val accele
 public class Replayer(settings: FilterSettings = FilterSettings()) {
     /** The filter being run (for diagnostics after the run). */
     public val filter: MadgwickFilter = MadgwickFilter(settings.copy(outputFrame = WorldFrame.ENU))
+
+    /**
+     * After a run, how far the magnetometer's heading strayed from the gyroscope's for longer than a few seconds:
+     * the median, over the recording, of the field's heading (low-passed over 5 s) against a line fitted over the
+     * last minute in the frame the gyroscope alone carries, degrees; NaN without a magnetometer, in IMU mode, or
+     * before 20 s. Rooms and rigs: at most about 6°; walks through buildings, whose field errors persist over tens
+     * of metres, mostly more (docs/ACCURACY.md, "Does the recording look like a building?").
+     */
+    public val fieldPersistenceDeg: Double get() = persistence?.median() ?: Double.NaN
+
+    private val persistence = if (filter.settings.mode == FilterMode.MARG) FieldPersistence() else null
+    private val maxGapNs = (filter.settings.maxGap * 1e9).toLong()
+    private val seen = DoubleArray(3)
+    private var persistenceStepNs = Long.MIN_VALUE
+    private var persistenceFieldNs = Long.MIN_VALUE
 
     /**
      * Replays [events] to [listener]; t = 0 s is [originNs], or the first event when null.
@@ -244,10 +261,32 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         } else {
             step.orientation.fill(Double.NaN)
         }
+        persistence?.let { judge(it, step, t, x, y, z) }
         listener.step(step)
     }
 
+    /** The step at [t] (raw rate x, y, z) to the recording's [FieldPersistence], with the held field if it is new. */
+    private fun judge(p: FieldPersistence, step: ReplayStep, t: Long, x: Double, y: Double, z: Double) {
+        val last = persistenceStepNs
+        persistenceStepNs = t
+        val linked = last != Long.MIN_VALUE && t > last && t - last <= maxGapNs
+        val fieldNs = step.magnetometerNs
+        val fresh = fieldNs != Long.MIN_VALUE && fieldNs != persistenceFieldNs && t - fieldNs <= maxGapNs
+        if (fresh) {
+            persistenceFieldNs = fieldNs
+            filter.fieldSeenInto(step.magneticField, seen)
+        }
+        p.step(step.orientation, linked, x, y, z, if (linked) (t - last) * 1e-9 else 0.0, fresh, seen)
+    }
+
     public companion object {
+        /**
+         * The [fieldPersistenceDeg] above which a recording's field looks like a building's, whose errors the
+         * magnetic trust (FilterSettings.magTrustSpread) keeps out of the heading: above every recording of BROAD's
+         * rig and of Tyrex's and OxIOD's rooms (at most 6.2°), below seven of ADVIO's ten walks indoors.
+         */
+        public const val BUILDING_FIELD_PERSISTENCE_DEG: Double = 7.5
+
         /**
          * (toNs − fromNs) in seconds, for any two timestamps: where the difference does not fit
          * in a Long (timestamps of opposite sign far apart) it is taken in Double instead of

@@ -71,15 +71,7 @@ internal class HeadingSmoother(s: OfflineSettings) {
             if (!started || !linked) {
                 start()
             } else {
-                // Where the gyroscope alone would have taken the previous orientation, p; the correction c = q ⊗ p*.
-                val h = 0.5 * dt
-                val p0 = prev[0] + h * (-prev[1] * wx - prev[2] * wy - prev[3] * wz)
-                val p1 = prev[1] + h * (prev[0] * wx + prev[2] * wz - prev[3] * wy)
-                val p2 = prev[2] + h * (prev[0] * wy - prev[1] * wz + prev[3] * wx)
-                val p3 = prev[3] + h * (prev[0] * wz + prev[1] * wy - prev[2] * wx)
-                val cw = q[0] * p0 + q[1] * p1 + q[2] * p2 + q[3] * p3
-                val cz = -q[0] * p3 - q[1] * p2 + q[2] * p1 + q[3] * p0
-                u = -2.0 * atan(cz / cw)
+                u = correction(prev, q, wx, wy, wz, dt)
                 // A reading the filter skipped (not finite): the step's turn is unknown, so x carries on unchanged
                 // and only its uncertainty grows; a NaN here would otherwise stay in x to the start of the pass.
                 if (!u.isFinite()) u = 0.0
@@ -172,6 +164,22 @@ internal class HeadingSmoother(s: OfflineSettings) {
         /** The filter's start: x and b unknown within 5° and 0.2°/s (a standard deviation). */
         const val X0 = 5.0 * PI / 180.0
         const val B0 = 0.2 * PI / 180.0
+
+        /**
+         * The heading correction (rad, about the world's vertical) between [q] and where the rate ([wx], [wy], [wz],
+         * rad/s) over [dt] s would have taken [prev] alone: −1 × the turn of c = q ⊗ p* about the vertical, p the
+         * gyroscope's prediction. NaN where a reading was not finite.
+         */
+        fun correction(prev: DoubleArray, q: DoubleArray, wx: Double, wy: Double, wz: Double, dt: Double): Double {
+            val h = 0.5 * dt
+            val p0 = prev[0] + h * (-prev[1] * wx - prev[2] * wy - prev[3] * wz)
+            val p1 = prev[1] + h * (prev[0] * wx + prev[2] * wz - prev[3] * wy)
+            val p2 = prev[2] + h * (prev[0] * wy - prev[1] * wz + prev[3] * wx)
+            val p3 = prev[3] + h * (prev[0] * wz + prev[1] * wy - prev[2] * wx)
+            val cw = q[0] * p0 + q[1] * p1 + q[2] * p2 + q[3] * p3
+            val cz = -q[0] * p3 - q[1] * p2 + q[2] * p1 + q[3] * p0
+            return -2.0 * atan(cz / cw)
+        }
 
         fun wrap(a: Double): Double = if (a > PI) a - 2 * PI else if (a < -PI) a + 2 * PI else a
 
