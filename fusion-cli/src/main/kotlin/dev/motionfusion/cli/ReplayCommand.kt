@@ -165,16 +165,16 @@ internal class ReplayCommand(
                         }.orEmpty(),
                 )
             }
-            // A field whose heading errors persist along the recording, as a building's do: the magnetic trust is for that.
+            // A field whose heading errors persist along the recording, as a building's do (Replayer.fieldPersistenceDeg): the magnetic trust is for that.
             val stray = replayer.fieldPersistenceDeg
             if (!o.has("--quiet") && settings.magTrustSpread == null && stray > Replayer.BUILDING_FIELD_PERSISTENCE_DEG) {
                 err.println(
                     String.format(
                         Locale.ROOT,
-                        "fusion replay: note: %s: the field's heading strays from the gyroscope's for tens of seconds at a time (median %.1f°; " +
-                            "under 7° in the rooms measured, up to 16° on walks through buildings): a field that misleads, or a gyroscope that does " +
-                            "(violent motion); on a walk through buildings --set magTrustSpread=%s keeps such a field out of the heading " +
-                            "(docs/ACCURACY.md, \"Walks through buildings\")",
+                        "fusion replay: note: %s: the field's heading departs from the gyroscope's by a median of %.1f° once a minute's drift is " +
+                            "taken out (the rooms measured stay under 7°, most walks through buildings go over): a field that misleads, or a gyroscope " +
+                            "that does (violent motion); on a walk through buildings --set magTrustSpread=%s keeps such a field out of the heading " +
+                            "(docs/ACCURACY.md, \"Does the recording look like a building?\")",
                         rec.name, stray, FilterSettings.BUILDINGS_TRUST_SPREAD,
                     ),
                 )

@@ -141,11 +141,11 @@ class ReplayCommandsTest {
         table("field.csv", false)
         val r = fusion("replay", p("building.csv"), "-o", p("o.csv"))
         assertEquals(ExitCode.OK, r.code, r.err)
-        assertTrue(Regex("note: building.csv: the field's heading strays from the gyroscope's for tens of seconds at a time \\(median \\d+\\.\\d°").containsMatchIn(r.err), r.err)
+        assertTrue(Regex("note: building.csv: the field's heading departs from the gyroscope's by a median of \\d+\\.\\d° once a minute's drift").containsMatchIn(r.err), r.err)
         assertTrue(r.err.contains("--set magTrustSpread=0.005"), r.err)
-        assertFalse(fusion("replay", p("field.csv"), "-o", p("o.csv")).err.contains("strays"))
+        assertFalse(fusion("replay", p("field.csv"), "-o", p("o.csv")).err.contains("departs from"))
         // Not once the trust is on, nor under --quiet.
-        assertFalse(fusion("replay", p("building.csv"), "-o", p("o.csv"), "--set", "magTrustSpread=0.005").err.contains("strays"))
+        assertFalse(fusion("replay", p("building.csv"), "-o", p("o.csv"), "--set", "magTrustSpread=0.005").err.contains("departs from"))
         assertEquals("", fusion("replay", p("building.csv"), "-o", p("o.csv"), "--quiet").err)
     }
 

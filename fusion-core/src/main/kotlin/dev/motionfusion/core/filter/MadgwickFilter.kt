@@ -294,6 +294,13 @@ public class MadgwickFilter(public val settings: FilterSettings = FilterSettings
     /** The magnetic disturbance detector's resume ramp, 0…1 (1 without the detector). */
     internal val magneticGainFactor: Double get() = magDetector?.gainFactor ?: 1.0
 
+    /** The gyroscope steps taken so far (FilterDiagnostics.gyroscopeSteps, without allocating): the replay's FieldPersistence. */
+    internal val stepsTaken: Long get() = gate.steps
+
+    /** The last step's length, s, and whether it was the first after a gap (its rotation unknown). */
+    internal val lastStepDt: Double get() = s.dt
+    internal val lastStepAfterGap: Boolean get() = gate.afterGap
+
     /** The rest detector's verdict of the last step (false without rest bias estimation; the offline heading smoother's). */
     internal val atRest: Boolean get() = bias.atRest
 

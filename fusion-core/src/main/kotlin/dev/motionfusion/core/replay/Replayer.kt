@@ -77,15 +77,16 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
      * After a run, how far the magnetometer's heading strayed from the gyroscope's for longer than a few seconds:
      * the median, over the recording, of the field's heading (low-passed over 5 s) against a line fitted over the
      * last minute in the frame the gyroscope alone carries, degrees; NaN without a magnetometer, in IMU mode, or
-     * before 20 s. Rooms and rigs: at most about 6°; walks through buildings, whose field errors persist over tens
-     * of metres, mostly more (docs/ACCURACY.md, "Does the recording look like a building?").
+     * before 20 s of steps with the field. Rooms and rigs score low, walks through buildings, whose field errors persist
+     * over tens of metres, mostly higher (the figures: docs/ACCURACY.md, "Does the recording look like a building?").
      */
     public val fieldPersistenceDeg: Double get() = persistence?.median() ?: Double.NaN
 
     private val persistence = if (filter.settings.mode == FilterMode.MARG) FieldPersistence() else null
     private val maxGapNs = (filter.settings.maxGap * 1e9).toLong()
     private val seen = DoubleArray(3)
-    private var persistenceStepNs = Long.MIN_VALUE
+    private var persistenceSteps = 0L
+    private var persistenceStarted = false
     private var persistenceFieldNs = Long.MIN_VALUE
 
     /**
@@ -265,25 +266,34 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         listener.step(step)
     }
 
-    /** The step at [t] (raw rate x, y, z) to the recording's [FieldPersistence], with the held field if it is new. */
+    /**
+     * The step at [t] (raw rate x, y, z) to the recording's [FieldPersistence] as the filter took it: a step it
+     * integrated (over its own step length; after a gap, unlinked), its start, or nothing where it skipped the
+     * sample (a timestamp that stalls or steps back, a reading not finite); with the held field if it is new.
+     */
     private fun judge(p: FieldPersistence, step: ReplayStep, t: Long, x: Double, y: Double, z: Double) {
-        val last = persistenceStepNs
-        persistenceStepNs = t
-        val linked = last != Long.MIN_VALUE && t > last && t - last <= maxGapNs
+        val f = filter
+        val steps = f.stepsTaken
+        val stepped = steps != persistenceSteps
+        val started = !persistenceStarted && f.isInitialised
+        if (!stepped && !started) return
+        persistenceSteps = steps
+        persistenceStarted = f.isInitialised
+        val linked = stepped && !f.lastStepAfterGap
         val fieldNs = step.magnetometerNs
-        val fresh = fieldNs != Long.MIN_VALUE && fieldNs != persistenceFieldNs && t - fieldNs <= maxGapNs
-        if (fresh) {
+        val newField = fieldNs != Long.MIN_VALUE && fieldNs != persistenceFieldNs && t - fieldNs <= maxGapNs
+        if (newField) {
             persistenceFieldNs = fieldNs
-            filter.fieldSeenInto(step.magneticField, seen)
+            f.fieldSeenInto(step.magneticField, seen)
         }
-        p.step(step.orientation, linked, x, y, z, if (linked) (t - last) * 1e-9 else 0.0, fresh, seen)
+        p.step(step.orientation, linked, x, y, z, if (linked) f.lastStepDt else 0.0, newField, seen)
     }
 
     public companion object {
         /**
          * The [fieldPersistenceDeg] above which a recording's field looks like a building's, whose errors the
          * magnetic trust (FilterSettings.magTrustSpread) keeps out of the heading: above every recording of BROAD's
-         * rig and of Tyrex's and OxIOD's rooms (at most 6.2°), below seven of ADVIO's ten walks indoors.
+         * rig and of Tyrex's and OxIOD's rooms, below seven of ADVIO's ten walks indoors (docs/ACCURACY.md).
          */
         public const val BUILDING_FIELD_PERSISTENCE_DEG: Double = 7.5
 

@@ -20,10 +20,9 @@ import kotlin.math.exp
  * degrees. Each reading's share is clipped at [CLIP] from the line (a magnet's field that spins round is no
  * larger error than a wrong one).
  *
- * What it tells apart (per recording, °): BROAD's rig, Tyrex's and OxIOD's rooms 0.5–6.2; ADVIO's walks through a
- * mall, a metro station and offices 5.5–15.8, its street 3.0. A building's field errors span tens of metres, so
- * they persist along a walk; a room's, and a magnet's, average out within seconds. It judges after the fact, so
- * the filter does not use it; `fusion replay` suggests the magnetic trust above Replayer.BUILDING_FIELD_PERSISTENCE_DEG.
+ * A building's field errors span tens of metres, so they persist along a walk; a room's, and a magnet's, average
+ * out within seconds (the figures per data set: docs/ACCURACY.md). It judges after the fact, so the filter does not
+ * use it; `fusion replay` suggests the magnetic trust above Replayer.BUILDING_FIELD_PERSISTENCE_DEG.
  */
 internal class FieldPersistence {
     // The heading corrections the filter has made (rad), as HeadingSmoother's u summed.
@@ -33,7 +32,9 @@ internal class FieldPersistence {
     private var started = false
     private var lowPassed = 0.0
     private var sinceReading = 0.0
-    private var clock = 0.0
+
+    // Time since the line started (at the first reading, and again after a gap).
+    private var sinceStart = 0.0
 
     // The line's exponentially weighted normal equations in τ, the time before now: Σw, Σwτ, Σwτ², Σwz, Σwτz.
     private var s0 = 0.0
@@ -46,10 +47,10 @@ internal class FieldPersistence {
 
     /**
      * One filter step: orientation [q] after it (NaN before the filter has one), the raw gyroscope reading
-     * [wx], [wy], [wz] over the [dt] s since the previous step, [linked] false after a gap; [fresh] when [m]
-     * holds a reading of this step, as the filter takes it.
+     * [wx], [wy], [wz] over the [dt] s since the previous step, [linked] false after a gap; [newReading] when [m]
+     * holds a magnetometer reading new at this step, as the filter takes it.
      */
-    fun step(q: DoubleArray, linked: Boolean, wx: Double, wy: Double, wz: Double, dt: Double, fresh: Boolean, m: DoubleArray) {
+    fun step(q: DoubleArray, linked: Boolean, wx: Double, wy: Double, wz: Double, dt: Double, newReading: Boolean, m: DoubleArray) {
         if (q[0].isNaN()) {
             havePrev = false
             return
@@ -58,19 +59,20 @@ internal class FieldPersistence {
             val u = HeadingSmoother.correction(prev, q, wx, wy, wz, dt)
             if (u.isFinite()) corrections += u
             sinceReading += dt
-            clock += dt
+            sinceStart += dt
         } else if (havePrev) {
             started = false // across a gap the gyroscope's frame is lost: the line starts again
         }
         q.copyInto(prev)
         havePrev = true
-        if (!fresh || !HeadingSmoother.usable(m)) return
+        if (!newReading || !HeadingSmoother.usable(m)) return
         val y = HeadingSmoother.magHeading(m, q) - corrections
         if (!started) {
             started = true
             lowPassed = y
             s0 = 0.0; s1 = 0.0; s2 = 0.0; sz0 = 0.0; sz1 = 0.0
             sinceReading = 0.0
+            sinceStart = 0.0
         }
         val d = sinceReading
         sinceReading = 0.0
@@ -80,24 +82,32 @@ internal class FieldPersistence {
         sz1 -= d * sz0
         val keep = exp(-d / LINE_TIME)
         s0 *= keep; s1 *= keep; s2 *= keep; sz0 *= keep; sz1 *= keep
-        val line = line() ?: lowPassed
+        val predicted = line()
+        val line = if (predicted.isNaN()) lowPassed else predicted
         val z = line + HeadingSmoother.wrap(y - line).coerceIn(-CLIP, CLIP)
         lowPassed += minOf(1.0, d / LOW_PASS_TIME) * (z - lowPassed)
         s0 += 1.0
         sz0 += lowPassed
-        if (clock < WARM_UP) return
-        val now = line() ?: return
-        histogram[minOf(BINS - 1, (abs(lowPassed - now) * DEGREES / BIN).toInt())]++
+        if (sinceStart < WARM_UP) return
+        val now = line()
+        if (now.isNaN()) return
+        val departure = abs(lowPassed - now) * DEGREES
+        // Not finite (an orientation or a field that was not): what the line held is lost, so it starts again.
+        if (!departure.isFinite()) {
+            started = false
+            return
+        }
+        histogram[minOf(BINS - 1, (departure / BIN).toInt())]++
         count++
     }
 
-    /** The line's value now, or null while two readings apart in time have not fixed it. */
-    private fun line(): Double? {
+    /** The line's value now, or NaN while two readings apart in time have not fixed it. */
+    private fun line(): Double {
         val det = s0 * s2 - s1 * s1
-        return if (s0 > 0.0 && det > 1e-9 * s0 * s0) (s2 * sz0 - s1 * sz1) / det else null
+        return if (s0 > 0.0 && det > 1e-9 * s0 * s0) (s2 * sz0 - s1 * sz1) / det else Double.NaN
     }
 
-    /** The median departure over the recording, degrees (to [BIN]); NaN before [WARM_UP] s of readings. */
+    /** The median departure over the recording, degrees (to [BIN]); NaN before [WARM_UP] s of a line. */
     fun median(): Double {
         if (count == 0L) return Double.NaN
         var c = 0L

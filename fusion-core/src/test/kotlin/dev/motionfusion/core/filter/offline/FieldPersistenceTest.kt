@@ -40,16 +40,28 @@ class FieldPersistenceTest {
             ),
         ).run()
 
-    /** [samples] as a table, each field reading plus [distortion] at its time (world frame, µT), replayed: the persistence, °. */
-    private fun persistence(samples: List<SimulatedSample>, distortion: (Double) -> Vector3, settings: FilterSettings = FilterSettings(), name: String = "t.csv"): Double {
+    /**
+     * [samples] as a table, each field reading plus [distortion] at its time (world frame, µT), replayed: the
+     * persistence, °. With [awkward], the table as phones and exports give it: the magnetometer on one row in four
+     * (empty fields on the others), the gyroscope's timestamp repeated every 5 s, and a gap of 2 s at 90 s.
+     */
+    private fun persistence(
+        samples: List<SimulatedSample>, distortion: (Double) -> Vector3, settings: FilterSettings = FilterSettings(), name: String = "t.csv",
+        awkward: Boolean = false,
+    ): Double {
         val file = dir.resolve(name)
         Files.newBufferedWriter(file).use { w ->
             w.write("t_s,gx,gy,gz,ax,ay,az,mx,my,mz\n")
-            for (s in samples) {
-                val t = s.timestampNs * 1e-9
+            var previous = ""
+            for ((i, s) in samples.withIndex()) {
+                var t = s.timestampNs * 1e-9
+                if (awkward && t > 90.0 && t < 92.0) continue
                 val m = s.truth.inverseRotate(s.truth.rotate(s.mag) + distortion(t))
-                val v = listOf(s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z, m.x, m.y, m.z)
-                w.write(String.format(Locale.ROOT, "%.6f", t) + v.joinToString("") { "," + it } + "\n")
+                val v = listOf(s.gyro.x, s.gyro.y, s.gyro.z, s.acc.x, s.acc.y, s.acc.z)
+                val time = String.format(Locale.ROOT, "%.6f", t)
+                val field = if (awkward && i % 4 != 0) ",,," else listOf(m.x, m.y, m.z).joinToString("") { ",$it" }
+                w.write((if (awkward && i % 500 == 0 && previous.isNotEmpty()) previous else time) + v.joinToString("") { ",$it" } + field + "\n")
+                previous = time
             }
         }
         val replayer = Replayer(settings)
@@ -74,6 +86,31 @@ class FieldPersistenceTest {
         assertTrue(clean < 2.0, msg)
         assertTrue(passes < threshold, msg)
         assertTrue(walk > threshold, msg)
+    }
+
+    @Test
+    fun `it judges the field against the gyroscope, not against the filter's heading`() {
+        // The filter's heading follows the field closely at a high heading gain and hardly at a low one; the field's
+        // departure from the gyroscope is the same either way (a wrong sign on the filter's corrections would not be).
+        val samples = simulated()
+        val defaults = persistence(samples, building, name = "a.csv")
+        val close = persistence(samples, building, FilterSettings(headingGain = 0.5), name = "b.csv")
+        val loose = persistence(samples, building, FilterSettings(headingGain = 0.01), name = "c.csv")
+        val msg = String.format(Locale.ROOT, "a building at heading gain 0.08 (the default) %.2f°, 0.5 %.2f°, 0.01 %.2f°", defaults, close, loose)
+        println(msg)
+        assertTrue(kotlin.math.abs(close - defaults) < 0.5 && kotlin.math.abs(loose - defaults) < 0.5, msg)
+    }
+
+    @Test
+    fun `a slower magnetometer, stalled timestamps and a gap change little`() {
+        val samples = simulated()
+        val walk = persistence(samples, building, name = "plain.csv")
+        val awkwardWalk = persistence(samples, building, name = "awkward.csv", awkward = true)
+        val awkwardClean = persistence(samples, none, name = "awkward-clean.csv", awkward = true)
+        val msg = String.format(Locale.ROOT, "a building %.2f°, the same table made awkward %.2f°; a clean field made awkward %.2f°", walk, awkwardWalk, awkwardClean)
+        println(msg)
+        assertTrue(kotlin.math.abs(awkwardWalk - walk) < 1.0 && awkwardWalk > threshold, msg)
+        assertTrue(awkwardClean < 2.0, msg)
     }
 
     @Test
