@@ -2,11 +2,11 @@ package dev.motionfusion.cli
 
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.event.SessionStream
+import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
 import dev.motionfusion.core.replay.ReplayStep
-import dev.motionfusion.core.filter.FilterSettings
 import dev.motionfusion.core.replay.Replayer
 import dev.motionfusion.core.replay.Retimed
 import java.io.BufferedOutputStream
