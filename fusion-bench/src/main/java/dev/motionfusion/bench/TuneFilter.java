@@ -165,7 +165,7 @@ public final class TuneFilter {
 
     /** The properties of OfflineSettings in its constructor's order. */
     static final String[] OFFLINE_NAMES = {"backwardWeight", "inclinationBackwardWeight", "headingSmoothing", "smootherRestNoise", "smootherMotionNoise",
-        "smootherHeadingNoise", "smootherBiasNoise", "smootherRestSpread"};
+        "smootherHeadingNoise", "smootherBiasNoise", "smootherRestSpread", "buildingPersistence"};
 
     /**
      * The offline settings of [spec] ("offline:" before the overrides, OfflineSettings' properties among
@@ -177,7 +177,7 @@ public final class TuneFilter {
         if (!body.startsWith("offline")) return null;
         OfflineSettings d = new OfflineSettings();
         double[] v = {d.getBackwardWeight(), d.getInclinationBackwardWeight(), d.getHeadingSmoothing(), d.getSmootherRestNoise(), d.getSmootherMotionNoise(),
-            d.getSmootherHeadingNoise(), d.getSmootherBiasNoise(), d.getSmootherRestSpread()};
+            d.getSmootherHeadingNoise(), d.getSmootherBiasNoise(), d.getSmootherRestSpread(), d.getBuildingPersistence()};
         for (String a : body.substring("offline".length()).replaceFirst("^:", "").split(",")) {
             String t = a.trim();
             for (int k = 0; k < OFFLINE_NAMES.length; k++) {
@@ -187,7 +187,7 @@ public final class TuneFilter {
                 }
             }
         }
-        return new OfflineSettings(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
+        return new OfflineSettings(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]);
     }
 
     static boolean offlineName(String a) {

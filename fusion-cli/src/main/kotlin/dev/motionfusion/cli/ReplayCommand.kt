@@ -3,6 +3,7 @@ package dev.motionfusion.cli
 import dev.motionfusion.core.calib.Calibration
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.offline.OfflineSettings
 import dev.motionfusion.core.input.Recording
 import dev.motionfusion.core.replay.ReplayCsvWriter
 import dev.motionfusion.core.replay.ReplayListener
@@ -167,15 +168,17 @@ internal class ReplayCommand(
             }
             // A field whose heading errors persist along the recording, as a building's do (Replayer.fieldPersistenceDeg): the magnetic trust is for that.
             val stray = replayer.fieldPersistenceDeg
-            if (!o.has("--quiet") && settings.magTrustSpread == null && stray > Replayer.BUILDING_FIELD_PERSISTENCE_DEG) {
+            if (!o.has("--quiet") && settings.magTrustSpread == null && stray > OfflineSettings.BUILDING_PERSISTENCE_DEG) {
                 err.println(
                     String.format(
                         Locale.ROOT,
                         "fusion replay: note: %s: the field's heading departs from the gyroscope's by a median of %.1f° once a minute's drift is " +
                             "taken out (the rooms measured stay under 7°, most walks through buildings go over): a field that misleads, or a gyroscope " +
-                            "that does (violent motion); on a walk through buildings --set magTrustSpread=%s keeps such a field out of the heading " +
+                            "that does (violent motion); %son a walk through buildings --set magTrustSpread=%s keeps such a field out of the heading " +
                             "(docs/ACCURACY.md, \"Does the recording look like a building?\")",
-                        rec.name, stray, FilterSettings.BUILDINGS_TRUST_SPREAD,
+                        rec.name, stray,
+                        if (offline != null && replayer.offlineWithoutMotionBias) "the offline estimate learnt no gyroscope bias in motion from it; " else "",
+                        FilterSettings.BUILDINGS_TRUST_SPREAD,
                     ),
                 )
             }

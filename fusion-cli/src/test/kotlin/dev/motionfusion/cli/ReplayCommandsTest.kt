@@ -144,6 +144,11 @@ class ReplayCommandsTest {
         assertTrue(Regex("note: building.csv: the field's heading departs from the gyroscope's by a median of \\d+\\.\\d° once a minute's drift").containsMatchIn(r.err), r.err)
         assertTrue(r.err.contains("--set magTrustSpread=0.005"), r.err)
         assertFalse(fusion("replay", p("field.csv"), "-o", p("o.csv")).err.contains("departs from"))
+        // Offline, such a recording's passes learn no bias in motion, and the note says so; causally it does not.
+        assertFalse(r.err.contains("learnt no gyroscope bias"), r.err)
+        val off = fusion("replay", p("building.csv"), "-o", p("o.csv"), "--offline")
+        assertEquals(ExitCode.OK, off.code, off.err)
+        assertTrue(off.err.contains("the offline estimate learnt no gyroscope bias in motion from it"), off.err)
         // Not once the trust is on, nor under --quiet.
         assertFalse(fusion("replay", p("building.csv"), "-o", p("o.csv"), "--set", "magTrustSpread=0.005").err.contains("departs from"))
         assertEquals("", fusion("replay", p("building.csv"), "-o", p("o.csv"), "--quiet").err)

@@ -82,6 +82,13 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
      */
     public val fieldPersistenceDeg: Double get() = persistence?.median() ?: Double.NaN
 
+    /**
+     * After [runOffline]: whether its passes learnt no gyroscope bias in motion, the field's persistence being above
+     * OfflineSettings.buildingPersistence (docs/ACCURACY.md, "Does the recording look like a building?").
+     */
+    public var offlineWithoutMotionBias: Boolean = false
+        private set
+
     private val persistence = if (filter.settings.mode == FilterMode.MARG) FieldPersistence() else null
     private val maxGapNs = (filter.settings.maxGap * 1e9).toLong()
     private val seen = DoubleArray(3)
@@ -112,7 +119,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         offline: OfflineSettings = OfflineSettings(), tempDir: java.nio.file.Path? = null,
     ): ReplayCounts = OfflineReplay(filter, offline, tempDir).use { pass ->
         val counts = usable(source, runCausal(events, originNs, pass, progress))
-        pass.finish(listener)
+        offlineWithoutMotionBias = pass.finish(listener, fieldPersistenceDeg)
         counts
     }
 
@@ -291,13 +298,6 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
 
     public companion object {
         /**
-         * The [fieldPersistenceDeg] above which a recording's field looks like a building's, whose errors the
-         * magnetic trust (FilterSettings.magTrustSpread) keeps out of the heading: above every recording of BROAD's
-         * rig and of Tyrex's and OxIOD's rooms, below seven of ADVIO's ten walks indoors (docs/ACCURACY.md).
-         */
-        public const val BUILDING_FIELD_PERSISTENCE_DEG: Double = 7.5
-
-        /**
          * (toNs − fromNs) in seconds, for any two timestamps: where the difference does not fit
          * in a Long (timestamps of opposite sign far apart) it is taken in Double instead of
          * wrapping round.
@@ -322,9 +322,10 @@ private class OfflineReplay(filter: MadgwickFilter, offline: OfflineSettings, te
 
     override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = passes.reference(stream, timestampNs, values)
 
-    fun finish(listener: ReplayListener) {
+    /** Returns whether the passes ran without the bias estimate in motion (OfflinePasses.finish). */
+    fun finish(listener: ReplayListener, persistenceDeg: Double): Boolean {
         val step = ReplayStep()
-        passes.finish(step.angularVelocity, step.specificForce, step.magneticField, step.orientation, object : OfflineOutput {
+        return passes.finish(step.angularVelocity, step.specificForce, step.magneticField, step.orientation, object : OfflineOutput {
             override fun row(timestampNs: Long, timeS: Double) {
                 step.timestampNs = timestampNs
                 step.timeS = timeS
@@ -333,7 +334,7 @@ private class OfflineReplay(filter: MadgwickFilter, offline: OfflineSettings, te
             }
 
             override fun reference(stream: SessionStream, timestampNs: Long, values: DoubleArray) = listener.reference(stream, timestampNs, values)
-        })
+        }, persistenceDeg)
     }
 
     override fun close() = passes.close()

@@ -21,8 +21,9 @@ import kotlin.math.exp
  * larger error than a wrong one).
  *
  * A building's field errors span tens of metres, so they persist along a walk; a room's, and a magnet's, average
- * out within seconds (the figures per data set: docs/ACCURACY.md). It judges after the fact, so the filter does not
- * use it; `fusion replay` suggests the magnetic trust above Replayer.BUILDING_FIELD_PERSISTENCE_DEG.
+ * out within seconds (the figures per data set: docs/ACCURACY.md). It judges after the fact: the causal filter does not
+ * use it; above OfflineSettings.buildingPersistence the offline passes learn no bias in motion, and `fusion replay`
+ * suggests the magnetic trust.
  */
 internal class FieldPersistence {
     // The heading corrections the filter has made (rad), as HeadingSmoother's u summed.

@@ -1,7 +1,10 @@
 /*
  * The offline estimate (`fusion replay --offline`): the orientation at each instant from the whole
  * recording, the samples after it as well as those before. One filter, three passes over the same
- * samples, all with the same settings:
+ * samples, all with the same settings (but where the first pass finds the field straying from the gyroscope as a
+ * building's does, OfflineSettings.buildingPersistence: then all three without the bias estimate in motion, the
+ * first one run again over the file for the second to start from; across a gap the second still takes over the
+ * first run's orientation):
  *  1. forward, as the causal replay (its counts and diagnostics are the replay's), writing each
  *     step's samples and orientation to a temporary file;
  *  2. backward in time over that file (gyroscope negated, the same accelerometer and magnetometer
@@ -25,6 +28,8 @@ package dev.motionfusion.core.filter.offline
 
 import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
+import dev.motionfusion.core.filter.FilterSettings
+import dev.motionfusion.core.filter.FilterState
 import dev.motionfusion.core.filter.MadgwickFilter
 import java.io.Closeable
 import java.nio.ByteBuffer
@@ -81,16 +86,22 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
 
     /**
      * The backward pass, then the second forward pass to [out]: before each [OfflineOutput.row], [g], [a], [m]
-     * hold the step's readings and [o] its orientation.
+     * hold the step's readings and [o] its orientation. [persistenceDeg] is the first pass's judgement of the
+     * field (Replayer.fieldPersistenceDeg): above [OfflineSettings.buildingPersistence] the passes run without the
+     * bias estimate in motion (unless the magnetic trust is on), the first one again over the file. Returns whether
+     * they did.
      */
-    fun finish(g: DoubleArray, a: DoubleArray, m: DoubleArray, o: DoubleArray, out: OfflineOutput) {
+    fun finish(g: DoubleArray, a: DoubleArray, m: DoubleArray, o: DoubleArray, out: OfflineOutput, persistenceDeg: Double): Boolean {
         spill.endWriting()
         val n = spill.records
-        if (n == 0L) return
-        val settings = forward.settings
+        if (n == 0L) return false
+        // With the magnetic trust on, the bias estimate in motion already falls with the field's wander.
+        val fs = forward.settings
+        val building = persistenceDeg > offline.buildingPersistence && fs.motionBiasGain != null && fs.headingGain != null && fs.magTrustSpread == null
+        val settings = if (building) forward.settings.copy(motionBiasGain = null) else forward.settings
         // Backward: time runs as −t, so that it advances.
         val back = MadgwickFilter(settings)
-        back.restore(forward.state())
+        back.restore(if (building) forwardAgain(settings, g, a, m) else forward.state())
         back.turnAround(reversed(spill.lastStepNs))
         val q = DoubleArray(4)
         // A gyroscope reading is the rate over the interval that ends at its timestamp (the forward
@@ -161,14 +172,7 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
                 out.reference(STREAMS[(flags ushr 8).toInt() and 0xFF], t, values)
                 return@forward
             }
-            for (k in 0 until 3) {
-                g[k] = b.getDouble(at + Spill.GYRO + 8 * k)
-                a[k] = b.getDouble(at + Spill.ACC + 8 * k)
-                m[k] = b.getDouble(at + Spill.MAG + 8 * k)
-            }
-            if (flags and ACC_FRESH != 0L) again.updateAccelerometer(t, a[0], a[1], a[2])
-            if (flags and MAG_FRESH != 0L) again.updateMagnetometer(t, m[0], m[1], m[2])
-            again.updateGyroscope(t, g[0], g[1], g[2])
+            stepForward(again, b, at, flags, t, g, a, m)
             // Across a gap, on from the backward pass's orientation at its far side (as the backward pass did).
             if (earlier != Long.MIN_VALUE && t - earlier > maxGapNs) takeOver(again, b, at, q)
             if (earlier != Long.MIN_VALUE) foreRecent = field.decay(foreRecent, t - earlier)
@@ -180,6 +184,32 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
             if (smoother != null && smoother.smoothStep(b, at, t, q)) Blend.combine(o, q, offline.headingSmoothing, 0.0)
             out.row(t, b.getDouble(at + Spill.TIME))
         }
+        return building
+    }
+
+    /**
+     * The first pass again, over the file, with [settings]: its final state. It takes the readings as the second
+     * forward pass does (each held reading again at its step); [g], [a], [m] are scratch.
+     */
+    private fun forwardAgain(settings: FilterSettings, g: DoubleArray, a: DoubleArray, m: DoubleArray): FilterState {
+        val f = MadgwickFilter(settings)
+        spill.forward { b, at ->
+            val flags = b.getLong(at)
+            if (flags and REFERENCE == 0L) stepForward(f, b, at, flags, b.getLong(at + 8), g, a, m)
+        }
+        return f.state()
+    }
+
+    /** The step record at [at] ([flags], time [t]) into [filter], going forward: [g], [a], [m] then hold its readings. */
+    private fun stepForward(filter: MadgwickFilter, b: ByteBuffer, at: Int, flags: Long, t: Long, g: DoubleArray, a: DoubleArray, m: DoubleArray) {
+        for (k in 0 until 3) {
+            g[k] = b.getDouble(at + Spill.GYRO + 8 * k)
+            a[k] = b.getDouble(at + Spill.ACC + 8 * k)
+            m[k] = b.getDouble(at + Spill.MAG + 8 * k)
+        }
+        if (flags and ACC_FRESH != 0L) filter.updateAccelerometer(t, a[0], a[1], a[2])
+        if (flags and MAG_FRESH != 0L) filter.updateMagnetometer(t, m[0], m[1], m[2])
+        filter.updateGyroscope(t, g[0], g[1], g[2])
     }
 
     /** [filter] takes the orientation stored in the record at [at] (the other pass's), if it has one; [q] is scratch. */

@@ -29,6 +29,13 @@ import kotlin.math.PI
  *   device turns means a magnetometer that is not calibrated or carries a magnet along: its heading error then
  *   depends on the orientation, and a rest holds one orientation's error however long it lasts
  *   (docs/ACCURACY.md, "Trust at rest only in a steady field").
+ * @property buildingPersistence the field persistence, degrees (the first pass's judgement of the whole recording,
+ *   Replayer.fieldPersistenceDeg), above which every pass runs without the bias estimate in motion
+ *   (FilterSettings.motionBiasGain off; the first pass again over the temporary file): a field whose heading strays
+ *   from the gyroscope's for minutes teaches the gyroscope a wrong bias. The heading still follows the field, and the
+ *   heading smoother still learns the bias about the vertical. Not with the magnetic trust on
+ *   (FilterSettings.magTrustSpread), which weighs that estimate by the field's wander already. [Double.POSITIVE_INFINITY]: never. Default
+ *   [BUILDING_PERSISTENCE_DEG] (docs/ACCURACY.md, "Does the recording look like a building?").
  */
 public data class OfflineSettings @JvmOverloads constructor(
     val backwardWeight: Double = 0.0,
@@ -39,6 +46,7 @@ public data class OfflineSettings @JvmOverloads constructor(
     val smootherHeadingNoise: Double = 0.02 * DEGREE,
     val smootherBiasNoise: Double = 0.005 * DEGREE,
     val smootherRestSpread: Double = 0.04,
+    val buildingPersistence: Double = BUILDING_PERSISTENCE_DEG,
 ) {
     init {
         require(backwardWeight in 0.0..1.0) { "backwardWeight must be within 0…1, not $backwardWeight" }
@@ -49,10 +57,18 @@ public data class OfflineSettings @JvmOverloads constructor(
             "smootherHeadingNoise" to smootherHeadingNoise, "smootherBiasNoise" to smootherBiasNoise,
         )) require(v.isFinite() && v > 0.0) { "$name must be finite and > 0, not $v" }
         require(smootherRestSpread > 0.0) { "smootherRestSpread must be > 0 (infinite: rest always trusted), not $smootherRestSpread" }
+        require(buildingPersistence > 0.0) { "buildingPersistence must be > 0 (infinite: never), not $buildingPersistence" }
     }
 
     public companion object {
         private const val DEGREE = PI / 180.0
+
+        /**
+         * The field persistence (degrees, Replayer.fieldPersistenceDeg) above which a recording's field looks like a
+         * building's: above every recording of BROAD's rig and of Tyrex's and OxIOD's rooms (at most 6.2°), below
+         * seven of ADVIO's ten walks indoors (docs/ACCURACY.md).
+         */
+        public const val BUILDING_PERSISTENCE_DEG: Double = 7.5
 
         /** The size of the offline replay's temporary file, bytes per output row. */
         public const val SPILL_BYTES_PER_ROW: Int = Spill.RECORD
