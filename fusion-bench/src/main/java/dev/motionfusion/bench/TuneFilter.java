@@ -19,10 +19,12 @@ import java.nio.charset.StandardCharsets;
 import java.nio.file.Files;
 import java.util.ArrayList;
 import java.util.Arrays;
+import java.util.HashMap;
 import java.util.LinkedHashMap;
 import java.util.List;
 import java.util.Locale;
 import java.util.Map;
+import java.util.Random;
 import java.util.concurrent.ExecutorService;
 import java.util.concurrent.Executors;
 import java.util.concurrent.Future;
@@ -43,8 +45,10 @@ import java.util.concurrent.Future;
  *   --rv         also score each trial's rotation_vector.csv[.gz] (the phone's own orientation)
  *   --cv         cross-validation over the sets: leave one trial out, and tune on one group, test on the other
  *   --lodo       leave one data set out: choose the set best on the other data sets, score it on the one left out
- *                (objective: the worst group's mean over the peer's mean on the same trials with --peers, else
- *                the mean over groups)
+ *                (objective: the worst group's mean over the peer's mean on the same trials with --peers, groups of
+ *                one trial left out, else the mean over groups); with --peers, also the first set listed whose
+ *                objective is within one standard error of the best (the one-standard-error rule; the error of the
+ *                difference, from 400 draws of each group's trials with replacement): list today's settings first
  *   --peers CSV  the peer's figures (input,metric,value[,samples]: fusion-core's test resource peers/vqf.csv);
  *                the metric total_rmse_deg for causal sets, offline_total_rmse_deg for offline ones
  *   --offset SET score the data set SET (a folder of trial folders) with one heading offset per trial removed
@@ -372,18 +376,35 @@ public final class TuneFilter {
      * sets whose worst group is the same, as when that group does not move with the setting).
      */
     static double lodoObjective(int si, String heldOut, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline, boolean meanRatio) {
+        return lodoObjective(si, heldOut, trials, res, peers, offline, meanRatio, null);
+    }
+
+    /**
+     * The same over the trials of [draw] (per group, positions in that group's list of trials, drawn with replacement),
+     * or over every trial once when null. With peer figures, groups of a single trial are left out.
+     */
+    static double lodoObjective(int si, String heldOut, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline, boolean meanRatio,
+                                Map<String, int[]> draw) {
         double worst = 0;
         double ratioSum = 0;
         double sum = 0;
         int n = 0;
         boolean ratio = !peers.isEmpty();
         for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
-            if (trials.get(g.getValue().get(0)).group.equals(heldOut)) continue;
-            double ours = mean(res[si], g.getValue())[0];
+            List<Integer> members = g.getValue();
+            if (trials.get(members.get(0)).group.equals(heldOut)) continue;
+            if (ratio && members.size() < 2) continue;
+            int[] at = draw == null ? null : draw.get(g.getKey());
+            double ours = 0;
+            double p = 0;
+            for (int k = 0; k < members.size(); k++) {
+                int ti = members.get(at == null ? k : at[k]);
+                ours += res[si][ti].getTotalDeg();
+                if (ratio) p += peer(peers, trials.get(ti), offline);
+            }
+            ours /= members.size();
             if (ratio) {
-                double p = 0;
-                for (int ti : g.getValue()) p += peer(peers, trials.get(ti), offline);
-                p /= g.getValue().size();
+                p /= members.size();
                 if (Double.isNaN(p)) throw new IllegalArgumentException("no peer figure for a trial of " + g.getKey());
                 worst = Math.max(worst, ours / p);
                 ratioSum += ours / p;
@@ -413,18 +434,59 @@ public final class TuneFilter {
                 }
             }
             StringBuilder line = new StringBuilder(String.format(Locale.ROOT, "held out %s: chosen %s (objective on the others %.3f):", held, label(specs.get(b)), bo));
-            for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
-                if (!trials.get(g.getValue().get(0)).group.equals(held)) continue;
-                double p = 0;
-                for (int ti : g.getValue()) p += peer(peers, trials.get(ti), offline.get(b) != null);
-                p /= g.getValue().size();
-                line.append(String.format(Locale.ROOT, " %s %.2f (peer %.2f)", g.getKey(), mean(res[b], g.getValue())[0], p));
+            System.out.println(line.append(heldOutScore(b, held, trials, res, peers, offline.get(b) != null)));
+            if (peers.isEmpty()) continue;
+            // The one-standard-error rule: the first set listed within one standard error of the best.
+            Random random = new Random(1);
+            List<Map<String, int[]>> draws = new ArrayList<>();
+            for (int d = 0; d < DRAWS; d++) {
+                Map<String, int[]> draw = new HashMap<>();
+                for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
+                    int[] at = new int[g.getValue().size()];
+                    for (int k = 0; k < at.length; k++) at[k] = random.nextInt(at.length);
+                    draw.put(g.getKey(), at);
+                }
+                draws.add(draw);
             }
-            List<Integer> all = new ArrayList<>();
-            for (int ti = 0; ti < trials.size(); ti++) if (trials.get(ti).group.equals(held)) all.add(ti);
-            line.append(String.format(Locale.ROOT, "; all %.2f", mean(res[b], all)[0]));
-            System.out.println(line);
+            double[] best = new double[DRAWS];
+            for (int d = 0; d < DRAWS; d++) best[d] = lodoObjective(b, held, trials, res, peers, offline.get(b) != null, false, draws.get(d));
+            int within = 0;
+            int first = -1;
+            for (int si = 0; si < specs.size(); si++) {
+                double[] diff = new double[DRAWS];
+                double m = 0;
+                for (int d = 0; d < DRAWS; d++) {
+                    diff[d] = lodoObjective(si, held, trials, res, peers, offline.get(si) != null, false, draws.get(d)) - best[d];
+                    m += diff[d] / DRAWS;
+                }
+                double v = 0;
+                for (double x : diff) v += (x - m) * (x - m) / (DRAWS - 1);
+                if (lodoObjective(si, held, trials, res, peers, offline.get(si) != null) - bo <= Math.sqrt(v)) {
+                    within++;
+                    if (first < 0) first = si;
+                }
+            }
+            System.out.println(String.format(Locale.ROOT, "  within one standard error of it: %d set(s); the first listed %s (objective %.3f):", within, label(specs.get(first)),
+                lodoObjective(first, held, trials, res, peers, offline.get(first) != null)) + heldOutScore(first, held, trials, res, peers, offline.get(first) != null));
         }
+    }
+
+    /** Draws of the trials for the one-standard-error rule. */
+    static final int DRAWS = 400;
+
+    /** Set [si]'s mean per group of the data set [held], beside the peer's, and over the data set. */
+    static String heldOutScore(int si, String held, List<Loaded> trials, ErrorRmse[][] res, Map<String, Double> peers, boolean offline) {
+        StringBuilder line = new StringBuilder();
+        for (Map.Entry<String, List<Integer>> g : subGroups(trials).entrySet()) {
+            if (!trials.get(g.getValue().get(0)).group.equals(held)) continue;
+            double p = 0;
+            for (int ti : g.getValue()) p += peer(peers, trials.get(ti), offline);
+            p /= g.getValue().size();
+            line.append(String.format(Locale.ROOT, " %s %.2f (peer %.2f)", g.getKey(), mean(res[si], g.getValue())[0], p));
+        }
+        List<Integer> all = new ArrayList<>();
+        for (int ti = 0; ti < trials.size(); ti++) if (trials.get(ti).group.equals(held)) all.add(ti);
+        return line.append(String.format(Locale.ROOT, "; all %.2f", mean(res[si], all)[0])).toString();
     }
 
     /** The trials by data set and group inside it ("tyrex-subset/disturbed"). */
