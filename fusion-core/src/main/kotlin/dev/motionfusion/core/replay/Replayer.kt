@@ -118,6 +118,7 @@ public class Replayer(settings: FilterSettings = FilterSettings()) {
         events: SensorEvents, originNs: Long?, listener: ReplayListener, progress: ((Long) -> Unit)? = null, source: String = "input",
         offline: OfflineSettings = OfflineSettings(), tempDir: java.nio.file.Path? = null,
     ): ReplayCounts = OfflineReplay(filter, offline, tempDir).use { pass ->
+        offlineWithoutMotionBias = false
         val counts = usable(source, runCausal(events, originNs, pass, progress))
         offlineWithoutMotionBias = pass.finish(listener, fieldPersistenceDeg)
         counts

@@ -95,10 +95,10 @@ internal class OfflinePasses(private val forward: MadgwickFilter, private val of
         spill.endWriting()
         val n = spill.records
         if (n == 0L) return false
-        // With the magnetic trust on, the bias estimate in motion already falls with the field's wander.
         val fs = forward.settings
+        // With the magnetic trust on, the bias estimate in motion already falls with the field's wander.
         val building = persistenceDeg > offline.buildingPersistence && fs.motionBiasGain != null && fs.headingGain != null && fs.magTrustSpread == null
-        val settings = if (building) forward.settings.copy(motionBiasGain = null) else forward.settings
+        val settings = if (building) fs.copy(motionBiasGain = null) else fs
         // Backward: time runs as −t, so that it advances.
         val back = MadgwickFilter(settings)
         back.restore(if (building) forwardAgain(settings, g, a, m) else forward.state())

@@ -34,8 +34,9 @@ import kotlin.math.PI
  *   (FilterSettings.motionBiasGain off; the first pass again over the temporary file): a field whose heading strays
  *   from the gyroscope's for minutes teaches the gyroscope a wrong bias. The heading still follows the field, and the
  *   heading smoother still learns the bias about the vertical. Not with the magnetic trust on
- *   (FilterSettings.magTrustSpread), which weighs that estimate by the field's wander already. [Double.POSITIVE_INFINITY]: never. Default
- *   [BUILDING_PERSISTENCE_DEG] (docs/ACCURACY.md, "Does the recording look like a building?").
+ *   (FilterSettings.magTrustSpread), which weighs that estimate by the field's wander already.
+ *   [Double.POSITIVE_INFINITY]: never. Default [BUILDING_PERSISTENCE_DEG] (docs/ACCURACY.md, "Does the recording
+ *   look like a building?").
  */
 public data class OfflineSettings @JvmOverloads constructor(
     val backwardWeight: Double = 0.0,
