@@ -35,12 +35,13 @@ internal class CompareCommand(private val err: PrintStream, private val outputs:
         |                       so the heading difference at the first compared sample is removed
         |  --live               compare the live orientation recorded by the app (orientation.csv)
         |                       instead of replaying
+        |  --quiet              no notes on standard error (warnings and errors still)
         |
         |${FilterOptions.HELP}
         |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--game", "--live") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--game", "--live", "--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException("compare needs one INPUT")
         FilterOptions.settings(o) // usage errors before the input is opened
         val refStream = if (o.has("--game")) SessionStream.GAME_ROTATION_VECTOR else SessionStream.ROTATION_VECTOR

@@ -40,7 +40,8 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |meta.json says "scoring": "6d…" (ADVIO's truth has no north). Filter options go with
         |the first form only. Prints a Markdown table: one row per trial, then the mean
         |(--csv: CSV for scripts, trial,total_deg,heading_deg,inclination_deg to 1e-6°, one row per
-        |trial, no mean row and no filter line).
+        |trial, no mean row and no filter line). --quiet: no notes on standard error (warnings and
+        |errors still), in every form.
         |Rows are named by trial folder; where two trials share a name (t01 of two data sets) by
         |their paths. A trial without a scored sample is an error, not a row of NaN.
         |A trial folder with rotation_vector.csv[.gz] (t_s,qw,qx,qy,qz: the phone's own
@@ -58,7 +59,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |t_s,qw,qx,qy,qz) against a truth CSV (t_s,qw,qx,qy,qz[,movement]); rows are matched by
         |t_s (to 1 µs); truth rows without an orientation are skipped. Both tables must be in time
         |order (a row before the one above is an error naming it). How many rows were scored is
-        |said on standard error, with a warning when fewer than 90 % of the shorter table's rows
+        |said on standard error (not with --quiet), with a warning when fewer than 90 % of the shorter table's rows
         |match; under 10 % the tables are refused as not aligned in time (e.g. times in ms).
         |  --truth FILE         the truth table
         |  --6d                 remove one constant heading offset before scoring
@@ -84,7 +85,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
         |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("--truth", "--rows", "--after") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d", "--csv") + FilterOptions.FLAGS)
+        val o = Options(args, setOf("--truth", "--rows", "--after") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--6d", "--csv", "--quiet") + FilterOptions.FLAGS)
         val csv = o.has("--csv")
         if (o.positional.isEmpty()) throw UsageException("eval needs trial folders, sessions, or --truth TRUTH ORIENTATION")
         val rowsFile = o.value("--rows")
@@ -324,7 +325,7 @@ internal class EvalCommand(private val err: PrintStream) : Command {
                 "(times in another unit, or from another start?); give both t_s in seconds from the same start")
         }
         if (r.samples == 0) throw DataFormatException(truthPath.toString(), 0, 0, "no scored sample with both orientations known")
-        err.println("fusion eval: scored ${r.samples} rows: ${counts()}")
+        if (!o.has("--quiet")) err.println("fusion eval: scored ${r.samples} rows: ${counts()}")
         if (matched * 10 < shorter * 9) err.println("fusion eval: warning: only ${counts()}: the rest is not scored")
         return TrialResult(estimate.fileName.toString(), r)
     }

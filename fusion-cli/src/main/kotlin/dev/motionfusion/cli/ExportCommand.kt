@@ -49,7 +49,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
         |                       acceleration covariances are N²·f (f: the gyroscope's mean rate).
         |                       Without it no noise figure is written (a comment says so)
         |  --calibration FILE|recorded|none   as in fusion replay (default: as the live filter did)
-        |  --quiet              no summary on standard error
+        |  --quiet              no summary and no notes on standard error (warnings and errors still)
         |${HeadingOptions.HELP}
         |${FilterOptions.HELP}
         |${InputOptions.HELP}

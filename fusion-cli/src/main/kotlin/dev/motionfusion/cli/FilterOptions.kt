@@ -1,6 +1,5 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.filter.FilterMode
 import dev.motionfusion.core.settings.FilterSettingDescriptor
 import dev.motionfusion.core.settings.FilterSettingDescriptors
@@ -99,9 +98,7 @@ internal object FilterOptions {
             err.println("fusion $command: note: ${rec.name}: starting from the live filter's settings in meta.json (--default-settings for the defaults)")
         }
         val s = settings(o, recorded)
-        // A session's meta.json may count no magnetometer sample (a file holding its header alone): none either.
-        val magnetometer = SessionStream.MAGNETOMETER in rec.streams && rec.metadata?.streams?.get(SessionStream.MAGNETOMETER)?.samples != 0L
-        if (s.mode != FilterMode.MARG || magnetometer) return s
+        if (s.mode != FilterMode.MARG || rec.hasMagnetometer) return s
         if (!o.has("--quiet")) {
             err.println("fusion $command: note: ${rec.name}: no magnetometer: 6D (the heading is the gyroscope's alone, its zero the start's)")
         }

@@ -38,17 +38,18 @@ internal object InputOptions {
         return ImportOptions(limits(o), platform)
     }
 
-    /** Opens [input] with the options of [o]; what the import assumed goes to [err] as notes. */
+    /** Opens [input] with the options of [o]; what the import assumed goes to [err] as notes (none with --quiet). */
     fun open(input: String, o: Options, err: PrintStream, command: String): Recording {
+        val quiet = o.has("--quiet")
         val path = Paths.get(input)
         if (input == "-" || (java.nio.file.Files.exists(path) && !java.nio.file.Files.isRegularFile(path) && !java.nio.file.Files.isDirectory(path))) {
             // Read once into the temporary folder: first remove what a killed earlier run left there.
             val started = java.lang.management.ManagementFactory.getRuntimeMXBean().startTime
             val removed = dev.motionfusion.core.io.TemporaryFiles.removeStaleInputs(started, Outputs::alive)
-            if (removed.isNotEmpty()) err.println("fusion $command: note: removed ${removed.size} spooled input${if (removed.size == 1) "" else "s"} an interrupted earlier run left: ${removed.joinToString(", ")}")
+            if (removed.isNotEmpty() && !quiet) err.println("fusion $command: note: removed ${removed.size} spooled input${if (removed.size == 1) "" else "s"} an interrupted earlier run left: ${removed.joinToString(", ")}")
         }
         val rec = Recording.open(path, options(o))
-        for (n in rec.notes) err.println("fusion $command: note: ${rec.name}: $n")
+        if (!quiet) for (n in rec.notes) err.println("fusion $command: note: ${rec.name}: $n")
         if (o.value("--platform") != null && rec.format != dev.motionfusion.core.input.RecordingFormat.SENSOR_LOGGER) {
             err.println("fusion $command: note: ${rec.name}: --platform is for Sensor Logger exports; a ${rec.format.description} says its own axes, so it is not used")
         }

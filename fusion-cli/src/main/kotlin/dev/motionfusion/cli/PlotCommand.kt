@@ -34,12 +34,13 @@ internal class PlotCommand(private val err: PrintStream, private val outputs: Ou
         |  -o, --output FILE    the SVG to write (required)
         |  --angles KIND        android: azimuth, pitch, roll (default); aerospace: yaw, pitch, roll
         |  --truth FILE         the truth table to draw the error against
+        |  --quiet              no notes on standard error (warnings and errors still)
         |
         |${FilterOptions.HELP}
         |${InputOptions.HELP}""".trimMargin()
 
     override fun run(args: List<String>, out: PrintStream): Int {
-        val o = Options(args, setOf("-o", "--output", "--angles", "--truth") + FilterOptions.VALUED + InputOptions.VALUED, FilterOptions.FLAGS)
+        val o = Options(args, setOf("-o", "--output", "--angles", "--truth") + FilterOptions.VALUED + InputOptions.VALUED, setOf("--quiet") + FilterOptions.FLAGS)
         val input = o.positional.singleOrNull() ?: throw UsageException("plot needs one INPUT")
         val output = o.value("-o") ?: o.value("--output") ?: throw UsageException("plot needs -o FIGURE.svg")
         val aerospace = when (o.value("--angles")?.lowercase() ?: "android") {

@@ -60,7 +60,7 @@ internal class ReplayCommand(
         |                       .gz): each gyroscope sample with the accelerometer and magnetometer
         |                       readings held at that instant (NaN before the first), so another
         |                       filter can be run on exactly the same samples (docs/ACCURACY.md)
-        |  --quiet              no summary on standard error
+        |  --quiet              no summary and no notes on standard error (warnings and errors still)
         |  --calibration FILE   apply a calibration of fusion calibrate (docs/CALIBRATION.md); one that
         |                       cannot be right (matrix not symmetric positive definite, offsets beyond
         |                       any phone's) is refused naming the file; a note names the device it was

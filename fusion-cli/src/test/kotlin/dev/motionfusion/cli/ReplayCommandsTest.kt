@@ -124,6 +124,37 @@ class ReplayCommandsTest {
     }
 
     @Test
+    fun `--quiet silences the notes of every command that runs the filter, and eval's count of rows`() {
+        // A session whose magnetometer file holds its header alone: each command notes that it runs in 6D (and a
+        // gcsv export no longer waits for a field that never comes: it refused such a session as "nothing to export").
+        val session = dir.resolve("no-mag")
+        assertEquals(ExitCode.OK, fusion("simulate", "-o", session.toString(), "--duration", "5", "--rate", "50").code)
+        val mag = session.resolve("magnetometer.csv")
+        Files.write(mag, listOf(Files.readAllLines(mag)[0]))
+        val meta = session.resolve("meta.json")
+        Files.writeString(meta, Regex(""""magnetometer"\s*:\s*\{[^}]*?"samples"\s*:\s*\d+""").replace(Files.readString(meta)) { it.value.replace(Regex("""\d+$"""), "0") })
+        for (command in listOf(
+            listOf("replay", session.toString(), "-o", p("q.csv")),
+            listOf("compare", session.toString()),
+            listOf("plot", session.toString(), "-o", p("q.svg")),
+            listOf("export", session.toString(), "--format", "gcsv", "-o", p("q.gcsv")),
+        )) {
+            val loud = fusion(*command.toTypedArray())
+            assertEquals(ExitCode.OK, loud.code, "$command: ${loud.err}")
+            assertTrue("no magnetometer: 6D" in loud.err, "$command: ${loud.err}")
+            val quiet = fusion(*(command + "--quiet").toTypedArray())
+            assertEquals(ExitCode.OK, quiet.code, "$command --quiet: ${quiet.err}")
+            assertFalse("note:" in quiet.err, "$command --quiet: ${quiet.err}")
+        }
+        // eval's table form says how many rows it scored, not with --quiet (here a table scored against itself).
+        assertEquals(ExitCode.OK, fusion("replay", session.toString(), "-o", p("est.csv"), "--quiet").code)
+        assertTrue("scored" in fusion("eval", "--truth", p("est.csv"), p("est.csv")).err)
+        val quiet = fusion("eval", "--truth", p("est.csv"), p("est.csv"), "--quiet")
+        assertEquals(ExitCode.OK, quiet.code, quiet.err)
+        assertEquals("", quiet.err)
+    }
+
+    @Test
     fun `a field whose heading errors persist, as a building's, brings a note on the magnetic trust`() {
         // Two minutes turning about; the field as read, and the field with what a building's steel adds along a walk
         // (up to 12 µT, changing over 17–31 s).

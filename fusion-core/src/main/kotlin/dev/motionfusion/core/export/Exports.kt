@@ -92,7 +92,7 @@ public object Exports {
     public fun writeFolder(rec: Recording, format: ExportFormat, folder: Path, options: ExportOptions = ExportOptions(), progress: ((Long) -> Unit)? = null): ExportResult {
         require(format.folder) { "$format is written as a file: writeFile" }
         return export(rec, format, options, progress) { about, noise, _ ->
-            if (format == ExportFormat.EUROC) EurocWriter(folder, SessionStream.MAGNETOMETER in rec.streams, noise, about) else KalibrWriter(folder, noise, about)
+            if (format == ExportFormat.EUROC) EurocWriter(folder, rec.hasMagnetometer, noise, about) else KalibrWriter(folder, noise, about)
         }
     }
 
@@ -104,7 +104,7 @@ public object Exports {
     public fun writeFile(rec: Recording, format: ExportFormat, out: OutputStream, options: ExportOptions = ExportOptions(), progress: ((Long) -> Unit)? = null): ExportResult {
         require(!format.folder) { "$format is written as a folder: writeFolder or writeZip" }
         return export(rec, format, options, progress) { about, noise, rateHz ->
-            val magnetometer = SessionStream.MAGNETOMETER in rec.streams
+            val magnetometer = rec.hasMagnetometer
             if (format == ExportFormat.GCSV) GcsvWriter(out, magnetometer, about) else Ros2Writer(out, magnetometer, about, noise, rateHz)
         }
     }
@@ -167,7 +167,7 @@ public object Exports {
         fun nothing(reason: String): Nothing = throw dev.motionfusion.core.io.DataFormatException(rec.name, 0, 0, reason)
         if (counts.gyroscope == 0L) nothing("no gyroscope samples: nothing to export")
         if (w.imuRows == 0L) {
-            nothing("no gyroscope sample after the first accelerometer${if (format == ExportFormat.GCSV && SessionStream.MAGNETOMETER in rec.streams) " and magnetometer" else ""} reading: nothing to export")
+            nothing("no gyroscope sample after the first accelerometer${if (format == ExportFormat.GCSV && rec.hasMagnetometer) " and magnetometer" else ""} reading: nothing to export")
         }
         return ExportResult(w.imuRows, w.orientationRows, w.magnetometerRows, counts, tareRad, world, shift)
     }

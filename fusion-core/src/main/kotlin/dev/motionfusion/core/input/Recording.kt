@@ -60,6 +60,13 @@ public class Recording private constructor(
     private val readMarkers: () -> List<Marker> = { emptyList() },
     private val readClock: () -> List<dev.motionfusion.core.sync.ClockExchange> = { emptyList() },
 ) : Closeable {
+    /**
+     * Whether the input has magnetometer readings: the stream is present and a session's meta.json does not count
+     * 0 samples of it (a file that holds its header alone). Without them a filter runs in 6D.
+     */
+    public val hasMagnetometer: Boolean
+        get() = SessionStream.MAGNETOMETER in streams && metadata?.streams?.get(SessionStream.MAGNETOMETER)?.samples != 0L
+
     /** The streams whose plausibility probe has passed (it runs once per stream, before its first events). */
     private val probed = HashSet<SessionStream>()
 
