@@ -1,6 +1,5 @@
 package dev.motionfusion.cli
 
-import dev.motionfusion.core.event.SessionStream
 import dev.motionfusion.core.export.ExportFormat
 import dev.motionfusion.core.export.ExportOptions
 import dev.motionfusion.core.export.Exports
@@ -110,7 +109,7 @@ internal class ExportCommand(private val err: PrintStream, private val outputs: 
                 err.println(
                     "fusion export: ${rec.format.description} ${rec.name} → ${format.key} $output: ${result.imuRows} IMU rows" +
                         (if (withMore) ", ${result.orientationRows} orientation rows" else "") +
-                        (if (withMore && SessionStream.MAGNETOMETER in rec.streams) ", ${result.magnetometerRows} magnetometer rows" else "") +
+                        (if (withMore && rec.hasMagnetometer) ", ${result.magnetometerRows} magnetometer rows" else "") +
                         " (${counts.gyroscope} gyroscope, ${counts.accelerometer} accelerometer, ${counts.magnetometer} magnetometer samples read)",
                 )
             }

@@ -135,7 +135,7 @@ internal class ReplayCommand(
             val writer = ReplayCsvWriter(stream, closeStream = output != null, parallel = Runtime.getRuntime().availableProcessors() > 1)
             val replayer = Replayer(settings)
             val rowsFile = o.value("--rows")
-            val rows = rowsFile?.let { ImuTableWriter(outputs.file(it, listOf(input)), it.endsWith(".gz"), SessionStream.MAGNETOMETER in rec.streams) }
+            val rows = rowsFile?.let { ImuTableWriter(outputs.file(it, listOf(input)), it.endsWith(".gz"), rec.hasMagnetometer) }
             val counts = rows.use { r ->
                 writer.use { w ->
                     val plain = if (r == null) w else object : ReplayListener {

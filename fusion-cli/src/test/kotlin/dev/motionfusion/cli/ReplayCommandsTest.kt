@@ -146,6 +146,9 @@ class ReplayCommandsTest {
             assertEquals(ExitCode.OK, quiet.code, "$command --quiet: ${quiet.err}")
             assertFalse("note:" in quiet.err, "$command --quiet: ${quiet.err}")
         }
+        // The rows the filter stepped on have no magnetometer columns either.
+        assertEquals(ExitCode.OK, fusion("replay", session.toString(), "-o", p("r.csv"), "--rows", p("rows.csv"), "--quiet").code)
+        assertEquals("t_s,gx,gy,gz,ax,ay,az", Files.readAllLines(dir.resolve("rows.csv"))[0])
         // eval's table form says how many rows it scored, not with --quiet (here a table scored against itself).
         assertEquals(ExitCode.OK, fusion("replay", session.toString(), "-o", p("est.csv"), "--quiet").code)
         assertTrue("scored" in fusion("eval", "--truth", p("est.csv"), p("est.csv")).err)
